@@ -1,0 +1,89 @@
+// ibvalve: the command line. Parses the subcommand with CLI11, starts MPI and PETSc, runs it, and maps
+// failures to exit codes: 2 for bad input (one line naming file, line and key), 3 for a run that
+// went wrong (its output so far is kept).
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <petscsys.h>
+
+#include "app/commands.hpp"
+#include "app/version.hpp"
+#include "io/errors.hpp"
+#include "io/logger.hpp"
+
+namespace {
+
+int rank_of_world()
+{
+  int initialized = 0, rank = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  using namespace ibvalve;
+
+  // Everything after "--" is for PETSc.
+  std::vector<char*> ours(argv, argv + argc);
+  app::PetscArguments petsc_arguments;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--") == 0) {
+      ours.assign(argv, argv + i);
+      petsc_arguments.options.assign(argv + i + 1, argv + argc);
+      break;
+    }
+  }
+  std::vector<char*> petsc_argv{argv[0]};
+  for (auto& option : petsc_arguments.options) petsc_argv.push_back(option.data());
+  int petsc_argc = static_cast<int>(petsc_argv.size());
+  char** petsc_argv_ptr = petsc_argv.data();
+  if (PetscInitialize(&petsc_argc, &petsc_argv_ptr, nullptr, nullptr) != 0) return 1;
+  io::Logger::global().set_communicator(PETSC_COMM_WORLD);
+
+  CLI::App cli{"ibvalve: immersed-boundary / finite-element heart-valve simulator.\n"
+               "PETSc options go after `--`, e.g. ibvalve run case.toml -- -ksp_monitor",
+               "ibvalve"};
+  cli.set_version_flag("--version", std::string("ibvalve ") + version_string + " (PETSc " +
+                                        std::to_string(PETSC_VERSION_MAJOR) + "." +
+                                        std::to_string(PETSC_VERSION_MINOR) + "." +
+                                        std::to_string(PETSC_VERSION_SUBMINOR) + ")");
+  cli.require_subcommand(1);
+  app::CommandAction action;
+  app::add_run_command(cli, action);
+
+  int code = 0;
+  try {
+    cli.parse(static_cast<int>(ours.size()), ours.data());
+  } catch (const CLI::ParseError& error) {
+    // Help and version are "errors" with exit code 0 in CLI11.
+    if (rank_of_world() == 0) code = cli.exit(error);
+    else code = error.get_exit_code();
+    if (code != 0) code = exit_code_input_error;
+    PetscFinalize();
+    return code;
+  }
+
+  try {
+    code = action(petsc_arguments);
+  } catch (const InputError& error) {
+    io::Logger::global().error(error.what());
+    code = exit_code_input_error;
+  } catch (const RunError& error) {
+    io::Logger::global().error(error.what());
+    io::Logger::global().error("the run stopped; all output so far is kept");
+    code = exit_code_run_error;
+  } catch (const std::exception& error) {
+    io::Logger::global().error(std::string("internal error: ") + error.what());
+    code = 1;
+  }
+  io::Logger::global().close_file();
+  PetscFinalize();
+  return code;
+}

@@ -1,0 +1,56 @@
+#include "app/model.hpp"
+
+#include <vector>
+
+namespace ibvalve::app {
+
+namespace {
+std::vector<std::string> model_names()
+{
+  std::vector<std::string> names;
+  for (const Model& m : models()) names.push_back(m.name);
+  return names;
+}
+} // namespace
+
+const std::vector<Model>& models()
+{
+  // Each model registers itself here as its folder provides it.
+  static const std::vector<Model> all = [] {
+    std::vector<Model> list;
+    return list;
+  }();
+  return all;
+}
+
+const Model* find_model(const std::string& name)
+{
+  for (const Model& m : models())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+io::Schema common_schema()
+{
+  io::Schema s;
+  s.add_string("model", "what to run").required().choices(model_names());
+  s.add_string("name", "a name for the case, used for the default run folder").defaults(std::string{});
+  s.add_string("output.directory", "run folder (relative to the working directory); default runs/<case name>");
+  s.add_string("log.level", "how much to print").defaults(std::string("normal")).choices({"quiet", "normal", "verbose"});
+  s.add_real("log.progress_interval", "seconds between progress lines when not on a terminal")
+      .unit("s")
+      .defaults(10.0)
+      .positive();
+  s.add_string("petsc.options", "PETSc options for every solver (e.g. \"-ksp_type gmres\"); command-line options win")
+      .defaults(std::string{});
+  return s;
+}
+
+io::Schema case_schema(const Model& model)
+{
+  io::Schema s = common_schema();
+  model.add_schema(s);
+  return s;
+}
+
+} // namespace ibvalve::app

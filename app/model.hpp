@@ -1,0 +1,53 @@
+#pragma once
+// The kinds of run `ibvalve run` knows (`model = "..."` in a case file) and how each is set up.
+//
+// A model adds its keys to the case schema, then `prepare` reads the validated configuration and
+// checks everything a schema cannot (files, consistent grids, ...), throwing InputError before any
+// output exists. Only then is the run folder created and `run` called, so bad input never leaves a
+// half-written run behind.
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <mpi.h>
+
+#include "io/config.hpp"
+
+namespace ibvalve::app {
+
+struct RunContext {
+  MPI_Comm comm = MPI_COMM_WORLD;
+  std::filesystem::path run_directory;
+  bool restart = false; // continue from the run folder's last checkpoint
+};
+
+/// What a finished run tells the user: where its output and its report went.
+struct RunSummary {
+  std::vector<std::string> lines;
+};
+
+class PreparedRun {
+public:
+  virtual ~PreparedRun() = default;
+  virtual RunSummary run(const RunContext& context) = 0;
+};
+
+struct Model {
+  std::string name;
+  std::string description;
+  std::function<void(io::Schema&)> add_schema;
+  std::function<std::unique_ptr<PreparedRun>(const io::Config&)> prepare;
+};
+
+/// Every model, in the order `ibvalve run --help` lists them.
+const std::vector<Model>& models();
+const Model* find_model(const std::string& name);
+
+/// The keys every case has (model, name, time, output, log, petsc).
+io::Schema common_schema();
+/// common_schema() plus the model's own keys.
+io::Schema case_schema(const Model& model);
+
+} // namespace ibvalve::app

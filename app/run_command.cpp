@@ -1,0 +1,127 @@
+// `ibvalve run CASE.toml`: validate the case, create the run folder, run the model.
+#include <filesystem>
+#include <sstream>
+
+#include <petscsys.h>
+
+#include "app/commands.hpp"
+#include "app/model.hpp"
+#include "app/version.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+#include "io/logger.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::app {
+
+std::string PetscArguments::joined() const
+{
+  std::string s;
+  for (const auto& option : options) s += (s.empty() ? "" : " ") + option;
+  return s;
+}
+
+namespace {
+
+struct RunOptions {
+  std::filesystem::path case_file;
+  std::filesystem::path output;
+  std::vector<std::string> overrides;
+  bool overwrite = false;
+  bool verbose = false;
+  bool quiet = false;
+};
+
+io::Config load_case(const RunOptions& options)
+{
+  toml::table table = io::parse_toml_file(options.case_file);
+  io::apply_overrides(table, options.overrides);
+  const toml::node* model_node = table.get("model");
+  // Validate against the common keys first when the model is missing or unknown, so that the error
+  // names the `model` key and lists the models there are.
+  const Model* model = nullptr;
+  if (model_node && model_node->is_string()) model = find_model(*model_node->value<std::string>());
+  if (!model) {
+    io::Config::validate(std::move(table), options.case_file, common_schema());
+    // Every key given was common and valid: the model list must be empty.
+    throw InputError(options.case_file.string() + ": model: no model is available in this build");
+  }
+  return io::Config::validate(std::move(table), options.case_file, case_schema(*model));
+}
+
+std::filesystem::path run_directory(const RunOptions& options, const io::Config& config)
+{
+  if (!options.output.empty()) return options.output;
+  if (config.has("output.directory")) return config.string("output.directory");
+  std::string name = config.string("name");
+  if (name.empty()) name = options.case_file.stem().string();
+  return std::filesystem::path("runs") / name;
+}
+
+int run(const RunOptions& options, const PetscArguments& petsc)
+{
+  auto& log = io::Logger::global();
+  log.start_clock();
+  if (options.quiet) log.set_level(io::LogLevel::quiet);
+  if (options.verbose) log.set_level(io::LogLevel::verbose);
+
+  const io::Config config = load_case(options);
+  if (!options.quiet && !options.verbose) {
+    const std::string level = config.string("log.level");
+    log.set_level(level == "quiet" ? io::LogLevel::quiet : level == "verbose" ? io::LogLevel::verbose : io::LogLevel::normal);
+  }
+  log.set_progress_interval(config.real("log.progress_interval"));
+  // Case options first, then the command line's, so that the command line wins.
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
+
+  const Model& model = *find_model(config.string("model"));
+  std::unique_ptr<PreparedRun> prepared = model.prepare(config);
+
+  const std::filesystem::path directory = run_directory(options, config);
+  int size = 1, rank = 0;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  int ok = 1;
+  std::string problem;
+  if (rank == 0) {
+    if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !options.overwrite) {
+      ok = 0;
+      problem = directory.string() + ": run folder exists and is not empty (give --overwrite, or -o another folder)";
+    } else {
+      std::filesystem::create_directories(directory);
+      io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  if (!ok) throw InputError(problem);
+  log.open_file(directory / "log.txt");
+  log.info(std::string("ibvalve ") + version_string + ": " + model.name + " run of " + options.case_file.string() +
+           " on " + std::to_string(size) + (size == 1 ? " rank" : " ranks"));
+  log.info("run folder: " + directory.string());
+
+  RunContext context{PETSC_COMM_WORLD, directory, false};
+  const RunSummary summary = prepared->run(context);
+  for (const auto& line : summary.lines) log.info(line);
+  log.info("finished in " + io::format_duration(log.wall_seconds()) + "; output in " + directory.string());
+  return 0;
+}
+
+} // namespace
+
+void add_run_command(CLI::App& app, CommandAction& action)
+{
+  auto options = std::make_shared<RunOptions>();
+  std::string model_list;
+  for (const Model& m : models()) model_list += "\n  " + m.name + ": " + m.description;
+  CLI::App* sub = app.add_subcommand("run", "Run a case file (TOML). Models:" + model_list);
+  sub->add_option("case", options->case_file, "the case file (TOML)")->required();
+  sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
+  sub->add_option("--set", options->overrides, "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
+  sub->add_flag("--overwrite", options->overwrite, "replace an existing run folder's contents");
+  sub->add_flag("-v,--verbose", options->verbose, "print more");
+  sub->add_flag("-q,--quiet", options->quiet, "print only errors");
+  sub->callback([options, &action] { action = [options](const PetscArguments& petsc) { return run(*options, petsc); }; });
+}
+
+} // namespace ibvalve::app

@@ -1,0 +1,675 @@
+#include "io/config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/errors.hpp"
+#include "io/units.hpp"
+
+namespace ibvalve::io {
+
+// ---------------------------------------------------------------------------------------------
+// Schema
+
+KeyBuilder& KeyBuilder::unit(std::string unit)
+{
+  if (!units::to_cgs(unit)) throw std::logic_error("schema key " + spec_->key + ": unknown unit '" + unit + "'");
+  spec_->unit = std::move(unit);
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::required()
+{
+  spec_->required = true;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::defaults(Value value)
+{
+  spec_->default_value = std::move(value);
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::at_least(double min)
+{
+  spec_->min = min;
+  spec_->min_inclusive = true;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::above(double min)
+{
+  spec_->min = min;
+  spec_->min_inclusive = false;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::at_most(double max)
+{
+  spec_->max = max;
+  spec_->max_inclusive = true;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::below(double max)
+{
+  spec_->max = max;
+  spec_->max_inclusive = false;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::choices(std::vector<std::string> allowed)
+{
+  spec_->choices = std::move(allowed);
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::sizes(std::size_t min, std::size_t max)
+{
+  spec_->min_size = min;
+  spec_->max_size = max;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::file(bool must_exist)
+{
+  spec_->is_path = true;
+  spec_->must_exist = must_exist;
+  return *this;
+}
+
+KeyBuilder Schema::add(std::string key, ValueKind kind, std::string doc)
+{
+  if (find(key)) throw std::logic_error("schema key defined twice: " + key);
+  auto spec = std::make_unique<KeySpec>();
+  spec->key = std::move(key);
+  spec->kind = kind;
+  spec->doc = std::move(doc);
+  keys_.push_back(std::move(spec));
+  return KeyBuilder(*keys_.back());
+}
+
+KeyBuilder Schema::add_boolean(std::string key, std::string doc) { return add(std::move(key), ValueKind::boolean, std::move(doc)); }
+KeyBuilder Schema::add_integer(std::string key, std::string doc) { return add(std::move(key), ValueKind::integer, std::move(doc)); }
+KeyBuilder Schema::add_real(std::string key, std::string doc) { return add(std::move(key), ValueKind::real, std::move(doc)); }
+KeyBuilder Schema::add_string(std::string key, std::string doc) { return add(std::move(key), ValueKind::string, std::move(doc)); }
+KeyBuilder Schema::add_real_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::real_list, std::move(doc)); }
+KeyBuilder Schema::add_integer_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::integer_list, std::move(doc)); }
+KeyBuilder Schema::add_string_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::string_list, std::move(doc)); }
+
+KeyBuilder Schema::add_table_list(std::string key, Schema element, std::string doc)
+{
+  auto builder = add(std::move(key), ValueKind::table_list, std::move(doc));
+  keys_.back()->element = std::make_shared<const Schema>(std::move(element));
+  return builder;
+}
+
+void Schema::merge(const Schema& other)
+{
+  for (const auto& spec : other.keys_) {
+    if (find(spec->key)) throw std::logic_error("schema key defined twice: " + spec->key);
+    keys_.push_back(std::make_unique<KeySpec>(*spec));
+  }
+}
+
+Schema& Schema::operator=(const Schema& other)
+{
+  if (this != &other) {
+    keys_.clear();
+    merge(other);
+  }
+  return *this;
+}
+
+const KeySpec* Schema::find(std::string_view key) const
+{
+  for (const auto& spec : keys_)
+    if (spec->key == key) return spec.get();
+  return nullptr;
+}
+
+bool Schema::has_table(std::string_view prefix) const
+{
+  for (const auto& spec : keys_)
+    if (spec->key.size() > prefix.size() && spec->key.starts_with(prefix) && spec->key[prefix.size()] == '.')
+      return true;
+  return false;
+}
+
+namespace {
+
+std::string kind_name(ValueKind kind)
+{
+  switch (kind) {
+  case ValueKind::boolean: return "true or false";
+  case ValueKind::integer: return "an integer";
+  case ValueKind::real: return "a number";
+  case ValueKind::string: return "a string";
+  case ValueKind::real_list: return "a list of numbers";
+  case ValueKind::integer_list: return "a list of integers";
+  case ValueKind::string_list: return "a list of strings";
+  case ValueKind::table_list: return "a list of tables ([[...]])";
+  }
+  return "?";
+}
+
+std::string format_number(double x)
+{
+  std::ostringstream os;
+  os.precision(15);
+  os << x;
+  return os.str();
+}
+
+std::string range_text(const KeySpec& s)
+{
+  std::string text;
+  const bool has_min = std::isfinite(s.min), has_max = std::isfinite(s.max);
+  if (has_min && has_max)
+    text = std::string(s.min_inclusive ? "[" : "(") + format_number(s.min) + ", " + format_number(s.max) +
+           (s.max_inclusive ? "]" : ")");
+  else if (has_min)
+    text = std::string(s.min_inclusive ? ">= " : "> ") + format_number(s.min);
+  else if (has_max)
+    text = std::string(s.max_inclusive ? "<= " : "< ") + format_number(s.max);
+  if (!text.empty() && !s.unit.empty()) text += " " + s.unit;
+  return text;
+}
+
+std::string join(const std::vector<std::string>& items, std::string_view separator)
+{
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) out += (i ? std::string(separator) : "") + items[i];
+  return out;
+}
+
+} // namespace
+
+std::string Schema::markdown() const
+{
+  std::ostringstream os;
+  os << "| key | type | unit | default | allowed | meaning |\n|---|---|---|---|---|---|\n";
+  for (const auto& spec : keys_) {
+    std::string def = "";
+    if (spec->required) def = "(required)";
+    if (spec->default_value) {
+      std::visit(
+          [&](const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, bool>)
+              def = v ? "true" : "false";
+            else if constexpr (std::is_same_v<T, std::int64_t>)
+              def = std::to_string(v);
+            else if constexpr (std::is_same_v<T, double>)
+              def = format_number(v);
+            else if constexpr (std::is_same_v<T, std::string>)
+              def = "\"" + v + "\"";
+            else
+              def = "[...]";
+          },
+          *spec->default_value);
+    }
+    std::string allowed = spec->choices.empty() ? range_text(*spec) : join(spec->choices, ", ");
+    os << "| `" << spec->key << "` | " << kind_name(spec->kind) << " | " << spec->unit << " | " << def << " | "
+       << allowed << " | " << spec->doc << " |\n";
+    if (spec->element) {
+      std::istringstream inner(spec->element->markdown());
+      std::string line;
+      std::getline(inner, line);
+      std::getline(inner, line);
+      while (std::getline(inner, line)) {
+        const auto tick = line.find('`');
+        if (tick != std::string::npos) line.insert(tick + 1, spec->key + "[]."); // element keys
+        os << line << "\n";
+      }
+    }
+  }
+  return os.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing and validation
+
+namespace {
+
+std::string source_name(const toml::source_region& region, const std::filesystem::path& fallback)
+{
+  if (region.path && !region.path->empty()) return *region.path;
+  return fallback.string();
+}
+
+std::string location(const toml::node* node, const std::filesystem::path& file)
+{
+  if (node && node->source().begin.line > 0)
+    return source_name(node->source(), file) + ":" + std::to_string(node->source().begin.line);
+  return file.string();
+}
+
+[[noreturn]] void input_error(const toml::node* node, const std::filesystem::path& file, std::string_view key,
+                              std::string_view message)
+{
+  throw InputError(location(node, file) + ": " + std::string(key) + ": " + std::string(message));
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b)
+{
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string suggestion(const Schema& schema, std::string_view key)
+{
+  std::string best;
+  std::size_t best_distance = 4;
+  for (const auto& spec : schema.keys()) {
+    const std::size_t d = edit_distance(spec->key, key);
+    if (d < best_distance) {
+      best_distance = d;
+      best = spec->key;
+    }
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
+}
+
+std::string join_key(std::string_view prefix, std::string_view key)
+{
+  return prefix.empty() ? std::string(key) : std::string(prefix) + "." + std::string(key);
+}
+
+std::string display_value(const toml::node& node)
+{
+  std::ostringstream os;
+  node.visit([&](const auto& v) { os << v; });
+  std::string text = os.str();
+  if (text.size() > 40) text = text.substr(0, 37) + "...";
+  return text;
+}
+
+struct Validator {
+  const std::filesystem::path& file;
+
+  void check_number(const toml::node& node, const KeySpec& spec, std::string_view display_key, double x) const
+  {
+    if (!std::isfinite(x)) input_error(&node, file, display_key, "must be a finite number");
+    const bool low = spec.min_inclusive ? x < spec.min : x <= spec.min;
+    const bool high = spec.max_inclusive ? x > spec.max : x >= spec.max;
+    if (low || high)
+      input_error(&node, file, display_key,
+                  display_value(node) + " is out of range (must be " + range_text(spec) + ")");
+  }
+
+  double number(const toml::node& node, std::string_view display_key, bool integer) const
+  {
+    if (integer && !node.is_integer())
+      input_error(&node, file, display_key, "expected an integer, got " + display_value(node));
+    if (!node.is_number())
+      input_error(&node, file, display_key, "expected a number, got " + display_value(node));
+    return node.is_integer() ? static_cast<double>(*node.value<std::int64_t>()) : *node.value<double>();
+  }
+
+  void check_string(const toml::node& node, const KeySpec& spec, std::string_view display_key) const
+  {
+    if (!node.is_string()) input_error(&node, file, display_key, "expected a string, got " + display_value(node));
+    const std::string value = *node.value<std::string>();
+    if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(), value) == spec.choices.end())
+      input_error(&node, file, display_key,
+                  "\"" + value + "\" is not one of the allowed values: " + join(spec.choices, ", "));
+    if (spec.is_path && spec.must_exist) {
+      std::filesystem::path path(value);
+      if (path.is_relative()) path = file.parent_path() / path;
+      if (!std::filesystem::is_regular_file(path))
+        input_error(&node, file, display_key, "no such file '" + path.string() + "'");
+    }
+  }
+
+  void check_value(const toml::node& node, const KeySpec& spec, std::string_view display_key) const
+  {
+    switch (spec.kind) {
+    case ValueKind::boolean:
+      if (!node.is_boolean())
+        input_error(&node, file, display_key, "expected true or false, got " + display_value(node));
+      return;
+    case ValueKind::integer:
+    case ValueKind::real:
+      check_number(node, spec, display_key, number(node, display_key, spec.kind == ValueKind::integer));
+      return;
+    case ValueKind::string:
+      check_string(node, spec, display_key);
+      return;
+    case ValueKind::real_list:
+    case ValueKind::integer_list:
+    case ValueKind::string_list: {
+      const auto* array = node.as_array();
+      if (!array) input_error(&node, file, display_key, "expected " + kind_name(spec.kind) + ", got " + display_value(node));
+      if (array->size() < spec.min_size || array->size() > spec.max_size) {
+        const std::string count = spec.min_size == spec.max_size
+                                      ? std::to_string(spec.min_size)
+                                      : std::to_string(spec.min_size) + " to " + std::to_string(spec.max_size);
+        input_error(&node, file, display_key,
+                    "expected " + count + " values, got " + std::to_string(array->size()));
+      }
+      for (std::size_t i = 0; i < array->size(); ++i) {
+        const toml::node& item = *array->get(i);
+        const std::string item_key = std::string(display_key) + "[" + std::to_string(i) + "]";
+        if (spec.kind == ValueKind::string_list)
+          check_string(item, spec, item_key);
+        else
+          check_number(item, spec, item_key, number(item, item_key, spec.kind == ValueKind::integer_list));
+      }
+      return;
+    }
+    case ValueKind::table_list: {
+      const auto* array = node.as_array();
+      if (!array || !array->is_array_of_tables())
+        input_error(&node, file, display_key, "expected a list of tables ([[" + spec.key + "]] sections)");
+      if (array->size() < spec.min_size || array->size() > spec.max_size)
+        input_error(&node, file, display_key, "expected at least " + std::to_string(spec.min_size) + " entries");
+      return; // elements are validated by validate_table
+    }
+    }
+  }
+
+  /// Checks every key given in `table` (keys relative to `schema`), recursing into sub-tables.
+  void check_given(toml::table& table, const Schema& schema, std::string_view schema_prefix,
+                   std::string_view display_prefix) const
+  {
+    for (auto&& [k, node] : table) {
+      const std::string key = join_key(schema_prefix, k.str());
+      const std::string display_key = join_key(display_prefix, k.str());
+      if (const KeySpec* spec = schema.find(key)) {
+        check_value(node, *spec, display_key);
+        if (spec->kind == ValueKind::table_list) {
+          auto& array = *node.as_array();
+          for (std::size_t i = 0; i < array.size(); ++i)
+            validate_table(*array.get(i)->as_table(), *spec->element,
+                           display_key + "[" + std::to_string(i) + "]");
+        }
+      } else if (node.is_table() && schema.has_table(key)) {
+        check_given(*node.as_table(), schema, key, display_key);
+      } else {
+        const toml::source_region& region = k.source();
+        std::string where = region.begin.line > 0 ? source_name(region, file) + ":" + std::to_string(region.begin.line)
+                                                  : location(&node, file);
+        throw InputError(where + ": " + display_key + ": unknown key" + suggestion(schema, key));
+      }
+    }
+  }
+
+  /// Reports a missing required key and inserts defaults for every other missing key.
+  void complete(toml::table& root, const Schema& schema, std::string_view display_prefix) const
+  {
+    for (const auto& spec : schema.keys()) {
+      if (root.at_path(spec->key)) continue;
+      if (spec->required)
+        throw InputError(location(&root, file) + ": " + join_key(display_prefix, spec->key) +
+                         ": missing required key (" + spec->doc + ")");
+      if (!spec->default_value) continue;
+      // Walk (and create) the tables leading to the key, then insert the default.
+      toml::table* table = &root;
+      std::string_view rest = spec->key;
+      for (auto dot = rest.find('.'); dot != std::string_view::npos; dot = rest.find('.')) {
+        const std::string part(rest.substr(0, dot));
+        auto [it, inserted] = table->insert(part, toml::table{});
+        (void)inserted;
+        table = it->second.as_table();
+        rest = rest.substr(dot + 1);
+      }
+      const std::string leaf(rest);
+      std::visit(
+          [&](const auto& v) {
+            using T = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> || std::is_same_v<T, double> ||
+                          std::is_same_v<T, std::string>) {
+              table->insert(leaf, v);
+            } else {
+              toml::array array;
+              for (const auto& item : v) array.push_back(item);
+              table->insert(leaf, std::move(array));
+            }
+          },
+          *spec->default_value);
+    }
+  }
+
+  void validate_table(toml::table& table, const Schema& schema, std::string_view display_prefix) const
+  {
+    check_given(table, schema, "", display_prefix);
+    complete(table, schema, display_prefix);
+  }
+};
+
+} // namespace
+
+toml::table parse_toml_file(const std::filesystem::path& file)
+{
+  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": not a regular file");
+  try {
+    return toml::parse_file(file.string());
+  } catch (const toml::parse_error& error) {
+    throw InputError(file.string() + ":" + std::to_string(error.source().begin.line) + ": TOML syntax error: " +
+                     std::string(error.description()));
+  }
+}
+
+void apply_overrides(toml::table& table, std::span<const std::string> overrides)
+{
+  for (const std::string& text : overrides) {
+    const auto equals = text.find('=');
+    if (equals == std::string::npos || equals == 0)
+      throw InputError("command line: --set " + text + ": expected key=value");
+    toml::table parsed;
+    try {
+      parsed = toml::parse(text, "command line (--set " + text + ")");
+    } catch (const toml::parse_error& error) {
+      throw InputError("command line: --set " + text + ": " + std::string(error.description()));
+    }
+    // Merge the parsed dotted key into the file's tables, replacing any value given there.
+    std::function<void(toml::table&, toml::table&)> merge = [&](toml::table& into, toml::table& from) {
+      for (auto&& [k, node] : from) {
+        toml::node* existing = into.get(k.str());
+        if (node.is_table() && existing && existing->is_table())
+          merge(*existing->as_table(), *node.as_table());
+        else
+          into.insert_or_assign(k.str(), std::move(node));
+      }
+    };
+    merge(table, parsed);
+  }
+}
+
+Config Config::validate(toml::table table, const std::filesystem::path& file, const Schema& schema)
+{
+  Validator{file}.validate_table(table, schema, "");
+  auto state = std::make_shared<State>(State{std::move(table), file, schema});
+  const State* raw = state.get();
+  return Config(std::move(state), &raw->root, &raw->schema, "");
+}
+
+Config Config::load(const std::filesystem::path& file, const Schema& schema, std::span<const std::string> overrides)
+{
+  toml::table table = parse_toml_file(file);
+  apply_overrides(table, overrides);
+  return validate(std::move(table), file, schema);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Access
+
+const KeySpec& Config::spec(std::string_view key) const
+{
+  const KeySpec* s = schema_->find(key);
+  if (!s) throw std::logic_error("Config: key not in schema: " + std::string(key));
+  return *s;
+}
+
+const toml::node* Config::node(std::string_view key) const
+{
+  spec(key);
+  return table_->at_path(key).node();
+}
+
+bool Config::has(std::string_view key) const { return node(key) != nullptr; }
+
+namespace {
+const toml::node& require(const toml::node* n, std::string_view key)
+{
+  if (!n) throw std::logic_error("Config: optional key read without a value: " + std::string(key));
+  return *n;
+}
+
+double number_of(const toml::node& n)
+{
+  return n.is_integer() ? static_cast<double>(*n.value<std::int64_t>()) : *n.value<double>();
+}
+} // namespace
+
+bool Config::boolean(std::string_view key) const { return *require(node(key), key).value<bool>(); }
+
+std::int64_t Config::integer(std::string_view key) const
+{
+  return *require(node(key), key).value<std::int64_t>();
+}
+
+double Config::real(std::string_view key) const
+{
+  return number_of(require(node(key), key)) * *units::to_cgs(spec(key).unit);
+}
+
+std::string Config::string(std::string_view key) const
+{
+  return *require(node(key), key).value<std::string>();
+}
+
+std::filesystem::path Config::path(std::string_view key) const
+{
+  std::filesystem::path p(string(key));
+  return p.is_relative() ? state_->file.parent_path() / p : p;
+}
+
+std::vector<double> Config::reals(std::string_view key) const
+{
+  const double factor = *units::to_cgs(spec(key).unit);
+  std::vector<double> out;
+  for (const auto& item : *require(node(key), key).as_array()) out.push_back(number_of(item) * factor);
+  return out;
+}
+
+std::vector<std::int64_t> Config::integers(std::string_view key) const
+{
+  std::vector<std::int64_t> out;
+  for (const auto& item : *require(node(key), key).as_array()) out.push_back(*item.value<std::int64_t>());
+  return out;
+}
+
+std::vector<std::string> Config::strings(std::string_view key) const
+{
+  std::vector<std::string> out;
+  for (const auto& item : *require(node(key), key).as_array()) out.push_back(*item.value<std::string>());
+  return out;
+}
+
+std::vector<Config> Config::tables(std::string_view key) const
+{
+  std::vector<Config> out;
+  const KeySpec& s = spec(key);
+  const toml::node* n = node(key);
+  if (!n) return out;
+  const auto& array = *n->as_array();
+  for (std::size_t i = 0; i < array.size(); ++i)
+    out.push_back(Config(state_, array.get(i)->as_table(), s.element.get(),
+                         join_key(prefix_, key) + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+std::string Config::where(std::string_view key) const
+{
+  const toml::node* n = table_->at_path(key).node();
+  return location(n, state_->file);
+}
+
+void Config::fail(std::string_view key, std::string_view message) const
+{
+  throw InputError(where(key) + ": " + join_key(prefix_, key) + ": " + std::string(message));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+namespace {
+
+std::string format_node(const toml::node& node)
+{
+  std::ostringstream os;
+  node.visit([&](const auto& v) { os << v; });
+  return os.str();
+}
+
+/// Writes the keys of `schema` found in `table`: plain keys as dotted keys under a [section] per first
+/// component, table lists as [[...]] blocks. Units and meanings go into comments.
+void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema, std::string_view header_prefix)
+{
+  auto comment = [](const KeySpec& spec) {
+    std::string c = spec.unit.empty() ? "" : "[" + spec.unit + "] ";
+    return "  # " + c + spec.doc;
+  };
+  // Root-level keys first (TOML puts everything before the first header into the root table).
+  std::vector<std::string> sections;
+  for (const auto& spec : schema.keys()) {
+    if (spec->kind == ValueKind::table_list) continue;
+    const auto dot = spec->key.find('.');
+    if (dot == std::string::npos) {
+      if (const toml::node* n = table.get(spec->key)) os << spec->key << " = " << format_node(*n) << comment(*spec) << "\n";
+    } else if (std::find(sections.begin(), sections.end(), spec->key.substr(0, dot)) == sections.end()) {
+      sections.push_back(spec->key.substr(0, dot));
+    }
+  }
+  for (const std::string& section : sections) {
+    os << "\n[" << join_key(header_prefix, section) << "]\n";
+    for (const auto& spec : schema.keys()) {
+      if (spec->kind == ValueKind::table_list || !spec->key.starts_with(section + ".")) continue;
+      const std::string rest = spec->key.substr(section.size() + 1);
+      if (const toml::node* n = table.at_path(spec->key).node())
+        os << rest << " = " << format_node(*n) << comment(*spec) << "\n";
+      else
+        os << "# " << rest << " = (not set)" << comment(*spec) << "\n";
+    }
+  }
+  for (const auto& spec : schema.keys()) {
+    if (spec->kind != ValueKind::table_list) continue;
+    const toml::node* n = table.at_path(spec->key).node();
+    if (!n) continue;
+    for (const auto& element : *n->as_array()) {
+      const std::string name = join_key(header_prefix, spec->key);
+      os << "\n[[" << name << "]]  # " << spec->doc << "\n";
+      std::ostringstream inner;
+      write_table(inner, *element.as_table(), *spec->element, name);
+      os << inner.str();
+    }
+  }
+}
+
+} // namespace
+
+std::string Config::resolved_toml() const
+{
+  std::ostringstream os;
+  os << "# Resolved configuration: every key, defaults written out. Read from " << state_->file.string() << "\n";
+  write_table(os, *table_, *schema_, "");
+  return os.str();
+}
+
+} // namespace ibvalve::io

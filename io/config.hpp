@@ -1,0 +1,161 @@
+#pragma once
+// Case files: TOML read with toml++, checked against a schema of keys with types, units and ranges.
+//
+// A Schema lists every key a case file may hold (dotted paths such as "fluid.viscosity"), with its
+// kind, the unit the user writes it in, its default and its allowed range or choices. Config::validate
+// checks a parsed file against it: an unknown key, a wrong type, an out-of-range value, a missing
+// required key or a missing file each throw one InputError line "file:line: key: what is wrong".
+// A valid Config holds every key, defaults filled in, and hands out values converted to CGS.
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include <toml++/toml.h>
+
+namespace ibvalve::io {
+
+enum class ValueKind { boolean, integer, real, string, real_list, integer_list, string_list, table_list };
+
+using Value = std::variant<bool, std::int64_t, double, std::string, std::vector<double>,
+                           std::vector<std::int64_t>, std::vector<std::string>>;
+
+class Schema;
+
+struct KeySpec {
+  std::string key;
+  ValueKind kind = ValueKind::real;
+  std::string doc;
+  std::string unit; // as written in the case file; read back in CGS
+  bool required = false;
+  std::optional<Value> default_value;
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_inclusive = true;
+  bool max_inclusive = true;
+  std::vector<std::string> choices;
+  std::size_t min_size = 0; // lists: fewest elements
+  std::size_t max_size = std::numeric_limits<std::size_t>::max();
+  bool is_path = false;    // a string naming a file, relative to the case file's folder
+  bool must_exist = false; // ... which must exist when read
+  std::shared_ptr<const Schema> element; // table_list: the schema of each element
+};
+
+/// Sets the properties of one key; returned by the Schema::add_* calls.
+class KeyBuilder {
+public:
+  explicit KeyBuilder(KeySpec& spec) : spec_(&spec) {}
+  KeyBuilder& unit(std::string unit);
+  KeyBuilder& required();
+  KeyBuilder& defaults(Value value);
+  KeyBuilder& at_least(double min);
+  KeyBuilder& above(double min);
+  KeyBuilder& at_most(double max);
+  KeyBuilder& below(double max);
+  KeyBuilder& positive() { return above(0.0); }
+  KeyBuilder& non_negative() { return at_least(0.0); }
+  KeyBuilder& choices(std::vector<std::string> allowed);
+  KeyBuilder& size(std::size_t n) { return sizes(n, n); }
+  KeyBuilder& sizes(std::size_t min, std::size_t max);
+  /// A path relative to the case file's folder; `must_exist` makes a missing file an input error.
+  KeyBuilder& file(bool must_exist = true);
+
+private:
+  KeySpec* spec_;
+};
+
+class Schema {
+public:
+  KeyBuilder add_boolean(std::string key, std::string doc);
+  KeyBuilder add_integer(std::string key, std::string doc);
+  KeyBuilder add_real(std::string key, std::string doc);
+  KeyBuilder add_string(std::string key, std::string doc);
+  KeyBuilder add_real_list(std::string key, std::string doc);
+  KeyBuilder add_integer_list(std::string key, std::string doc);
+  KeyBuilder add_string_list(std::string key, std::string doc);
+  /// An array of tables ([[key]] in TOML), each element checked against `element`.
+  KeyBuilder add_table_list(std::string key, Schema element, std::string doc);
+
+  /// Adds every key of `other`; a key defined twice is a programming error.
+  void merge(const Schema& other);
+  const KeySpec* find(std::string_view key) const;
+  /// True when some key starts with "prefix.".
+  bool has_table(std::string_view prefix) const;
+  /// Keys in the order they were added.
+  std::span<const std::unique_ptr<KeySpec>> keys() const { return keys_; }
+  /// A Markdown table of every key (for docs and `ibvalve run --help-config`).
+  std::string markdown() const;
+
+  Schema() = default;
+  Schema(const Schema& other) { merge(other); }
+  Schema& operator=(const Schema& other);
+  Schema(Schema&&) = default;
+  Schema& operator=(Schema&&) = default;
+
+private:
+  KeyBuilder add(std::string key, ValueKind kind, std::string doc);
+  std::vector<std::unique_ptr<KeySpec>> keys_;
+};
+
+/// Parses a TOML file; a syntax error or a missing file throws InputError naming file and line.
+toml::table parse_toml_file(const std::filesystem::path& file);
+/// Applies "key=value" overrides (value in TOML syntax) given on the command line.
+void apply_overrides(toml::table& table, std::span<const std::string> overrides);
+
+/// A validated case file (or one element of a table list within it).
+class Config {
+public:
+  /// Checks `table` (read from `file`) against `schema` and fills in defaults.
+  static Config validate(toml::table table, const std::filesystem::path& file, const Schema& schema);
+  /// parse_toml_file + apply_overrides + validate.
+  static Config load(const std::filesystem::path& file, const Schema& schema,
+                     std::span<const std::string> overrides = {});
+
+  bool has(std::string_view key) const;
+  bool boolean(std::string_view key) const;
+  std::int64_t integer(std::string_view key) const;
+  /// In CGS: the value as written, times the unit's factor.
+  double real(std::string_view key) const;
+  std::string string(std::string_view key) const;
+  /// A path key, resolved against the case file's folder.
+  std::filesystem::path path(std::string_view key) const;
+  std::vector<double> reals(std::string_view key) const;
+  std::vector<std::int64_t> integers(std::string_view key) const;
+  std::vector<std::string> strings(std::string_view key) const;
+  std::vector<Config> tables(std::string_view key) const;
+
+  /// "case.toml:12" for a key (the file alone for a default).
+  std::string where(std::string_view key) const;
+  /// Throws the InputError "file:line: key: message", for checks a schema cannot express.
+  [[noreturn]] void fail(std::string_view key, std::string_view message) const;
+
+  const std::filesystem::path& file() const { return state_->file; }
+  /// The whole resolved configuration as TOML, every default written out, units in comments.
+  std::string resolved_toml() const;
+
+private:
+  struct State {
+    toml::table root;
+    std::filesystem::path file;
+    Schema schema;
+  };
+  Config(std::shared_ptr<const State> state, const toml::table* table, const Schema* schema, std::string prefix)
+      : state_(std::move(state)), table_(table), schema_(schema), prefix_(std::move(prefix))
+  {
+  }
+  const toml::node* node(std::string_view key) const;
+  const KeySpec& spec(std::string_view key) const;
+
+  std::shared_ptr<const State> state_;
+  const toml::table* table_;
+  const Schema* schema_;
+  std::string prefix_; // "fluid.boundary[2]" for an element of a table list
+};
+
+} // namespace ibvalve::io

@@ -1,0 +1,47 @@
+#pragma once
+// Files a run writes: never half-written. A file is written beside its final name and renamed into
+// place, so a reader (or a crash) sees the old file or the new one, never a torn one.
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ibvalve::io {
+
+/// Writes `content` to `path` atomically (temporary file + rename).
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+/// Reads a whole text file; InputError when it cannot be read.
+std::string read_text_file(const std::filesystem::path& path);
+
+/// Appends rows to a CSV time series, flushing each row so a run that stops keeps every row so far.
+/// The header is written when the file is created; reopening an existing file (restart) appends.
+class CsvWriter {
+public:
+  CsvWriter() = default;
+  CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append = false);
+  void write_row(const std::vector<double>& values);
+  const std::vector<std::string>& columns() const { return columns_; }
+  bool is_open() const { return out_.is_open(); }
+
+private:
+  std::ofstream out_;
+  std::vector<std::string> columns_;
+};
+
+/// A CSV table of numbers with a header row (comment lines start with '#').
+struct CsvTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  /// Index of a column; InputError naming the file when it is missing.
+  std::size_t column(std::string_view name) const;
+  std::vector<double> values(std::string_view name) const;
+  std::filesystem::path source;
+};
+
+/// Reads a CSV file of numbers. `header` false means the first row is data (columns named c0, c1, ...).
+/// A malformed line throws InputError "file:line: ...".
+CsvTable read_csv(const std::filesystem::path& path, bool header = true);
+
+} // namespace ibvalve::io
