@@ -1,0 +1,138 @@
+#include "io/xdmf.hpp"
+
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/files.hpp"
+
+namespace ibvalve::io {
+
+XdmfGrid XdmfGrid::regular(std::string name, std::array<std::size_t, 3> cells, std::array<double, 3> origin,
+                           std::array<double, 3> spacing)
+{
+  XdmfGrid g;
+  g.name = std::move(name);
+  g.cells = cells;
+  g.origin = origin;
+  g.spacing = spacing;
+  return g;
+}
+
+XdmfGrid XdmfGrid::mesh(std::string name, std::string topology, std::size_t elements, std::size_t nodes_per_element,
+                        std::string connectivity, std::size_t nodes, std::string coordinates)
+{
+  XdmfGrid g;
+  g.name = std::move(name);
+  g.topology = std::move(topology);
+  g.elements = elements;
+  g.nodes_per_element = nodes_per_element;
+  g.connectivity = std::move(connectivity);
+  g.nodes = nodes;
+  g.coordinates = std::move(coordinates);
+  return g;
+}
+
+XdmfGrid& XdmfGrid::add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data)
+{
+  fields.push_back({std::move(field_name), center, std::move(dims), std::move(data)});
+  return *this;
+}
+
+XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path) : path_(std::move(path))
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  writer_ = rank == 0;
+}
+
+void XdmfTimeSeries::add_step(double time, std::vector<XdmfGrid> grids)
+{
+  steps_.emplace_back(time, std::move(grids));
+  write();
+}
+
+void XdmfTimeSeries::drop_after(double time)
+{
+  while (!steps_.empty() && steps_.back().first > time) steps_.pop_back();
+  write();
+}
+
+void XdmfTimeSeries::write() const
+{
+  if (writer_) write_file_atomically(path_, text());
+}
+
+namespace {
+
+std::string dims_text(const std::vector<std::size_t>& dims)
+{
+  std::string s;
+  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? " " : "") + std::to_string(dims[i]);
+  return s;
+}
+
+void data_item(std::ostringstream& os, const std::vector<std::size_t>& dims, const std::string& number_type,
+               const std::string& data, const std::string& indent)
+{
+  os << indent << "<DataItem Dimensions=\"" << dims_text(dims) << "\" NumberType=\"" << number_type
+     << "\" Precision=\"8\" Format=\"HDF\">" << data << "</DataItem>\n";
+}
+
+void grid_text(std::ostringstream& os, const XdmfGrid& g)
+{
+  const std::string in = "        ";
+  os << "      <Grid Name=\"" << g.name << "\" GridType=\"Uniform\">\n";
+  std::size_t grid_rank = 0;
+  if (g.topology.empty()) {
+    // XDMF orders regular-grid dimensions slowest first: z, y, x (points, not cells).
+    os << in << "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << g.cells[2] + 1 << " " << g.cells[1] + 1
+       << " " << g.cells[0] + 1 << "\"/>\n";
+    os << in << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
+    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << g.origin[2]
+       << " " << g.origin[1] << " " << g.origin[0] << "</DataItem>\n";
+    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << g.spacing[2]
+       << " " << g.spacing[1] << " " << g.spacing[0] << "</DataItem>\n";
+    os << in << "</Geometry>\n";
+    grid_rank = 3;
+  } else {
+    os << in << "<Topology TopologyType=\"" << g.topology << "\" NumberOfElements=\"" << g.elements << "\"";
+    if (g.topology == "Polyvertex") os << " NodesPerElement=\"1\"";
+    os << ">\n";
+    data_item(os, {g.elements, g.nodes_per_element}, "Int", g.connectivity, in + "  ");
+    os << in << "</Topology>\n";
+    os << in << "<Geometry GeometryType=\"XYZ\">\n";
+    data_item(os, {g.nodes, 3}, "Float", g.coordinates, in + "  ");
+    os << in << "</Geometry>\n";
+    grid_rank = 1;
+  }
+  for (const XdmfField& f : g.fields) {
+    std::string type = "Scalar";
+    if (f.dims.size() > grid_rank) type = f.dims.back() == 3 ? "Vector" : f.dims.back() == 9 ? "Tensor" : "Matrix";
+    os << in << "<Attribute Name=\"" << f.name << "\" AttributeType=\"" << type << "\" Center=\""
+       << (f.center == Center::cell ? "Cell" : "Node") << "\">\n";
+    data_item(os, f.dims, "Float", f.data, in + "  ");
+    os << in << "</Attribute>\n";
+  }
+  os << "      </Grid>\n";
+}
+
+} // namespace
+
+std::string XdmfTimeSeries::text() const
+{
+  std::ostringstream os;
+  os << std::setprecision(17);
+  os << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
+  os << "    <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (const auto& [time, grids] : steps_) {
+    os << "     <Grid Name=\"t = " << time << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+    os << "      <Time Value=\"" << time << "\"/>\n";
+    for (const XdmfGrid& g : grids) grid_text(os, g);
+    os << "     </Grid>\n";
+  }
+  os << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  return os.str();
+}
+
+} // namespace ibvalve::io

@@ -1,0 +1,67 @@
+#pragma once
+// XDMF (version 3) descriptions of HDF5 data, so ParaView and VisIt open a run's fields.
+//
+// A run's fields.xdmf is a temporal collection; each output time holds a spatial collection of grids
+// (the fluid's regular grid and the structure's mesh side by side), so one ParaView state shows both.
+// The file is rewritten atomically after every output, so it is always complete.
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <mpi.h>
+
+namespace ibvalve::io {
+
+enum class Center { node, cell };
+
+struct XdmfField {
+  std::string name;
+  Center center = Center::cell;
+  /// Shape of the dataset: the grid's (slowest index first) and, for vectors/tensors, 3 or 9 last.
+  std::vector<std::size_t> dims;
+  /// "path/relative/to/the/xdmf.h5:/dataset"
+  std::string data;
+};
+
+struct XdmfGrid {
+  std::string name;
+  // A regular grid (topology empty): cells per direction x, y, z; origin and spacing in x, y, z.
+  std::array<std::size_t, 3> cells{};
+  std::array<double, 3> origin{};
+  std::array<double, 3> spacing{};
+  // An unstructured mesh: "Hexahedron", "Tetrahedron", "Quadrilateral", "Triangle" or "Polyvertex".
+  std::string topology;
+  std::size_t elements = 0;
+  std::size_t nodes_per_element = 0;
+  std::size_t nodes = 0;
+  std::string connectivity; // "file.h5:/dataset" of elements x nodes_per_element int64
+  std::string coordinates;  // "file.h5:/dataset" of nodes x 3 doubles
+  std::vector<XdmfField> fields;
+
+  static XdmfGrid regular(std::string name, std::array<std::size_t, 3> cells, std::array<double, 3> origin,
+                          std::array<double, 3> spacing);
+  static XdmfGrid mesh(std::string name, std::string topology, std::size_t elements, std::size_t nodes_per_element,
+                       std::string connectivity, std::size_t nodes, std::string coordinates);
+  XdmfGrid& add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data);
+};
+
+class XdmfTimeSeries {
+public:
+  /// Rank 0 of `comm` writes `path`; every rank may call add_step (the others do nothing).
+  XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path);
+  void add_step(double time, std::vector<XdmfGrid> grids);
+  /// Forgets steps after `time` (a restart from a checkpoint at `time`) and rewrites the file.
+  void drop_after(double time);
+  std::string text() const;
+  std::size_t steps() const { return steps_.size(); }
+
+private:
+  void write() const;
+  bool writer_ = true;
+  std::filesystem::path path_;
+  std::vector<std::pair<double, std::vector<XdmfGrid>>> steps_;
+};
+
+} // namespace ibvalve::io
