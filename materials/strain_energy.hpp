@@ -21,7 +21,7 @@ struct FiberFrame {
 };
 
 class StrainEnergy {
-public:
+ public:
   virtual ~StrainEnergy() = default;
   virtual std::string name() const = 0;
   /// W(F) in erg/cm^3 (dyn/cm^2).
@@ -30,6 +30,12 @@ public:
   virtual Mat3 stress(const Mat3& F, const FiberFrame& fibers) const = 0;
   /// dP/dF (see Tangent for the layout).
   virtual Tangent tangent(const Mat3& F, const FiberFrame& fibers) const = 0;
+  /// P and dP/dF together (a law may share work between them; the default calls both).
+  virtual void stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
+  {
+    P = stress(F, fibers);
+    T = tangent(F, fibers);
+  }
 };
 
 } // namespace ibvalve::materials

@@ -1,0 +1,160 @@
+#include "materials/material.hpp"
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "materials/law.hpp"
+
+namespace ibvalve::materials {
+
+namespace {
+constexpr std::array<std::pair<std::string_view, PenaltyKind>, 4> penalty_table{{
+    {"none", PenaltyKind::none},
+    {"log", PenaltyKind::log},
+    {"quadratic-log", PenaltyKind::quadratic_log},
+    {"quadratic", PenaltyKind::quadratic},
+}};
+} // namespace
+
+std::optional<PenaltyKind> find_penalty(std::string_view name)
+{
+  for (const auto& [n, kind] : penalty_table)
+    if (n == name) return kind;
+  return std::nullopt;
+}
+
+std::string penalty_name(PenaltyKind kind)
+{
+  for (const auto& [n, k] : penalty_table)
+    if (k == kind) return std::string(n);
+  return "?";
+}
+
+std::string penalty_names()
+{
+  std::string names;
+  for (const auto& [n, kind] : penalty_table) names += (names.empty() ? "" : ", ") + std::string(n);
+  return names;
+}
+
+VolumetricPenalty::VolumetricPenalty(PenaltyKind kind, double bulk_modulus)
+    : kind_(kind), kappa_(bulk_modulus)
+{
+  if (!(bulk_modulus >= 0.0)) throw std::invalid_argument("volumetric penalty: negative bulk modulus");
+  if (kind_ == PenaltyKind::none) kappa_ = 0.0;
+}
+
+std::string VolumetricPenalty::name() const
+{
+  return penalty_name(kind_);
+}
+
+double VolumetricPenalty::U(double J) const
+{
+  switch (kind_) {
+  case PenaltyKind::none:
+    return 0.0;
+  case PenaltyKind::log:
+    return 0.5 * kappa_ * std::log(J) * std::log(J);
+  case PenaltyKind::quadratic_log:
+    return 0.25 * kappa_ * (J * J - 1.0 - 2.0 * std::log(J));
+  case PenaltyKind::quadratic:
+    return 0.5 * kappa_ * (J - 1.0) * (J - 1.0);
+  }
+  return 0.0;
+}
+
+double VolumetricPenalty::dU(double J) const
+{
+  switch (kind_) {
+  case PenaltyKind::none:
+    return 0.0;
+  case PenaltyKind::log:
+    return kappa_ * std::log(J) / J;
+  case PenaltyKind::quadratic_log:
+    return 0.5 * kappa_ * (J - 1.0 / J);
+  case PenaltyKind::quadratic:
+    return kappa_ * (J - 1.0);
+  }
+  return 0.0;
+}
+
+double VolumetricPenalty::d2U(double J) const
+{
+  switch (kind_) {
+  case PenaltyKind::none:
+    return 0.0;
+  case PenaltyKind::log:
+    return kappa_ * (1.0 - std::log(J)) / (J * J);
+  case PenaltyKind::quadratic_log:
+    return 0.5 * kappa_ * (1.0 + 1.0 / (J * J));
+  case PenaltyKind::quadratic:
+    return kappa_;
+  }
+  return 0.0;
+}
+
+double VolumetricPenalty::energy(const Mat3& F, const FiberFrame&) const
+{
+  return U(F.determinant());
+}
+
+Mat3 VolumetricPenalty::stress(const Mat3& F, const FiberFrame&) const
+{
+  if (kind_ == PenaltyKind::none) return Mat3::Zero();
+  const double J = F.determinant();
+  return J * dU(J) * F.inverse().transpose();
+}
+
+Tangent VolumetricPenalty::tangent(const Mat3& F, const FiberFrame&) const
+{
+  Tangent T = Tangent::Zero();
+  if (kind_ == PenaltyKind::none) return T;
+  const double J = F.determinant();
+  add_volumetric_tangent(F, J * dU(J), J * J * d2U(J) + J * dU(J), T);
+  return T;
+}
+
+Material::Material(std::shared_ptr<const StrainEnergy> law, VolumetricPenalty penalty)
+    : law_(std::move(law)), penalty_(penalty)
+{
+  if (!law_) throw std::invalid_argument("Material: no law");
+}
+
+std::string Material::name() const
+{
+  if (penalty_.kind() == PenaltyKind::none) return law_->name();
+  return law_->name() + " + " + penalty_.name() + " penalty";
+}
+
+double Material::energy(const Mat3& F, const FiberFrame& fibers) const
+{
+  return law_->energy(F, fibers) + penalty_.energy(F, fibers);
+}
+
+Mat3 Material::stress(const Mat3& F, const FiberFrame& fibers) const
+{
+  return law_->stress(F, fibers) + penalty_.stress(F, fibers);
+}
+
+Tangent Material::tangent(const Mat3& F, const FiberFrame& fibers) const
+{
+  Mat3 P;
+  Tangent T;
+  stress_and_tangent(F, fibers, P, T);
+  return T;
+}
+
+void Material::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
+{
+  law_->stress_and_tangent(F, fibers, P, T);
+  if (penalty_.kind() == PenaltyKind::none) return;
+  const double J = F.determinant();
+  const double dU = penalty_.dU(J);
+  P += J * dU * F.inverse().transpose();
+  add_volumetric_tangent(F, J * dU, J * J * penalty_.d2U(J) + J * dU, T);
+}
+
+} // namespace ibvalve::materials
