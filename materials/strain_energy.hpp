@@ -4,6 +4,7 @@
 #include <string>
 
 #include <Eigen/Core>
+#include <Eigen/LU> // determinant() and inverse() of 3x3 F
 
 namespace ibvalve::materials {
 
