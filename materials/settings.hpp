@@ -1,0 +1,64 @@
+#pragma once
+// Named parameter presets and the case-file keys that choose a material.
+//
+// Presets hold the study's fitted parameters (Zhu et al. 2021, means of nine porcine samples) and a
+// few classic ones, written in the user's units (kPa for moduli, as the papers give them) and
+// converted to CGS (dyn/cm^2) when a law is built. A case file picks a material under a table, e.g.
+//
+//   [leaflet.material]
+//   law = "W1"                 # or preset = "zhu2021-W1", or both (explicit keys override the preset)
+//   C10 = 1.21                 # kPa
+//   C01 = 7.99
+//   k1 = 24.23                 # kPa
+//   k2 = 57.62
+//   fiber_compression = "off"  # fibers carry no load when shortened (I4 < 1)
+//   penalty = "log"            # kappa/2 (ln J)^2
+//   bulk_modulus = 1000.0      # kPa
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/config.hpp"
+#include "materials/law.hpp"
+#include "materials/material.hpp"
+
+namespace ibvalve::materials {
+
+struct Preset {
+  std::string name;
+  LawKind law;
+  std::vector<double> values; ///< user units: kPa for moduli, dimensionless otherwise
+  std::string source;
+};
+
+std::span<const Preset> presets();
+const Preset* find_preset(std::string_view name);
+/// Converts parameters in user units (kPa for moduli) to CGS, and back.
+std::vector<double> to_cgs(LawKind law, std::span<const double> user_values);
+std::vector<double> to_user_units(LawKind law, std::span<const double> cgs_values);
+
+/// The keys of a material table under `prefix` (e.g. "leaflet.material"), for the case schema.
+io::Schema material_schema(const std::string& prefix);
+
+/// Everything a material table resolves to.
+struct MaterialSettings {
+  LawKind law = LawKind::neo_hookean;
+  std::vector<double> parameters; ///< CGS
+  LawOptions options;
+  PenaltyKind penalty = PenaltyKind::log;
+  double bulk_modulus = 0.0; ///< dyn/cm^2
+  std::string preset;        ///< empty when none was named
+
+  /// "W1 (C10 = 1.21 kPa, C01 = 7.99, ...), fibers tension only, log penalty, kappa = 1000 kPa".
+  std::string describe() const;
+  std::shared_ptr<const Material> build() const;
+};
+
+/// Reads the material table under `prefix` of a validated case (schema from material_schema).
+/// Errors (no law, a parameter of another law, a preset of another law, a missing parameter) name
+/// the file, line and key.
+MaterialSettings read_material(const io::Config& config, const std::string& prefix);
+
+} // namespace ibvalve::materials
