@@ -62,10 +62,13 @@ int main(int argc, char** argv)
   try {
     cli.parse(static_cast<int>(ours.size()), ours.data());
   } catch (const CLI::ParseError& error) {
-    // Help and version are "errors" with exit code 0 in CLI11.
-    if (rank_of_world() == 0) code = cli.exit(error);
-    else code = error.get_exit_code();
-    if (code != 0) code = exit_code_input_error;
+    // Help and version are "errors" with exit code 0 in CLI11; a real usage error is bad input.
+    if (error.get_exit_code() == 0) {
+      if (rank_of_world() == 0) cli.exit(error);
+    } else {
+      io::Logger::global().error(std::string(error.what()) + " (see ibvalve --help)");
+      code = exit_code_input_error;
+    }
     PetscFinalize();
     return code;
   }

@@ -42,9 +42,13 @@ io::Config load_case(const RunOptions& options)
   const Model* model = nullptr;
   if (model_node && model_node->is_string()) model = find_model(*model_node->value<std::string>());
   if (!model) {
+    const std::string where = model_node ? options.case_file.string() + ":" + std::to_string(model_node->source().begin.line)
+                                         : options.case_file.string();
+    const std::string name = model_node ? model_node->value_or(std::string{}) : std::string{};
     io::Config::validate(std::move(table), options.case_file, common_schema());
-    // Every key given was common and valid: the model list must be empty.
-    throw InputError(options.case_file.string() + ": model: no model is available in this build");
+    // Only reached when no model is registered (the schema's choices are then empty).
+    throw InputError(where + ": model: \"" + name +
+                     "\" is not one of the allowed values: (this build has no models)");
   }
   return io::Config::validate(std::move(table), options.case_file, case_schema(*model));
 }

@@ -1,0 +1,61 @@
+// Files a run writes are never half-written; CSV time series are read back with clear errors.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "io/errors.hpp"
+#include "io/files.hpp"
+
+namespace ibvalve::io {
+namespace {
+
+std::filesystem::path temp(const std::string& name)
+{
+  return std::filesystem::temp_directory_path() / ("ibvalve_files_" + std::to_string(::getpid()) + "_" + name);
+}
+
+TEST(Files, AtomicWriteReplacesTheWholeFileAndLeavesNoTemporary)
+{
+  const auto path = temp("atomic.txt");
+  write_file_atomically(path, "first version, longer\n");
+  write_file_atomically(path, "second\n");
+  EXPECT_EQ(read_text_file(path), "second\n");
+  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path()))
+    EXPECT_EQ(entry.path().string().find(path.string() + ".tmp"), std::string::npos);
+  std::filesystem::remove(path);
+}
+
+TEST(Files, CsvRoundTripAndAppend)
+{
+  const auto path = temp("series.csv");
+  {
+    CsvWriter w(path, {"t", "Q"});
+    w.write_row({0.0, 1.5});
+  }
+  {
+    CsvWriter w(path, {"t", "Q"}, /*append=*/true);
+    w.write_row({0.1, -2.25});
+  }
+  const CsvTable table = read_csv(path);
+  EXPECT_EQ(table.columns, (std::vector<std::string>{"t", "Q"}));
+  EXPECT_EQ(table.values("Q"), (std::vector<double>{1.5, -2.25}));
+  EXPECT_THROW(table.column("P"), InputError);
+  std::filesystem::remove(path);
+}
+
+TEST(Files, MalformedCsvLineIsNamed)
+{
+  const auto path = temp("bad.csv");
+  std::ofstream(path) << "# comment\nt,P\n0,1\n0.1,abc\n";
+  try {
+    read_csv(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), path.string() + ":4: 'abc' is not a number (column P)");
+  }
+  std::filesystem::remove(path);
+}
+
+} // namespace
+} // namespace ibvalve::io

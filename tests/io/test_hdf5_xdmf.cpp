@@ -1,0 +1,84 @@
+// Parallel HDF5: a global array written in blocks by every rank reads back whole and in blocks, on 1
+// and 2 ranks; data from rank 0 is written once; the XDMF text points at the datasets.
+#include <filesystem>
+#include <numeric>
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include "io/hdf5.hpp"
+#include "io/xdmf.hpp"
+
+namespace ibvalve::io {
+namespace {
+
+std::filesystem::path shared_temp_path(const std::string& name)
+{
+  // Every rank must name the same file: rank 0's process id decides.
+  int pid = static_cast<int>(::getpid());
+  MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return std::filesystem::temp_directory_path() / ("ibvalve_" + name + "_" + std::to_string(pid) + ".h5");
+}
+
+TEST(Hdf5File, BlocksFromEveryRankMakeOneGlobalArray)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const hsize_t rows_per_rank = 3, columns = 4;
+  const std::vector<hsize_t> global{rows_per_rank * size, columns};
+  const std::vector<hsize_t> offset{rows_per_rank * rank, 0};
+  const std::vector<hsize_t> count{rows_per_rank, columns};
+  std::vector<double> block(rows_per_rank * columns);
+  for (hsize_t i = 0; i < rows_per_rank; ++i)
+    for (hsize_t j = 0; j < columns; ++j) block[i * columns + j] = 100.0 * (offset[0] + i) + j;
+
+  const auto path = shared_temp_path("blocks");
+  {
+    Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::create);
+    file.write_block("fields/u", block, global, offset, count);
+    const std::vector<std::int64_t> connectivity{0, 1, 2, 3};
+    file.write_root("mesh/connectivity", std::span<const std::int64_t>(connectivity), std::vector<hsize_t>{1, 4});
+    file.write_attribute("time", 0.25);
+  }
+  {
+    Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::read);
+    EXPECT_EQ(file.dims("fields/u"), global);
+    const auto whole = file.read("fields/u");
+    for (hsize_t i = 0; i < global[0]; ++i)
+      for (hsize_t j = 0; j < columns; ++j) EXPECT_EQ(whole[i * columns + j], 100.0 * i + j);
+    EXPECT_EQ(file.read_block("fields/u", offset, count), block);
+    EXPECT_EQ(file.read_integers("mesh/connectivity"), (std::vector<std::int64_t>{0, 1, 2, 3}));
+    EXPECT_DOUBLE_EQ(file.read_attribute("time"), 0.25);
+    EXPECT_FALSE(file.has("fields/p"));
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove(path);
+}
+
+TEST(Hdf5File, OpeningAMissingFileThrows)
+{
+  EXPECT_THROW(Hdf5File(MPI_COMM_WORLD, "/nonexistent/x.h5", Hdf5File::Mode::read), std::runtime_error);
+}
+
+TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
+{
+  XdmfTimeSeries series(MPI_COMM_WORLD, shared_temp_path("series").replace_extension(".xdmf"));
+  auto fluid = XdmfGrid::regular("fluid", {4, 5, 6}, {0, 0, 0}, {0.25, 0.2, 0.1});
+  fluid.add_field("pressure", Center::cell, {6, 5, 4}, "f.h5:/p").add_field("velocity", Center::cell, {6, 5, 4, 3}, "f.h5:/u");
+  auto mesh = XdmfGrid::mesh("valve", "Hexahedron", 2, 8, "m.h5:/cells", 12, "m.h5:/x");
+  mesh.add_field("J", Center::cell, {2}, "m.h5:/J");
+  series.add_step(0.5, {fluid, mesh});
+  const std::string text = series.text();
+  EXPECT_NE(text.find("<Time Value=\"0.5\"/>"), std::string::npos);
+  EXPECT_NE(text.find("TopologyType=\"3DCoRectMesh\" Dimensions=\"7 6 5\""), std::string::npos);
+  EXPECT_NE(text.find("AttributeType=\"Vector\" Center=\"Cell\""), std::string::npos);
+  EXPECT_NE(text.find("TopologyType=\"Hexahedron\" NumberOfElements=\"2\""), std::string::npos);
+  EXPECT_NE(text.find("Dimensions=\"12 3\""), std::string::npos);
+  series.add_step(1.0, {fluid});
+  series.drop_after(0.5);
+  EXPECT_EQ(series.steps(), 1u);
+}
+
+} // namespace
+} // namespace ibvalve::io
