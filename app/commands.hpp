@@ -20,5 +20,7 @@ using CommandAction = std::function<int(const PetscArguments&)>;
 
 /// Registers `ibvalve run CASE.toml`; sets `action` when the subcommand is chosen.
 void add_run_command(CLI::App& app, CommandAction& action);
+/// Registers `ibvalve fit --law W1 DATA.csv ...` (planar biaxial fitting, materials/fitting.hpp).
+void add_fit_command(CLI::App& app, CommandAction& action);
 
 } // namespace ibvalve::app

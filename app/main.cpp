@@ -57,6 +57,7 @@ int main(int argc, char** argv)
   cli.require_subcommand(1);
   app::CommandAction action;
   app::add_run_command(cli, action);
+  app::add_fit_command(cli, action);
 
   int code = 0;
   try {
