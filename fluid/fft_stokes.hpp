@@ -1,0 +1,44 @@
+#pragma once
+// The exact Stokes solver for periodic boxes (see fluid/stokes_solver.hpp) by FFTW-MPI.
+#include <complex>
+#include <vector>
+
+#include <fftw3-mpi.h>
+
+#include "fluid/stokes_solver.hpp"
+
+namespace ibvalve::fluid {
+
+/// The z-slab decomposition FFTW-MPI uses for a box of `cells`, to build the grid with.
+Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells);
+
+class FftStokesSolver : public StokesSolver {
+ public:
+  /// `grid` must be periodic in every direction and decomposed by fft_decomposition().
+  explicit FftStokesSolver(const StaggeredGrid& grid);
+  ~FftStokesSolver() override;
+  FftStokesSolver(const FftStokesSolver&) = delete;
+  FftStokesSolver& operator=(const FftStokesSolver&) = delete;
+
+  void set_parameters(const StokesParameters& parameters) override { parameters_ = parameters; }
+  SolveStatistics solve(Vec rhs, Vec solution) override;
+  std::string name() const override { return "fft"; }
+
+ private:
+  void load(Vec local, PetscInt slot, double* real) const;
+  void store(const double* real, Vec local, PetscInt slot) const;
+
+  const StaggeredGrid& grid_;
+  StokesParameters parameters_;
+  ptrdiff_t local_n0_ = 0, local_0_start_ = 0, alloc_ = 0, padded_ = 0, half_ = 0;
+  double* real_ = nullptr;
+  fftw_complex* spectra_[4] = {nullptr, nullptr, nullptr, nullptr};
+  fftw_plan forward_[3] = {nullptr, nullptr, nullptr};
+  fftw_plan backward_[4] = {nullptr, nullptr, nullptr, nullptr};
+  // Per direction and wavenumber: the Laplacian eigenvalue (2 cos(theta) - 2)/h^2 and the symbol of
+  // the forward difference (e^{i theta} - 1)/h (divergence: face i+1 minus face i of cell i).
+  std::vector<double> laplacian_[3];
+  std::vector<std::complex<double>> forward_difference_[3];
+};
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,368 @@
+#include "fluid/krylov_stokes.hpp"
+
+#include <stdexcept>
+
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+
+namespace {
+
+DMStagStencilLocation face_location(int d)
+{
+  static const DMStagStencilLocation faces[3] = {DMSTAG_LEFT, DMSTAG_DOWN, DMSTAG_BACK};
+  return faces[d];
+}
+
+DMStagStencil face_stencil(int d, const Index3& idx)
+{
+  return {face_location(d), idx[0], idx[1], idx[2], 0};
+}
+DMStagStencil cell_stencil(const Index3& idx)
+{
+  return {DMSTAG_ELEMENT, idx[0], idx[1], idx[2], 0};
+}
+
+/// Calls f(idx) for every owned face of component d.
+template <class F>
+void for_owned_faces(const StaggeredGrid& grid, int d, F&& f)
+{
+  for (PetscInt k = grid.begin(2); k < grid.face_end(d, 2); ++k)
+    for (PetscInt j = grid.begin(1); j < grid.face_end(d, 1); ++j)
+      for (PetscInt i = grid.begin(0); i < grid.face_end(d, 0); ++i) f(Index3{i, j, k});
+}
+
+template <class F>
+void for_owned_cells(const StaggeredGrid& grid, F&& f)
+{
+  for (PetscInt k = grid.begin(2); k < grid.begin(2) + grid.count(2); ++k)
+    for (PetscInt j = grid.begin(1); j < grid.begin(1) + grid.count(1); ++j)
+      for (PetscInt i = grid.begin(0); i < grid.begin(0) + grid.count(0); ++i) f(Index3{i, j, k});
+}
+
+} // namespace
+
+KrylovStokesSolver::KrylovStokesSolver(const StaggeredGrid& grid, const BoundaryConditions& bc,
+                                       const FluidSettings& settings)
+    : grid_(grid), bc_(bc), settings_(settings), pressure_has_constant_(!bc.any_traction())
+{
+}
+
+KrylovStokesSolver::~KrylovStokesSolver()
+{
+  destroy();
+}
+
+void KrylovStokesSolver::destroy()
+{
+  for (Mat* m : {&A_, &H_, &G_, &Dn_, &K_})
+    if (*m) MatDestroy(m);
+  for (IS* is : {&is_u_, &is_p_})
+    if (*is) ISDestroy(is);
+  for (KSP* k : {&ksp_, &ksp_h_, &ksp_k_})
+    if (*k) KSPDestroy(k);
+  for (Vec* v : {&x_, &b_, &r_p_, &phi_, &gphi_})
+    if (*v) VecDestroy(v);
+}
+
+bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, double t_half,
+                                      std::vector<Entry>& entries, double& constant) const
+{
+  entries.clear();
+  constant = 0.0;
+  const PetscInt n_d = grid_.cells(d);
+  if (grid_.is_boundary_face(d, idx[d])) {
+    const int s = side_index(d, idx[d] == 0 ? 0 : 1);
+    if (bc_.side(s).kind == SideKind::velocity) {
+      entries.push_back({face_stencil(d, idx), 1.0});
+      constant = bc_.velocity(s, grid_.face_position(d, idx[0], idx[1], idx[2]), t_new)[d];
+      return true;
+    }
+  }
+  const double half_mu = 0.5 * parameters_.mu;
+  double diagonal = parameters_.rho / parameters_.dt;
+  for (int e = 0; e < 3; ++e) {
+    const double c = 1.0 / (grid_.h(e) * grid_.h(e));
+    diagonal += half_mu * 2.0 * c;
+    for (int sign : {-1, 1}) {
+      Index3 nb = idx;
+      nb[e] += sign;
+      const PetscInt n_e = grid_.cells(e);
+      if (!grid_.periodic(e)) {
+        const int s = side_index(e, sign > 0 ? 1 : 0);
+        if (e == d && (nb[e] < 0 || nb[e] > n_e)) {
+          // Traction side, normal component: even ghost u_{N+1} = u_{N-1} (du_n/dn = 0).
+          nb[e] = idx[e] - sign;
+          entries.push_back({face_stencil(d, nb), -half_mu * c});
+          continue;
+        }
+        if (e != d && (nb[e] < 0 || nb[e] >= n_e)) {
+          // Tangential component: ghost 2 g - u, with g = 0 on a traction side.
+          diagonal += half_mu * c;
+          if (bc_.side(s).kind == SideKind::velocity) {
+            Real3 x = grid_.face_position(d, idx[0], idx[1], idx[2]);
+            x[e] = sign > 0 ? grid_.box().upper[e] : grid_.box().lower[e];
+            constant += half_mu * c * 2.0 * bc_.velocity(s, x, t_new)[d];
+          }
+          continue;
+        }
+      }
+      entries.push_back({face_stencil(d, nb), -half_mu * c});
+    }
+  }
+  entries.push_back({face_stencil(d, idx), diagonal});
+  // Pressure gradient (p(idx) - p(idx - e_d)) / h_d; one-sided over h/2 with p_b at a traction side.
+  const double h = grid_.h(d);
+  Index3 below = idx;
+  below[d] -= 1;
+  if (!grid_.periodic(d) && idx[d] == 0) {
+    const double pb = bc_.pressure(side_index(d, 0), grid_.face_position(d, idx[0], idx[1], idx[2]), t_half);
+    entries.push_back({cell_stencil(idx), 2.0 / h});
+    constant += 2.0 * pb / h;
+  } else if (!grid_.periodic(d) && idx[d] == n_d) {
+    const double pb = bc_.pressure(side_index(d, 1), grid_.face_position(d, idx[0], idx[1], idx[2]), t_half);
+    entries.push_back({cell_stencil(below), -2.0 / h});
+    constant -= 2.0 * pb / h;
+  } else {
+    entries.push_back({cell_stencil(idx), 1.0 / h});
+    entries.push_back({cell_stencil(below), -1.0 / h});
+  }
+  return false;
+}
+
+void KrylovStokesSolver::pressure_row(const Index3& idx, std::vector<Entry>& entries) const
+{
+  // -D u: -(u(idx + e_d) - u(idx)) / h_d.
+  entries.clear();
+  for (int d = 0; d < 3; ++d) {
+    Index3 up = idx;
+    up[d] += 1;
+    entries.push_back({face_stencil(d, up), -1.0 / grid_.h(d)});
+    entries.push_back({face_stencil(d, idx), 1.0 / grid_.h(d)});
+  }
+}
+
+void KrylovStokesSolver::assemble(Mat matrix) const
+{
+  std::vector<Entry> entries;
+  std::vector<DMStagStencil> columns;
+  std::vector<PetscScalar> values;
+  auto insert = [&](const DMStagStencil& row) {
+    columns.clear();
+    values.clear();
+    for (const Entry& e : entries) {
+      columns.push_back(e.column);
+      values.push_back(e.value);
+    }
+    PETSC_CHECK(DMStagMatSetValuesStencil(grid_.dm(), matrix, 1, &row, static_cast<PetscInt>(columns.size()),
+                                          columns.data(), values.data(), ADD_VALUES));
+  };
+  double constant = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      velocity_row(d, idx, 0.0, 0.0, entries, constant);
+      insert(face_stencil(d, idx));
+    });
+  for_owned_cells(grid_, [&](const Index3& idx) {
+    pressure_row(idx, entries);
+    insert(cell_stencil(idx));
+  });
+  PETSC_CHECK(MatAssemblyBegin(matrix, MAT_FINAL_ASSEMBLY));
+  PETSC_CHECK(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY));
+}
+
+void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
+{
+  destroy();
+  parameters_ = parameters;
+  const MPI_Comm comm = grid_.comm();
+  PETSC_CHECK(DMCreateGlobalVector(grid_.dm(), &x_));
+  PETSC_CHECK(VecDuplicate(x_, &b_));
+  PetscInt local_size, global_size;
+  PETSC_CHECK(VecGetLocalSize(x_, &local_size));
+  PETSC_CHECK(VecGetSize(x_, &global_size));
+  ISLocalToGlobalMapping l2g;
+  PETSC_CHECK(DMGetLocalToGlobalMapping(grid_.dm(), &l2g));
+  // Exact preallocation: a first pass counts the nonzeros.
+  Mat counter;
+  PETSC_CHECK(MatCreate(comm, &counter));
+  PETSC_CHECK(MatSetSizes(counter, local_size, local_size, global_size, global_size));
+  PETSC_CHECK(MatSetType(counter, MATPREALLOCATOR));
+  PETSC_CHECK(MatSetLocalToGlobalMapping(counter, l2g, l2g));
+  PETSC_CHECK(MatSetUp(counter));
+  assemble(counter);
+  PETSC_CHECK(MatCreate(comm, &A_));
+  PETSC_CHECK(MatSetSizes(A_, local_size, local_size, global_size, global_size));
+  PETSC_CHECK(MatSetType(A_, MATAIJ));
+  PETSC_CHECK(MatSetLocalToGlobalMapping(A_, l2g, l2g));
+  PETSC_CHECK(MatPreallocatorPreallocate(counter, PETSC_TRUE, A_));
+  PETSC_CHECK(MatDestroy(&counter));
+  assemble(A_);
+
+  // Velocity and pressure index sets, and the blocks the projection preconditioner needs.
+  DMStagStencil faces[3] = {{DMSTAG_LEFT, 0, 0, 0, 0}, {DMSTAG_DOWN, 0, 0, 0, 0}, {DMSTAG_BACK, 0, 0, 0, 0}};
+  DMStagStencil cells[1] = {{DMSTAG_ELEMENT, 0, 0, 0, 0}};
+  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 3, faces, &is_u_));
+  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 1, cells, &is_p_));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_u_, MAT_INITIAL_MATRIX, &H_));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_p_, MAT_INITIAL_MATRIX, &G_));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_p_, is_u_, MAT_INITIAL_MATRIX, &Dn_));
+  PETSC_CHECK(MatMatMult(Dn_, G_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &K_));
+  PETSC_CHECK(MatCreateVecs(K_, &phi_, &r_p_));
+  PETSC_CHECK(MatCreateVecs(G_, nullptr, &gphi_));
+
+  if (pressure_has_constant_) {
+    // Constant pressure is in the kernel of the coupled operator and of K.
+    Vec constant;
+    PETSC_CHECK(VecDuplicate(x_, &constant));
+    PETSC_CHECK(VecZeroEntries(constant));
+    Vec constant_p;
+    PETSC_CHECK(VecGetSubVector(constant, is_p_, &constant_p));
+    PETSC_CHECK(VecSet(constant_p, 1.0));
+    PETSC_CHECK(VecRestoreSubVector(constant, is_p_, &constant_p));
+    PETSC_CHECK(VecNormalize(constant, nullptr));
+    MatNullSpace space;
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &constant, &space));
+    PETSC_CHECK(MatSetNullSpace(A_, space));
+    PETSC_CHECK(MatNullSpaceDestroy(&space));
+    PETSC_CHECK(VecDestroy(&constant));
+    MatNullSpace k_space;
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &k_space));
+    PETSC_CHECK(MatSetNullSpace(K_, k_space));
+    PETSC_CHECK(MatNullSpaceDestroy(&k_space));
+  }
+
+  auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix) {
+    PETSC_CHECK(KSPCreate(comm, &ksp));
+    PETSC_CHECK(KSPSetOperators(ksp, op, op));
+    PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
+    PC pc;
+    PETSC_CHECK(KSPGetPC(ksp, &pc));
+    PETSC_CHECK(PCSetType(pc, PCHYPRE));
+    PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+    PETSC_CHECK(KSPSetOptionsPrefix(ksp, prefix));
+    PETSC_CHECK(KSPSetFromOptions(ksp));
+    PETSC_CHECK(KSPSetUp(ksp));
+  };
+  make_sub_ksp(ksp_h_, H_, "fluid_helmholtz_");
+  make_sub_ksp(ksp_k_, K_, "fluid_poisson_");
+
+  PETSC_CHECK(KSPCreate(comm, &ksp_));
+  PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
+  PETSC_CHECK(KSPSetType(ksp_, KSPFGMRES));
+  PETSC_CHECK(KSPGMRESSetRestart(ksp_, 50));
+  PETSC_CHECK(
+      KSPSetTolerances(ksp_, settings_.rtol, settings_.atol, PETSC_DEFAULT, settings_.max_iterations));
+  PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
+  PC pc;
+  PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  PETSC_CHECK(PCSetType(pc, PCSHELL));
+  PETSC_CHECK(PCShellSetContext(pc, this));
+  PETSC_CHECK(PCShellSetApply(pc, &KrylovStokesSolver::apply_projection));
+  PETSC_CHECK(PCShellSetName(pc, "projection (Griffith 2009)"));
+  PETSC_CHECK(KSPSetOptionsPrefix(ksp_, "fluid_stokes_"));
+  PETSC_CHECK(KSPSetFromOptions(ksp_));
+}
+
+PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
+{
+  PetscFunctionBeginUser;
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  auto* self = static_cast<KrylovStokesSolver*>(context);
+  Vec x_u, x_p, y_u, y_p;
+  PetscCall(VecGetSubVector(x, self->is_u_, &x_u));
+  PetscCall(VecGetSubVector(x, self->is_p_, &x_p));
+  PetscCall(VecGetSubVector(y, self->is_u_, &y_u));
+  PetscCall(VecGetSubVector(y, self->is_p_, &y_p));
+  const double t0 = MPI_Wtime();
+  PetscCall(KSPSolve(self->ksp_h_, x_u, y_u)); // u* = H^-1 w
+  const double t1 = MPI_Wtime();
+  PetscCall(MatMult(self->Dn_, y_u, self->r_p_)); // r = -D u* - g
+  PetscCall(VecAXPY(self->r_p_, -1.0, x_p));
+  if (self->pressure_has_constant_) {
+    // Keep the Poisson right side in the range of K (zero mean).
+    PetscScalar sum;
+    PetscInt n;
+    PetscCall(VecSum(self->r_p_, &sum));
+    PetscCall(VecGetSize(self->r_p_, &n));
+    PetscCall(VecShift(self->r_p_, -sum / static_cast<double>(n)));
+  }
+  PetscCall(KSPSolve(self->ksp_k_, self->r_p_, self->phi_)); // phi = K^-1 r
+  PetscCall(MatMult(self->G_, self->phi_, self->gphi_));     // u = u* - G phi
+  PetscCall(VecAXPY(y_u, -1.0, self->gphi_));
+  // p = rho/dt phi + mu/2 r
+  PetscCall(VecAXPBYPCZ(y_p, self->parameters_.rho / self->parameters_.dt, 0.5 * self->parameters_.mu, 0.0,
+                        self->phi_, self->r_p_));
+  const double t2 = MPI_Wtime();
+  self->helmholtz_seconds_ += t1 - t0;
+  self->poisson_seconds_ += t2 - t1;
+  PetscCall(VecRestoreSubVector(x, self->is_u_, &x_u));
+  PetscCall(VecRestoreSubVector(x, self->is_p_, &x_p));
+  PetscCall(VecRestoreSubVector(y, self->is_u_, &y_u));
+  PetscCall(VecRestoreSubVector(y, self->is_p_, &y_p));
+  PetscFunctionReturn(0);
+}
+
+void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half)
+{
+  StagArray r(grid_, rhs);
+  std::vector<Entry> entries;
+  double constant = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      const bool dirichlet = velocity_row(d, idx, t_new, t_half, entries, constant);
+      double& value = r(idx[0], idx[1], idx[2], grid_.face_slot(d));
+      value = dirichlet ? constant : value + constant;
+    });
+  if (!pressure_has_constant_) return;
+  // Without a traction side the boundary velocity must carry zero net flux for the system to have a
+  // solution; remove the discrete net outflow of the data (an O(h^2) change for smooth data) evenly
+  // over the velocity-side faces.
+  double flux_area[2] = {0.0, 0.0};
+  for (int d = 0; d < 3; ++d) {
+    if (grid_.periodic(d)) continue;
+    const double area = grid_.cell_volume() / grid_.h(d);
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      if (!grid_.is_boundary_face(d, idx[d])) return;
+      const double outward = idx[d] == 0 ? -1.0 : 1.0;
+      flux_area[0] += outward * r(idx[0], idx[1], idx[2], grid_.face_slot(d)) * area;
+      flux_area[1] += area;
+    });
+  }
+  MPI_Allreduce(MPI_IN_PLACE, flux_area, 2, MPI_DOUBLE, MPI_SUM, grid_.comm());
+  if (flux_area[1] == 0.0) return;
+  const double correction = flux_area[0] / flux_area[1];
+  for (int d = 0; d < 3; ++d) {
+    if (grid_.periodic(d)) continue;
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      if (!grid_.is_boundary_face(d, idx[d])) return;
+      const double outward = idx[d] == 0 ? -1.0 : 1.0;
+      r(idx[0], idx[1], idx[2], grid_.face_slot(d)) -= outward * correction;
+    });
+  }
+}
+
+SolveStatistics KrylovStokesSolver::solve(Vec rhs, Vec solution)
+{
+  helmholtz_seconds_ = poisson_seconds_ = 0.0;
+  const double start = MPI_Wtime();
+  PETSC_CHECK(DMLocalToGlobal(grid_.dm(), rhs, INSERT_VALUES, b_));
+  PETSC_CHECK(DMLocalToGlobal(grid_.dm(), solution, INSERT_VALUES, x_));
+  PETSC_CHECK(KSPSolve(ksp_, b_, x_));
+  KSPConvergedReason reason;
+  PETSC_CHECK(KSPGetConvergedReason(ksp_, &reason));
+  SolveStatistics stats;
+  PETSC_CHECK(KSPGetIterationNumber(ksp_, &stats.iterations));
+  PETSC_CHECK(KSPGetResidualNorm(ksp_, &stats.residual));
+  if (reason < 0)
+    throw std::runtime_error(std::string("fluid: the Stokes solver did not converge (") +
+                             KSPConvergedReasons[reason] + ", " + std::to_string(stats.iterations) +
+                             " iterations, residual " + std::to_string(stats.residual) + ")");
+  PETSC_CHECK(DMGlobalToLocal(grid_.dm(), x_, INSERT_VALUES, solution));
+  stats.helmholtz_seconds = helmholtz_seconds_;
+  stats.poisson_seconds = MPI_Wtime() - start - helmholtz_seconds_;
+  return stats;
+}
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,64 @@
+#pragma once
+// The coupled Stokes solver for any boundary conditions (see fluid/stokes_solver.hpp): the system is
+// assembled as one PETSc matrix on the staggered grid and solved by FGMRES, preconditioned by the
+// projection method with one multigrid cycle for each sub-problem (Griffith 2009, JCP 228:7565):
+//
+//   u* = H^-1 w,  r = -D u* - g,  phi = K^-1 r (K = -D G),  u = u* - G phi,  p = rho/dt phi + mu/2 r.
+//
+// Discretisation at the box sides (fluid/boundary.hpp): on a velocity side the boundary normal
+// velocity is a fixed unknown (identity row) and tangential components use the ghost 2 g - u;
+// on a traction side the boundary normal velocity is an unknown whose momentum equation uses the
+// even ghost (du_n/dn = 0) and the one-sided pressure gradient (p_in - p_b)/(h/2), and tangential
+// components use the ghost -u (no slip). Options prefixes: fluid_stokes_ (FGMRES), fluid_helmholtz_
+// and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each).
+#include <vector>
+
+#include <petscksp.h>
+
+#include "fluid/navier_stokes.hpp"
+
+namespace ibvalve::fluid {
+
+class KrylovStokesSolver : public StokesSolver {
+ public:
+  /// `bc` is kept by reference: its boundary data is read at every solve.
+  KrylovStokesSolver(const StaggeredGrid& grid, const BoundaryConditions& bc, const FluidSettings& settings);
+  ~KrylovStokesSolver() override;
+  KrylovStokesSolver(const KrylovStokesSolver&) = delete;
+  KrylovStokesSolver& operator=(const KrylovStokesSolver&) = delete;
+
+  void set_parameters(const StokesParameters& parameters) override;
+  SolveStatistics solve(Vec rhs, Vec solution) override;
+  void add_boundary_terms(Vec rhs, double t_new, double t_half) override;
+  std::string name() const override { return "krylov"; }
+
+  /// The assembled operator (for tests).
+  Mat matrix() const { return A_; }
+
+ private:
+  struct Entry {
+    DMStagStencil column;
+    double value;
+  };
+  /// One row of the system: its entries and the constant the boundary data adds to the right side
+  /// (moved there with its sign). Returns true for a Dirichlet row (rhs = constant, not added).
+  bool velocity_row(int d, const Index3& idx, double t_new, double t_half, std::vector<Entry>& entries,
+                    double& constant) const;
+  void pressure_row(const Index3& idx, std::vector<Entry>& entries) const;
+  void assemble(Mat matrix) const;
+  void destroy();
+  static PetscErrorCode apply_projection(PC pc, Vec x, Vec y);
+
+  const StaggeredGrid& grid_;
+  const BoundaryConditions& bc_;
+  FluidSettings settings_;
+  StokesParameters parameters_{};
+  bool pressure_has_constant_ = true;
+  Mat A_ = nullptr, H_ = nullptr, G_ = nullptr, Dn_ = nullptr, K_ = nullptr;
+  IS is_u_ = nullptr, is_p_ = nullptr;
+  KSP ksp_ = nullptr, ksp_h_ = nullptr, ksp_k_ = nullptr;
+  Vec x_ = nullptr, b_ = nullptr, r_p_ = nullptr, phi_ = nullptr, gphi_ = nullptr;
+  double helmholtz_seconds_ = 0.0, poisson_seconds_ = 0.0;
+};
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,198 @@
+#include "fluid/navier_stokes.hpp"
+
+#include <stdexcept>
+
+#include "fluid/fft_stokes.hpp"
+#include "fluid/krylov_stokes.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+
+namespace {
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(MPI_Wtime()) {}
+  ~Stopwatch() { total_ += MPI_Wtime() - start_; }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  double start_;
+};
+} // namespace
+
+void velocity_laplacian(const StaggeredGrid& grid, Vec u_local, Vec out_local)
+{
+  StagArray u(grid, u_local, true);
+  StagArray out(grid, out_local);
+  double inv_h2[3];
+  for (int e = 0; e < 3; ++e) inv_h2[e] = 1.0 / (grid.h(e) * grid.h(e));
+  for (int d = 0; d < 3; ++d) {
+    const PetscInt s = grid.face_slot(d);
+    for (PetscInt k = grid.begin(2); k < grid.face_end(d, 2); ++k)
+      for (PetscInt j = grid.begin(1); j < grid.face_end(d, 1); ++j)
+        for (PetscInt i = grid.begin(0); i < grid.face_end(d, 0); ++i) {
+          const double c = 2.0 * u(i, j, k, s);
+          out(i, j, k, s) = (u(i + 1, j, k, s) - c + u(i - 1, j, k, s)) * inv_h2[0] +
+                            (u(i, j + 1, k, s) - c + u(i, j - 1, k, s)) * inv_h2[1] +
+                            (u(i, j, k + 1, s) - c + u(i, j, k - 1, s)) * inv_h2[2];
+        }
+  }
+}
+
+NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc,
+                           const FluidSettings& settings)
+    : comm_(comm), bc_(std::move(bc)), settings_(settings)
+{
+  bc_.check(box);
+  if (!(settings.rho > 0.0) || !(settings.mu >= 0.0))
+    throw std::invalid_argument("fluid: density must be positive and viscosity non-negative");
+  const bool all_periodic = box.periodic[0] && box.periodic[1] && box.periodic[2];
+  // The convection stencil reaches two faces beyond a boundary face: three ghost layers when a
+  // side is not periodic (faces N+1, N+2), two otherwise.
+  const PetscInt width = all_periodic ? 2 : 3;
+  if (settings.solver == SolverKind::fft) {
+    if (!all_periodic) throw std::invalid_argument("fluid: the fft solver needs a periodic box (use krylov)");
+    grid_ = std::make_unique<StaggeredGrid>(comm, box, fft_decomposition(comm, box.cells), width);
+    solver_ = std::make_unique<FftStokesSolver>(*grid_);
+  } else {
+    grid_ = std::make_unique<StaggeredGrid>(comm, box, Decomposition{}, width);
+    solver_ = std::make_unique<KrylovStokesSolver>(*grid_, bc_, settings);
+  }
+  state_ = grid_->create_local();
+  force_ = grid_->create_local();
+  rhs_ = grid_->create_local();
+  convection_ = grid_->create_local();
+  convection_old_ = grid_->create_local();
+  convection_half_ = grid_->create_local();
+  saved_ = grid_->create_local();
+}
+
+NavierStokes::~NavierStokes()
+{
+  for (Vec* v : {&state_, &force_, &rhs_, &convection_, &convection_old_, &convection_half_, &saved_})
+    if (*v) VecDestroy(v);
+}
+
+void NavierStokes::set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
+                                         double t)
+{
+  {
+    StagArray a(*grid_, state_);
+    for (int d = 0; d < 3; ++d)
+      for (PetscInt k = grid_->begin(2); k < grid_->face_end(d, 2); ++k)
+        for (PetscInt j = grid_->begin(1); j < grid_->face_end(d, 1); ++j)
+          for (PetscInt i = grid_->begin(0); i < grid_->face_end(d, 0); ++i)
+            a(i, j, k, grid_->face_slot(d)) = velocity(grid_->face_position(d, i, j, k), t)[d];
+    for (PetscInt k = grid_->begin(2); k < grid_->begin(2) + grid_->count(2); ++k)
+      for (PetscInt j = grid_->begin(1); j < grid_->begin(1) + grid_->count(1); ++j)
+        for (PetscInt i = grid_->begin(0); i < grid_->begin(0) + grid_->count(0); ++i)
+          a(i, j, k, grid_->pressure_slot()) = pressure ? pressure(grid_->cell_center(i, j, k), t) : 0.0;
+  }
+  set_boundary_normal_velocity(*grid_, bc_, state_, t);
+  time_ = t;
+  pressure_time_ = t;
+  steps_ = 0;
+  have_old_convection_ = false;
+  exchange(t);
+}
+
+void NavierStokes::set_body_force(const VelocityFunction& force, double t)
+{
+  StagArray a(*grid_, force_);
+  for (int d = 0; d < 3; ++d)
+    for (PetscInt k = grid_->begin(2); k < grid_->face_end(d, 2); ++k)
+      for (PetscInt j = grid_->begin(1); j < grid_->face_end(d, 1); ++j)
+        for (PetscInt i = grid_->begin(0); i < grid_->face_end(d, 0); ++i)
+          a(i, j, k, grid_->face_slot(d)) = force(grid_->face_position(d, i, j, k), t)[d];
+}
+
+void NavierStokes::exchange(double t)
+{
+  Stopwatch watch(timings_.halo);
+  Vec global;
+  PETSC_CHECK(DMGetGlobalVector(grid_->dm(), &global));
+  PETSC_CHECK(DMLocalToGlobal(grid_->dm(), state_, INSERT_VALUES, global));
+  grid_->global_to_local(global, state_);
+  PETSC_CHECK(DMRestoreGlobalVector(grid_->dm(), &global));
+  fill_ghosts(*grid_, bc_, state_, t);
+}
+
+void NavierStokes::explicit_rhs(Vec convection_half, double dt)
+{
+  // rhs = rho/dt u^n + mu/2 L u^n - rho N^{n+1/2} + f on faces, 0 on cells (continuity).
+  {
+    Stopwatch watch(timings_.viscous);
+    velocity_laplacian(*grid_, state_, rhs_);
+  }
+  const double rho = settings_.rho, mu = settings_.mu;
+  StagArray r(*grid_, rhs_), u(*grid_, state_, true), n(*grid_, convection_half, true),
+      f(*grid_, force_, true);
+  for (int d = 0; d < 3; ++d) {
+    const PetscInt s = grid_->face_slot(d);
+    for (PetscInt k = grid_->begin(2); k < grid_->face_end(d, 2); ++k)
+      for (PetscInt j = grid_->begin(1); j < grid_->face_end(d, 1); ++j)
+        for (PetscInt i = grid_->begin(0); i < grid_->face_end(d, 0); ++i)
+          r(i, j, k, s) =
+              rho / dt * u(i, j, k, s) + 0.5 * mu * r(i, j, k, s) - rho * n(i, j, k, s) + f(i, j, k, s);
+  }
+  for (PetscInt k = grid_->begin(2); k < grid_->begin(2) + grid_->count(2); ++k)
+    for (PetscInt j = grid_->begin(1); j < grid_->begin(1) + grid_->count(1); ++j)
+      for (PetscInt i = grid_->begin(0); i < grid_->begin(0) + grid_->count(0); ++i)
+        r(i, j, k, grid_->pressure_slot()) = 0.0;
+}
+
+void NavierStokes::step(double dt)
+{
+  if (!(dt > 0.0)) throw std::invalid_argument("fluid: the time step must be positive");
+  const double start = MPI_Wtime();
+  if (parameters_.dt != dt) {
+    parameters_ = {settings_.rho, settings_.mu, dt};
+    solver_->set_parameters(parameters_);
+  }
+  auto solve = [&] {
+    solver_->add_boundary_terms(rhs_, time_ + dt, time_ + 0.5 * dt);
+    last_solve_ = solver_->solve(rhs_, state_);
+    timings_.viscous += last_solve_.helmholtz_seconds;
+    timings_.pressure += last_solve_.poisson_seconds;
+    timings_.solver_iterations += last_solve_.iterations;
+  };
+  {
+    Stopwatch watch(timings_.convection);
+    convective_term(*grid_, state_, convection_, settings_.convection);
+  }
+  if (have_old_convection_) {
+    // Adams–Bashforth 2 with variable steps: N^{n+1/2} = (1 + r/2) N^n - (r/2) N^{n-1}.
+    const double r = dt / last_dt_;
+    PETSC_CHECK(VecAXPBYPCZ(convection_half_, 1.0 + 0.5 * r, -0.5 * r, 0.0, convection_, convection_old_));
+    explicit_rhs(convection_half_, dt);
+    solve();
+  } else {
+    // First step: predictor with N^0, corrector with the average of N^0 and N(predicted u^1).
+    PETSC_CHECK(VecCopy(state_, saved_));
+    explicit_rhs(convection_, dt);
+    solve();
+    exchange(time_ + dt);
+    {
+      Stopwatch watch(timings_.convection);
+      convective_term(*grid_, state_, convection_half_, settings_.convection);
+    }
+    PETSC_CHECK(VecAXPBY(convection_half_, 0.5, 0.5, convection_));
+    PETSC_CHECK(VecSwap(state_, saved_)); // back to u^n; the prediction serves as the initial guess
+    explicit_rhs(convection_half_, dt);
+    PETSC_CHECK(VecSwap(state_, saved_));
+    solve();
+  }
+  exchange(time_ + dt);
+  std::swap(convection_, convection_old_);
+  have_old_convection_ = true;
+  last_dt_ = dt;
+  time_ += dt;
+  pressure_time_ = time_ - 0.5 * dt;
+  ++steps_;
+  ++timings_.steps;
+  timings_.total += MPI_Wtime() - start;
+}
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,103 @@
+#pragma once
+// The incompressible Navier–Stokes integrator on the staggered grid:
+//
+//   rho (u^{n+1} - u^n)/dt + G p^{n+1/2} = mu/2 L (u^{n+1} + u^n) - rho N^{n+1/2} + f^{n+1/2}
+//                             -D u^{n+1} = 0
+//
+// Crank–Nicolson viscous term, convection N = div(u u) (fluid/convection.hpp) extrapolated by
+// Adams–Bashforth 2, N^{n+1/2} = (1 + r/2) N^n - r/2 N^{n-1} with r = dt_n / dt_{n-1}; the first step
+// is a predictor-corrector (Heun: N^{1/2} = (N(u^0) + N(u~^1))/2), so every step is second order.
+// The coupled Stokes system for (u^{n+1}, p^{n+1/2}) is solved each step (fluid/stokes_solver.hpp);
+// the pressure is therefore at half steps. f is the external body force on the faces (what the IB
+// method spreads), set before each step.
+#include <memory>
+#include <string>
+
+#include "fluid/boundary.hpp"
+#include "fluid/convection.hpp"
+#include "fluid/grid.hpp"
+#include "fluid/stokes_solver.hpp"
+
+namespace ibvalve::fluid {
+
+enum class SolverKind { fft, krylov };
+
+struct FluidSettings {
+  double rho = 1.0;
+  double mu = 0.01;
+  ConvectionScheme convection = ConvectionScheme::limited_upwind;
+  SolverKind solver = SolverKind::fft;
+  double rtol = 1e-12; // Krylov solver: relative tolerance of the outer FGMRES
+  double atol = 1e-14; // ... and absolute tolerance
+  PetscInt max_iterations = 200;
+};
+
+/// Wall-clock seconds spent in the parts of the steps so far.
+struct StepTimings {
+  double convection = 0.0;
+  double viscous = 0.0;  // explicit viscous term + Helmholtz part of the solve
+  double pressure = 0.0; // Poisson part of the solve (and the Krylov solver's other work)
+  double halo = 0.0;     // ghost exchange and boundary ghosts
+  double total = 0.0;
+  PetscInt steps = 0;
+  PetscInt solver_iterations = 0;
+};
+
+class NavierStokes {
+ public:
+  NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc, const FluidSettings& settings);
+  ~NavierStokes();
+  NavierStokes(const NavierStokes&) = delete;
+  NavierStokes& operator=(const NavierStokes&) = delete;
+
+  const StaggeredGrid& grid() const { return *grid_; }
+  const BoundaryConditions& boundary_conditions() const { return bc_; }
+  /// Boundary data may change during a run (e.g. a Windkessel pressure): edit the sides through this.
+  BoundaryConditions& boundary_conditions() { return bc_; }
+  const FluidSettings& settings() const { return settings_; }
+  const StokesSolver& solver() const { return *solver_; }
+
+  /// Sets u(x, 0) on the faces (and p, for output and as a first guess) at time t.
+  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
+
+  /// The body force f^{n+1/2} for the next step, a local vector: fill its face slots (owned faces).
+  /// It is kept (not cleared) between steps.
+  Vec body_force() { return force_; }
+  void set_body_force(const VelocityFunction& force, double t);
+
+  /// Advances from time() to time() + dt.
+  void step(double dt);
+
+  double time() const { return time_; }
+  PetscInt steps_taken() const { return steps_; }
+  /// The state as a local vector: face slots u^n (ghosts filled, boundary conditions applied), cell
+  /// slots p^{n-1/2} (ghosts filled). Read-only for callers; valid until the next step().
+  Vec state() const { return state_; }
+  /// The time at which pressure() lives: time() - dt/2 after a step.
+  double pressure_time() const { return pressure_time_; }
+  const StepTimings& timings() const { return timings_; }
+  const SolveStatistics& last_solve() const { return last_solve_; }
+
+ private:
+  void exchange(double t);
+  void explicit_rhs(Vec convection_half, double dt);
+
+  MPI_Comm comm_;
+  BoundaryConditions bc_;
+  FluidSettings settings_;
+  std::unique_ptr<StaggeredGrid> grid_;
+  std::unique_ptr<StokesSolver> solver_;
+  Vec state_ = nullptr, force_ = nullptr, rhs_ = nullptr;
+  Vec convection_ = nullptr, convection_old_ = nullptr, convection_half_ = nullptr, saved_ = nullptr;
+  double time_ = 0.0, pressure_time_ = 0.0, last_dt_ = 0.0;
+  PetscInt steps_ = 0;
+  bool have_old_convection_ = false;
+  StokesParameters parameters_{};
+  StepTimings timings_;
+  SolveStatistics last_solve_;
+};
+
+/// out = L u (the MAC Laplacian of each velocity component) on owned faces, from a ghost-filled local u.
+void velocity_laplacian(const StaggeredGrid& grid, Vec u, Vec out);
+
+} // namespace ibvalve::fluid
