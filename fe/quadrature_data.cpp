@@ -1,0 +1,65 @@
+#include "fe/quadrature_data.hpp"
+
+#include <Eigen/LU>
+
+#include "io/errors.hpp"
+
+namespace ibvalve::fe {
+
+QuadratureData::QuadratureData(const Mesh& mesh, int degree)
+    : degree_(degree), nodes_(mesh.nodes_per_element()), elements_(mesh.num_elements())
+{
+  const ElementType& type = mesh.type();
+  const QuadratureRule rule = type.quadrature(degree);
+  points_ = static_cast<int>(rule.size());
+  values_.resize(points_ * nodes_);
+  std::vector<std::vector<Vec3>> reference_gradients(points_, std::vector<Vec3>(nodes_));
+  for (int q = 0; q < points_; ++q) {
+    type.values(rule.points[q], std::span<double>(values_.data() + q * nodes_, nodes_));
+    type.gradients(rule.points[q], reference_gradients[q]);
+  }
+  jxw_.resize(elements_ * points_);
+  gradients_.resize(elements_ * points_ * nodes_);
+  points_X_.resize(elements_ * points_);
+  for (std::size_t e = 0; e < elements_; ++e) {
+    const auto element = mesh.element(e);
+    for (int q = 0; q < points_; ++q) {
+      Eigen::Matrix3d jacobian = Eigen::Matrix3d::Zero(); // dX/dxi
+      Vec3 X = Vec3::Zero();
+      for (int a = 0; a < nodes_; ++a) {
+        jacobian += mesh.nodes()[element[a]] * reference_gradients[q][a].transpose();
+        X += values_[q * nodes_ + a] * mesh.nodes()[element[a]];
+      }
+      const double det = jacobian.determinant();
+      if (!(det > 0))
+        throw InputError("mesh: element " + std::to_string(e) +
+                         " is inverted or degenerate (det J = " + std::to_string(det) + ")");
+      const Eigen::Matrix3d inverse_transpose = jacobian.inverse().transpose();
+      jxw_[e * points_ + q] = det * rule.weights[q];
+      points_X_[e * points_ + q] = X;
+      for (int a = 0; a < nodes_; ++a)
+        gradients_[(e * points_ + q) * nodes_ + a] = inverse_transpose * reference_gradients[q][a];
+    }
+  }
+}
+
+std::pair<std::size_t, std::size_t> local_range(std::size_t count, MPI_Comm comm)
+{
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  const std::size_t base = count / size, extra = count % size;
+  const std::size_t r = static_cast<std::size_t>(rank);
+  const std::size_t begin = r * base + std::min(r, extra);
+  return {begin, begin + base + (r < extra ? 1 : 0)};
+}
+
+void sum_over_ranks(std::span<double> values, MPI_Comm comm)
+{
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  if (size == 1 || values.empty()) return;
+  MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM, comm);
+}
+
+} // namespace ibvalve::fe

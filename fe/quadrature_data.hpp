@@ -1,0 +1,58 @@
+#pragma once
+// Reference-configuration data at the quadrature points of every element, computed once per mesh:
+// shape values N_a, gradients grad_X N_a = J^{-T} grad_xi N_a, and weights w_q det J_q. Force,
+// tangent, mass and projection loops read from here instead of recomputing the geometry.
+#include <span>
+#include <vector>
+
+#include <mpi.h>
+
+#include "fe/mesh.hpp"
+
+namespace ibvalve::fe {
+
+class QuadratureData {
+ public:
+  /// A rule exact for polynomials of degree `degree` on the reference cell. InputError when an
+  /// element has a non-positive Jacobian (inverted or degenerate) at a quadrature point.
+  QuadratureData(const Mesh& mesh, int degree);
+
+  int degree() const { return degree_; }
+  int points_per_element() const { return points_; }
+  int nodes_per_element() const { return nodes_; }
+  std::size_t num_elements() const { return elements_; }
+  /// w_q det J at point q of element e.
+  double JxW(std::size_t e, int q) const { return jxw_[e * points_ + q]; }
+  /// grad_X N_a at point q of element e.
+  const Vec3& gradient(std::size_t e, int q, int a) const
+  {
+    return gradients_[(e * points_ + q) * nodes_ + a];
+  }
+  std::span<const Vec3> gradients(std::size_t e, int q) const
+  {
+    return {gradients_.data() + (e * points_ + q) * nodes_, static_cast<std::size_t>(nodes_)};
+  }
+  /// N_a at point q (the same on every element).
+  double value(int q, int a) const { return values_[q * nodes_ + a]; }
+  /// Reference position X of point q of element e.
+  const Vec3& point(std::size_t e, int q) const { return points_X_[e * points_ + q]; }
+
+ private:
+  int degree_ = 2;
+  int points_ = 0;
+  int nodes_ = 0;
+  std::size_t elements_ = 0;
+  std::vector<double> jxw_;
+  std::vector<Vec3> gradients_;
+  std::vector<double> values_;
+  std::vector<Vec3> points_X_;
+};
+
+/// This rank's share [begin, end) of `count` items split in contiguous blocks over `comm`
+/// (the first count % size ranks get one more).
+std::pair<std::size_t, std::size_t> local_range(std::size_t count, MPI_Comm comm);
+
+/// Sums a replicated vector over the ranks of `comm` in place (MPI_Allreduce).
+void sum_over_ranks(std::span<double> values, MPI_Comm comm);
+
+} // namespace ibvalve::fe

@@ -1,0 +1,165 @@
+#include "fe/solid.hpp"
+
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "io/errors.hpp"
+
+namespace ibvalve::fe {
+
+SolidModel::SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadrature_degree, MPI_Comm comm)
+    : mesh_(mesh), parts_(std::move(parts)), quadrature_(mesh, quadrature_degree), comm_(comm),
+      fibers_(mesh.num_elements())
+{
+  std::vector<std::pair<int, int>> items;
+  std::vector<char> seen(mesh.num_elements(), 0);
+  for (std::size_t p = 0; p < parts_.size(); ++p) {
+    if (parts_[p].laws.empty())
+      throw InputError("solid: body part '" + parts_[p].name + "' has no material law");
+    for (int e : parts_[p].elements) {
+      if (e < 0 || static_cast<std::size_t>(e) >= mesh.num_elements())
+        throw std::invalid_argument("solid: body part '" + parts_[p].name +
+                                    "' names an element that does not exist");
+      if (seen[e]++) throw InputError("solid: element " + std::to_string(e) + " is in two body parts");
+      items.emplace_back(static_cast<int>(p), e);
+    }
+  }
+  const auto [begin, end] = local_range(items.size(), comm);
+  local_items_.assign(items.begin() + begin, items.begin() + end);
+}
+
+void SolidModel::set_fibers(std::vector<materials::FiberFrame> fibers)
+{
+  const std::size_t per_element = mesh_.num_elements();
+  const std::size_t per_point = per_element * quadrature_.points_per_element();
+  if (fibers.size() != per_element && fibers.size() != per_point)
+    throw std::invalid_argument("solid: fibers must be given per element or per quadrature point");
+  fibers_per_point_ = fibers.size() == per_point && per_point != per_element;
+  fibers_ = std::move(fibers);
+}
+
+const materials::FiberFrame& SolidModel::fibers(std::size_t e, int q) const
+{
+  return fibers_per_point_ ? fibers_[e * quadrature_.points_per_element() + q] : fibers_[e];
+}
+
+Mat3 SolidModel::deformation_gradient(std::span<const double> u, std::size_t e, int q) const
+{
+  Mat3 F = Mat3::Identity();
+  const auto element = mesh_.element(e);
+  const auto gradients = quadrature_.gradients(e, q);
+  for (std::size_t a = 0; a < element.size(); ++a) {
+    const Vec3 ua(u[3 * element[a]], u[3 * element[a] + 1], u[3 * element[a] + 2]);
+    F.noalias() += ua * gradients[a].transpose();
+  }
+  return F;
+}
+
+void SolidModel::forces(std::span<const double> u, std::span<double> forces) const
+{
+  std::fill(forces.begin(), forces.end(), 0.0);
+  const int points = quadrature_.points_per_element();
+  for (const auto& [p, e] : local_items_) {
+    const auto element = mesh_.element(e);
+    for (int q = 0; q < points; ++q) {
+      const Mat3 F = deformation_gradient(u, e, q);
+      Mat3 P = Mat3::Zero();
+      for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
+      P *= quadrature_.JxW(e, q);
+      const auto gradients = quadrature_.gradients(e, q);
+      for (std::size_t a = 0; a < element.size(); ++a) {
+        const Vec3 f = P * gradients[a];
+        for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] -= f[i];
+      }
+    }
+  }
+  sum_over_ranks(forces, comm_);
+}
+
+double SolidModel::energy(std::span<const double> u) const
+{
+  double total = 0.0;
+  const int points = quadrature_.points_per_element();
+  for (const auto& [p, e] : local_items_)
+    for (int q = 0; q < points; ++q) {
+      const Mat3 F = deformation_gradient(u, e, q);
+      for (const auto& law : parts_[p].laws) total += law->energy(F, fibers(e, q)) * quadrature_.JxW(e, q);
+    }
+  sum_over_ranks(std::span<double>(&total, 1), comm_);
+  return total;
+}
+
+void SolidModel::add_stiffness(std::span<const double> u, const NodalSystem& system, Mat K) const
+{
+  const int points = quadrature_.points_per_element();
+  const int n = mesh_.nodes_per_element();
+  Eigen::MatrixXd element_matrix(3 * n, 3 * n);
+  std::vector<Eigen::Matrix<double, 9, 3>> M(n);
+  for (const auto& [p, e] : local_items_) {
+    element_matrix.setZero();
+    for (int q = 0; q < points; ++q) {
+      const Mat3 F = deformation_gradient(u, e, q);
+      materials::Tangent T = materials::Tangent::Zero();
+      for (const auto& law : parts_[p].laws) T += law->tangent(F, fibers(e, q));
+      T *= quadrature_.JxW(e, q);
+      const auto G = quadrature_.gradients(e, q);
+      // K_ab(i, k) = sum_jl T(i + 3j, k + 3l) G_a(j) G_b(l): first M_b(:, k) = sum_l T(:, k + 3l) G_b(l).
+      for (int b = 0; b < n; ++b)
+        for (int k = 0; k < 3; ++k)
+          M[b].col(k) = T.col(k) * G[b][0] + T.col(k + 3) * G[b][1] + T.col(k + 6) * G[b][2];
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b)
+          for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k)
+              element_matrix(3 * a + i, 3 * b + k) +=
+                  M[b](i, k) * G[a][0] + M[b](i + 3, k) * G[a][1] + M[b](i + 6, k) * G[a][2];
+    }
+    system.add_element_matrix(K, mesh_.element(e), element_matrix);
+  }
+}
+
+ElementFields SolidModel::element_fields(std::span<const double> u) const
+{
+  const std::size_t count = mesh_.num_elements();
+  std::vector<double> packed(count * 6, 0.0); // J, strain, stress, f (3)
+  const int points = quadrature_.points_per_element();
+  for (const auto& [p, e] : local_items_) {
+    double volume = 0.0;
+    double* out = &packed[6 * e];
+    for (int q = 0; q < points; ++q) {
+      const double w = quadrature_.JxW(e, q);
+      const Mat3 F = deformation_gradient(u, e, q);
+      const double J = F.determinant();
+      volume += w;
+      out[0] += w * J;
+      const Vec3& f0 = fibers(e, q).f0;
+      if (f0.squaredNorm() == 0.0) continue;
+      Mat3 P = Mat3::Zero();
+      for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
+      const Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
+      const Mat3 sigma = P * F.transpose() / J;
+      const Vec3 f = (F * f0).normalized();
+      out[1] += w * f0.dot(E * f0);
+      out[2] += w * f.dot(sigma * f);
+      for (int i = 0; i < 3; ++i) out[3 + i] += w * f[i];
+    }
+    for (int k = 0; k < 6; ++k) out[k] /= volume;
+  }
+  sum_over_ranks(packed, comm_);
+  ElementFields fields;
+  fields.J.resize(count);
+  fields.fiber_strain.resize(count);
+  fields.fiber_stress.resize(count);
+  fields.fiber_direction.resize(count);
+  for (std::size_t e = 0; e < count; ++e) {
+    fields.J[e] = packed[6 * e];
+    fields.fiber_strain[e] = packed[6 * e + 1];
+    fields.fiber_stress[e] = packed[6 * e + 2];
+    const Vec3 f(packed[6 * e + 3], packed[6 * e + 4], packed[6 * e + 5]);
+    fields.fiber_direction[e] = f.norm() > 0 ? Vec3(f.normalized()) : Vec3::Zero();
+  }
+  return fields;
+}
+
+} // namespace ibvalve::fe
