@@ -1,0 +1,63 @@
+#pragma once
+// An idealized tri-leaflet aortic valve in a straight tube, meshed with trilinear hexahedra.
+//
+// The published study (Zhu et al. 2021, REFERENCE.md) gives the tube (inner radius 1.3 cm, wall
+// 0.15 cm, length 13 cm) and the leaflet thickness (0.04 cm) but not the leaflet surface, so the
+// valve here is parametric (docs/fe.md, "The aortic-valve mesh"):
+//
+// - The tube axis is z; the tube runs from z = 0 (inlet, left-ventricle side) to z = tube_length.
+// - Three equal leaflets, each spanning 120 degrees less the free-edge gap, generated in the closed
+//   state. A leaflet's mid-surface is P(u, s) with u in [-1, 1] across the leaflet (commissure to
+//   commissure) and s in [0, 1] from the attachment to the free edge:
+//     attachment A(u): on the wall, z = base + (commissure_height - commissure_strip) u^2 (a scallop
+//       with its nadir at the leaflet's centre), plus a short strip up the wall at each commissure
+//       (u = +-1) so that no element degenerates;
+//     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
+//       a coaptation line (theta_k +- 60 degrees) at the height of the commissures, kept
+//       (free_edge_gap + thickness) / 2 away from it, so that neighbouring leaflets leave a gap of
+//       free_edge_gap between their surfaces;
+//     P(u, s) = (1 - s) A(u) + s E(u) - sag sin(pi s) (1 - u^2) e_z: a belly bulging toward the
+//       ventricle, as a closed valve under aortic pressure does.
+//   The solid is the mid-surface extruded by +-thickness/2 along its normal.
+// - Physical groups: "leaflet1".."leaflet3" (volumes); per leaflet "leafletK_attachment" (the faces
+//   on the wall, tethered or held), "leafletK_tau1" / "leafletK_tau2" (the two halves of the attachment,
+//   u < 0 and u > 0: FD2's Dirichlet surfaces), "leafletK_n1" / "leafletK_n2" (the nodes at the free
+//   edge's ends, u = -1 and u = +1: FD1's Dirichlet points), "leafletK_free_edge"; "tube" (volume),
+//   "tube_outer" (the tethered outer surface), "tube_inner", "tube_inlet", "tube_outlet".
+#include <array>
+#include <string>
+
+#include "fe/mesh.hpp"
+
+namespace ibvalve::fe {
+
+struct ValveMeshParameters {
+  // Geometry, cm (defaults from REFERENCE.md where it gives them, else chosen and documented).
+  double tube_radius = 1.3;
+  double tube_wall = 0.15;
+  double tube_length = 13.0;
+  double leaflet_thickness = 0.04;
+  double valve_base = 5.0;         ///< z of the attachment's nadir (leaflet centre), from the inlet
+  double commissure_height = 1.2;  ///< z of the commissures (and the closed free edge) above the nadir
+  double commissure_strip = 0.1;   ///< height of the attachment strip up the wall at each commissure
+  double sag = 0.25;               ///< belly depth toward the ventricle
+  double free_edge_gap = 0.02;     ///< gap between neighbouring leaflets' surfaces when closed
+  double first_leaflet_angle = 90; ///< degrees: direction of leaflet 1's centre about the axis
+  // Resolution (elements).
+  int leaflet_across = 32;  ///< commissure to commissure (u); even
+  int leaflet_radial = 12;  ///< attachment to free edge (s)
+  int leaflet_through = 1;  ///< through the thickness
+  int tube_around = 96;
+  int tube_along = 104;
+  int tube_through = 1;
+  bool include_tube = true;
+};
+
+/// Checks the parameters (positive sizes, an even `leaflet_across`, a gap smaller than the radius ...)
+/// and throws std::invalid_argument naming the parameter that is wrong.
+void check(const ValveMeshParameters& parameters);
+
+/// The valve (and tube) as one hexahedral mesh with the physical groups listed above.
+Mesh aortic_valve_mesh(const ValveMeshParameters& parameters);
+
+} // namespace ibvalve::fe
