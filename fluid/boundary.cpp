@@ -107,7 +107,17 @@ void fill_ghosts(const StaggeredGrid& grid, const BoundaryConditions& bc, Vec lo
             Real3 x = grid.face_position(d, g[0], g[1], g[2]);
             x[a] = wall;
             const double value = traction ? 0.0 : bc.velocity(s, x, t)[d];
-            u(g[0], g[1], g[2], grid.face_slot(d)) = 2.0 * value - u(in[0], in[1], in[2], grid.face_slot(d));
+            const PetscInt sd = grid.face_slot(d);
+            if (m == 1) {
+              // Quadratic extrapolation through the wall value (exact for parabolic profiles):
+              // u_ghost = 8/3 g - 2 u_0 + 1/3 u_1.
+              Index3 in1 = in;
+              in1[a] += upper ? -1 : 1;
+              u(g[0], g[1], g[2], sd) =
+                  8.0 / 3.0 * value - 2.0 * u(in[0], in[1], in[2], sd) + u(in1[0], in1[1], in1[2], sd) / 3.0;
+            } else {
+              u(g[0], g[1], g[2], sd) = 2.0 * value - u(in[0], in[1], in[2], sd);
+            }
           }
           const double p_in = u(in[0], in[1], in[2], ps);
           if (traction) {

@@ -65,7 +65,8 @@ void set_boundary_normal_velocity(const StaggeredGrid& grid, const BoundaryCondi
                                   double t);
 
 /// Fills the ghost velocities outside the box of a local vector (after the exchange between ranks)
-/// at time t: tangential components by reflection through the wall value (u_ghost = 2 g - u_in),
+/// at time t: tangential components through the wall value g (first ghost by quadratic extrapolation
+/// 8/3 g - 2 u_0 + 1/3 u_1, deeper ghosts by reflection 2 g - u_in),
 /// normal components odd about the boundary value (velocity sides) or even (traction sides,
 /// du_n/dn = 0). Pressure ghosts: even (velocity sides), odd about p_b (traction sides).
 void fill_ghosts(const StaggeredGrid& grid, const BoundaryConditions& bc, Vec local, double t);

@@ -10,10 +10,27 @@ inline double upwind_flux(double a, double um, double u0, double up, double upp,
   return a * (a >= 0.0 ? limited_face_value(um, u0, up, upp) : limited_face_value(upp, up, u0, um));
 }
 
+/// Tangential velocity on a wall: the data of a velocity side, zero on a traction side.
+struct WallValues {
+  const StaggeredGrid& grid;
+  const BoundaryConditions& bc;
+  double t;
+  double tangential(int e, int upper, int d, const Index3& idx) const
+  {
+    const int s = side_index(e, upper);
+    if (bc.side(s).kind != SideKind::velocity) return 0.0;
+    Real3 x = grid.face_position(d, idx[0], idx[1], idx[2]);
+    x[e] = upper ? grid.box().upper[e] : grid.box().lower[e];
+    return bc.velocity(s, x, t)[d];
+  }
+};
+
 } // namespace
 
-void convective_term(const StaggeredGrid& grid, Vec u_local, Vec out_local, ConvectionScheme scheme)
+void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, double t, Vec u_local,
+                     Vec out_local, ConvectionScheme scheme)
 {
+  const WallValues wall{grid, bc, t};
   StagArray u(grid, u_local, true);
   StagArray out(grid, out_local);
   for (int d = 0; d < 3; ++d) {
@@ -38,8 +55,14 @@ void convective_term(const StaggeredGrid& grid, Vec u_local, Vec out_local, Conv
             }
             // For e == d the sides are cell centres between faces s and s+1; for e != d they are the
             // edges between u_d at s and s+1 along e. Either way the same four values enter.
-            const double f_plus = upwind_flux(a_plus, ud(-1), ud(0), ud(1), ud(2), scheme);
-            const double f_minus = upwind_flux(a_minus, ud(-2), ud(-1), ud(0), ud(1), scheme);
+            double f_plus = upwind_flux(a_plus, ud(-1), ud(0), ud(1), ud(2), scheme);
+            double f_minus = upwind_flux(a_minus, ud(-2), ud(-1), ud(0), ud(1), scheme);
+            if (e != d && !grid.periodic(e)) {
+              // An edge on a wall carries the wall's tangential velocity, known exactly.
+              const Index3 idx{i, j, k};
+              if (idx[e] == 0) f_minus = a_minus * wall.tangential(e, 0, d, idx);
+              if (idx[e] == grid.cells(e) - 1) f_plus = a_plus * wall.tangential(e, 1, d, idx);
+            }
             total += (f_plus - f_minus) / grid.h(e);
           }
           out(i, j, k, sd) = total;

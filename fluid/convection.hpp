@@ -17,6 +17,7 @@
 
 #include <petscvec.h>
 
+#include "fluid/boundary.hpp"
 #include "fluid/grid.hpp"
 
 namespace ibvalve::fluid {
@@ -44,7 +45,10 @@ inline double limited_face_value(double wm, double w0, double wp, double wpp)
 }
 
 /// out = N(u) on every owned face that is not a velocity-boundary face (those get 0). `u` is a local
-/// vector with ghosts filled (exchange + fill_ghosts); `out` is a local vector of the same grid.
-void convective_term(const StaggeredGrid& grid, Vec u, Vec out, ConvectionScheme scheme);
+/// vector with ghosts filled (exchange + fill_ghosts); `out` is a local vector of the same grid. On
+/// the momentum-cell sides that lie on a wall the advected (tangential) velocity is the wall's, from
+/// `bc` at time t, rather than a reconstruction from ghosts.
+void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, double t, Vec u, Vec out,
+                     ConvectionScheme scheme);
 
 } // namespace ibvalve::fluid

@@ -97,12 +97,15 @@ bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, do
           continue;
         }
         if (e != d && (nb[e] < 0 || nb[e] >= n_e)) {
-          // Tangential component: ghost 2 g - u, with g = 0 on a traction side.
-          diagonal += half_mu * c;
+          // Tangential component: ghost 8/3 g - 2 u_0 + 1/3 u_1 (g = 0 on a traction side).
+          diagonal += half_mu * c * 2.0;
+          Index3 in1 = idx;
+          in1[e] -= sign;
+          entries.push_back({face_stencil(d, in1), -half_mu * c / 3.0});
           if (bc_.side(s).kind == SideKind::velocity) {
             Real3 x = grid_.face_position(d, idx[0], idx[1], idx[2]);
             x[e] = sign > 0 ? grid_.box().upper[e] : grid_.box().lower[e];
-            constant += half_mu * c * 2.0 * bc_.velocity(s, x, t_new)[d];
+            constant += half_mu * c * 8.0 / 3.0 * bc_.velocity(s, x, t_new)[d];
           }
           continue;
         }

@@ -6,10 +6,11 @@
 //   u* = H^-1 w,  r = -D u* - g,  phi = K^-1 r (K = -D G),  u = u* - G phi,  p = rho/dt phi + mu/2 r.
 //
 // Discretisation at the box sides (fluid/boundary.hpp): on a velocity side the boundary normal
-// velocity is a fixed unknown (identity row) and tangential components use the ghost 2 g - u;
+// velocity is a fixed unknown (identity row) and tangential components use the ghost
+// 8/3 g - 2 u_0 + 1/3 u_1 (quadratic extrapolation through the wall value, exact for parabolas);
 // on a traction side the boundary normal velocity is an unknown whose momentum equation uses the
 // even ghost (du_n/dn = 0) and the one-sided pressure gradient (p_in - p_b)/(h/2), and tangential
-// components use the ghost -u (no slip). Options prefixes: fluid_stokes_ (FGMRES), fluid_helmholtz_
+// components the same ghost with g = 0 (no slip). Options prefixes: fluid_stokes_ (FGMRES), fluid_helmholtz_
 // and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each).
 #include <vector>
 

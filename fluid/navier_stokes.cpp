@@ -160,7 +160,7 @@ void NavierStokes::step(double dt)
   };
   {
     Stopwatch watch(timings_.convection);
-    convective_term(*grid_, state_, convection_, settings_.convection);
+    convective_term(*grid_, bc_, time_, state_, convection_, settings_.convection);
   }
   if (have_old_convection_) {
     // Adams–Bashforth 2 with variable steps: N^{n+1/2} = (1 + r/2) N^n - (r/2) N^{n-1}.
@@ -176,7 +176,7 @@ void NavierStokes::step(double dt)
     exchange(time_ + dt);
     {
       Stopwatch watch(timings_.convection);
-      convective_term(*grid_, state_, convection_half_, settings_.convection);
+      convective_term(*grid_, bc_, time_ + dt, state_, convection_half_, settings_.convection);
     }
     PETSC_CHECK(VecAXPBY(convection_half_, 0.5, 0.5, convection_));
     PETSC_CHECK(VecSwap(state_, saved_)); // back to u^n; the prediction serves as the initial guess

@@ -1,0 +1,92 @@
+// Fluid benchmark (TARGETS.md, "Fluid step"): the 3-D periodic ABC flow with mean advection on N^3
+// cells, rho = 1, mu = 0.01, dt = 0.0625/N. Prints the time per step (excluding set-up:
+// (T(2S) - T(S))/S) and its parts, solver iterations, peak memory over all ranks (getrusage), and the
+// max-norm velocity and pressure errors against the exact solution. Never fails on time.
+//
+//   mpiexec -n R bench_fluid [N=64] [solver=fft|krylov] [S=10] [convection=limited|centered]
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include <petscsys.h>
+
+#include "fluid/navier_stokes.hpp"
+#include "fluid/queries.hpp"
+#include "tests/fluid/exact_solutions.hpp"
+
+using namespace ibvalve::fluid;
+
+int main(int argc, char** argv)
+{
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 1;
+  {
+    const PetscInt n = argc > 1 ? std::atoi(argv[1]) : 64;
+    const std::string solver_name = argc > 2 ? argv[2] : "fft";
+    const int s = argc > 3 ? std::atoi(argv[3]) : 10;
+    const std::string scheme = argc > 4 ? argv[4] : "limited";
+    int rank = 0, size = 1;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+
+    BoxGeometry box;
+    box.cells = {n, n, n};
+    FluidSettings settings;
+    settings.mu = 0.01;
+    settings.solver = solver_name == "krylov" ? SolverKind::krylov : SolverKind::fft;
+    settings.rtol = 1e-8;
+    settings.convection =
+        scheme == "centered" ? ConvectionScheme::centered : ConvectionScheme::limited_upwind;
+    const double setup_start = MPI_Wtime();
+    NavierStokes fluid(PETSC_COMM_WORLD, box, BoundaryConditions::all_periodic(), settings);
+    ibvalve::fluid::testing::AbcFlow exact;
+    auto u = [&](const Real3& x, double t) { return exact.velocity(x, t); };
+    auto p = [&](const Real3& x, double t) { return exact.pressure(x, t); };
+    fluid.set_initial_condition(u, p, 0.0);
+    const double dt = 0.0625 / static_cast<double>(n);
+    for (int i = 0; i < s; ++i) fluid.step(dt);
+    const double setup = MPI_Wtime() - setup_start;
+    const StepTimings first = fluid.timings();
+    MPI_Barrier(PETSC_COMM_WORLD);
+    const double t0 = MPI_Wtime();
+    for (int i = 0; i < s; ++i) fluid.step(dt);
+    MPI_Barrier(PETSC_COMM_WORLD);
+    const double per_step = (MPI_Wtime() - t0) / s;
+    const StepTimings all = fluid.timings();
+    auto part = [&](double StepTimings::*field) {
+      double v = (all.*field - first.*field) / s;
+      MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+      return v;
+    };
+    const FieldErrors errors = field_errors(fluid, u, p, true);
+    const double divergence = max_divergence(fluid);
+    struct rusage usage;
+    getrusage(RUSAGE_SELF, &usage);
+    double peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0, peak_total = peak_mb;
+    MPI_Allreduce(MPI_IN_PLACE, &peak_total, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    if (rank == 0) {
+      std::printf("fluid ABC %d^3, %d rank%s, solver %s, convection %s, dt %.3e, %d + %d steps\n",
+                  static_cast<int>(n), size, size > 1 ? "s" : "", solver_name.c_str(), scheme.c_str(), dt, s,
+                  s);
+      std::printf("  time per step      %.4f s   (set-up + first %d steps %.2f s)\n", per_step, s, setup);
+      std::printf("    convection       %.4f s\n", part(&StepTimings::convection));
+      std::printf("    viscous solve    %.4f s\n", part(&StepTimings::viscous));
+      std::printf("    pressure solve   %.4f s\n", part(&StepTimings::pressure));
+      std::printf("    halo exchange    %.4f s\n", part(&StepTimings::halo));
+      std::printf("  solver iterations  %.2f per step\n",
+                  static_cast<double>(all.solver_iterations - first.solver_iterations) / s);
+      std::printf("  peak memory        %.1f MB (all ranks), %.1f MB rank 0\n", peak_total, peak_mb);
+      std::printf("  errors at t=%.4f  u max %.3e  p max %.3e (u L2 %.3e, p L2 %.3e); max |div u| %.2e\n",
+                  fluid.time(), errors.velocity_max, errors.pressure_max, errors.velocity_l2,
+                  errors.pressure_l2, divergence);
+    } else {
+      part(&StepTimings::convection);
+      part(&StepTimings::viscous);
+      part(&StepTimings::pressure);
+      part(&StepTimings::halo);
+    }
+  }
+  PetscFinalize();
+  return 0;
+}
