@@ -63,8 +63,8 @@ public:
   LeafletSurface(const ValveMeshParameters& p, int k) : p_(p)
   {
     centre_angle_ = p.first_leaflet_angle * pi / 180.0 + 2.0 * pi * k / 3.0;
-    offset_ = 0.5 * (p.free_edge_gap + p.leaflet_thickness);
-    attachment_radius_ = p.tube_radius - 0.5 * p.leaflet_thickness;
+    offset_ = 0.5 * p.free_edge_gap;
+    attachment_radius_ = p.tube_radius;
     // The commissure lies on the wall, `offset_` from the coaptation line at +-60 degrees.
     half_angle_ = pi / 3.0 - std::asin(offset_ / attachment_radius_);
   }

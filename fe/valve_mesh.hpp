@@ -9,13 +9,17 @@
 // - Three equal leaflets, each spanning 120 degrees less the free-edge gap, generated in the closed
 //   state. A leaflet's mid-surface is P(u, s) with u in [-1, 1] across the leaflet (commissure to
 //   commissure) and s in [0, 1] from the attachment to the free edge:
-//     attachment A(u): on the wall, z = base + (commissure_height - commissure_strip) u^2 (a scallop
+//     attachment A(u): on the tube's inner wall (the mid-surface meets the wall, so the leaflet's
+//       outer half overlaps the tube, as an attached leaflet in the IB method may), z = base + (commissure_height - commissure_strip) u^2 (a scallop
 //       with its nadir at the leaflet's centre), plus a short strip up the wall at each commissure
 //       (u = +-1) so that no element degenerates;
 //     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
-//       a coaptation line (theta_k +- 60 degrees) at the height of the commissures, kept
-//       (free_edge_gap + thickness) / 2 away from it, so that neighbouring leaflets leave a gap of
-//       free_edge_gap between their surfaces;
+//       a coaptation line (theta_k +- 60 degrees) at the height of the commissures and free_edge_gap / 2
+//       away from it, so that neighbouring free edges (mid-surface) are free_edge_gap apart: seen along
+//       the axis, the closed valve leaves three strips of that width open, an orifice of about
+//       3 tube_radius free_edge_gap (0.078 cm^2 by default) at most; near the free edge the leaflets
+//       are tilted, so their thickness covers much of that in projection (neighbouring solids may
+//       touch there, which the IB method allows);
 //     P(u, s) = (1 - s) A(u) + s E(u) - sag sin(pi s) (1 - u^2) e_z: a belly bulging toward the
 //       ventricle, as a closed valve under aortic pressure does.
 //   The solid is the mid-surface extruded by +-thickness/2 along its normal.
@@ -41,7 +45,7 @@ struct ValveMeshParameters {
   double commissure_height = 1.2;  ///< z of the commissures (and the closed free edge) above the nadir
   double commissure_strip = 0.1;   ///< height of the attachment strip up the wall at each commissure
   double sag = 0.25;               ///< belly depth toward the ventricle
-  double free_edge_gap = 0.02;     ///< gap between neighbouring leaflets' surfaces when closed
+  double free_edge_gap = 0.02;     ///< distance between neighbouring closed free edges (mid-surface)
   double first_leaflet_angle = 90; ///< degrees: direction of leaflet 1's centre about the axis
   // Resolution (elements).
   int leaflet_across = 32;  ///< commissure to commissure (u); even
