@@ -1,0 +1,79 @@
+#pragma once
+// Interpolation of the staggered velocity to arbitrary points and spreading of point forces to the
+// face grids, on the distributed StaggeredGrid of fluid/ (Peskin 2002, eqs. 4.1 and 4.2 discretized):
+//
+//   (J u)_d(X)   = sum over faces x of component d of  u_d(x) delta_h(x - X) h^3
+//   (S F)_d(x)   = sum over points X of  F_d(X) delta_h(x - X)
+//
+// so that sum_x (S F)(x) . u(x) h^3 = sum_X F(X) . (J u)(X) exactly (the two are adjoint).
+//
+// Parallel layout: every rank is given the same (replicated) list of points; each point is handled by
+// the rank that owns the grid cell holding it. That rank reads velocities from its ghosted copy of the
+// grid and spreads into it; the ghost parts of the spread force are then summed onto their owners
+// (DMLocalToGlobal with ADD_VALUES). The interaction keeps its own DMStag with the same ownership
+// ranges as the fluid grid and as many ghost layers as the kernel needs, so any kernel works on any
+// fluid grid. Periodic directions wrap points into the box; in a non-periodic direction a point must
+// stay inside the box (RunError otherwise), and kernel weights on grid points outside the box are
+// dropped in both operators (which keeps them adjoint).
+#include <array>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+#include <petscdmstag.h>
+
+#include "fluid/grid.hpp"
+#include "ib/kernels.hpp"
+
+namespace ibvalve::ib {
+
+using Vec3 = Eigen::Vector3d;
+
+class GridInteraction {
+ public:
+  GridInteraction(const fluid::StaggeredGrid& grid, KernelKind kernel = default_kernel);
+  ~GridInteraction();
+  GridInteraction(const GridInteraction&) = delete;
+  GridInteraction& operator=(const GridInteraction&) = delete;
+
+  const fluid::StaggeredGrid& grid() const { return grid_; }
+  const DeltaKernel& kernel() const { return kernel_; }
+
+  /// True when this rank handles the point (owns the cell that holds it). RunError when the point is
+  /// outside a non-periodic side of the box (or not finite).
+  bool owns(const Vec3& x) const;
+
+  /// Interpolates the face velocities of `velocity` (a local vector of the fluid grid; only its owned
+  /// face values are read) to the points. values[p] is set for the points this rank owns and zeroed
+  /// for the others, so a sum over ranks gives every value once. Collective.
+  void interpolate(Vec velocity, std::span<const Vec3> points, std::span<Vec3> values);
+
+  /// Spreads the point forces onto the face grids and writes the result into the owned face slots of
+  /// `force` (a local vector of the fluid grid): overwritten, or added to when `add`. Collective.
+  void spread(std::span<const Vec3> points, std::span<const Vec3> forces, Vec force, bool add = false);
+
+  /// Sum over the owned faces of a . b h^3 (summed over ranks): the discrete L2 inner product of
+  /// two face fields held in local vectors of the fluid grid.
+  double inner_product(Vec a, Vec b) const;
+
+ private:
+  struct Stencil {
+    std::array<std::array<double, max_kernel_support>, 3>
+        weights_face{}; // direction e, grid of faces normal to e
+    std::array<std::array<double, max_kernel_support>, 3>
+        weights_center{}; // direction e, cell-centred positions
+    std::array<int, 3> first_face{}, first_center{};
+  };
+  Vec3 wrap(const Vec3& x) const;
+  Stencil stencil(const Vec3& x) const;
+  /// Index range [lo, hi) of kernel offsets m that land on grid points inside the box.
+  std::pair<int, int> valid_range(int component, int e, int first) const;
+
+  const fluid::StaggeredGrid& grid_;
+  DeltaKernel kernel_;
+  DM dm_ = nullptr;
+  Vec global_ = nullptr, local_ = nullptr;
+  std::array<PetscInt, 3> slot_{};
+};
+
+} // namespace ibvalve::ib

@@ -1,0 +1,65 @@
+#pragma once
+// Regularized delta functions of the immersed boundary method (Peskin 2002, Acta Numerica 11:479).
+//
+// The 3-D kernel is a tensor product, delta_h(x) = phi(x/hx) phi(y/hy) phi(z/hz) / (hx hy hz), of a
+// 1-D function phi of compact support. Each kernel here is a published phi:
+//   piecewise linear   support 2, first moment                       (hat function)
+//   IB 3-point         support 3, first moment, sum phi^2 = 1/2      (Roma, Peskin & Berger 1999, JCP
+//   153:509) IB 4-point         support 4, even/odd sums, first moment,       (Peskin 2002, eq. 6.27)
+//                      sum phi^2 = 3/8
+//   IB 6-point         support 6, even/odd sums, moments 1, 2 (= K), (Bao, Kaye & Peskin 2016, JCP 316:139)
+//                      3, sum phi^2 = C, three continuous derivatives
+//   B-spline 3rd order support 4, first moment, C2                  (the cubic B-spline)
+// The default is IB 4-point: it has the even/odd condition (sum over even and over odd grid points
+// each 1/2), which keeps the staggered grid's checkerboard modes from decoupling from the structure,
+// and the first moment, so a linear velocity field is interpolated exactly and spreading conserves
+// angular momentum; with 4 points per direction it needs 2 ghost layers and 64 grid points per
+// structure point, against 216 and 3 layers for the 6-point kernel (whose better translation
+// invariance matters less than cost for valve runs; docs/ib.md).
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace ibvalve::ib {
+
+enum class KernelKind { piecewise_linear, ib_3, ib_4, ib_6, bspline_3 };
+
+/// The largest support (grid points per direction) of any kernel.
+inline constexpr int max_kernel_support = 6;
+
+/// "piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3".
+std::string kernel_name(KernelKind kind);
+std::optional<KernelKind> find_kernel(std::string_view name);
+/// All names, comma separated (for error messages and the schema).
+std::string kernel_names();
+inline constexpr KernelKind default_kernel = KernelKind::ib_4;
+
+class DeltaKernel {
+ public:
+  explicit DeltaKernel(KernelKind kind = default_kernel);
+
+  KernelKind kind() const { return kind_; }
+  std::string name() const { return kernel_name(kind_); }
+  /// Grid points per direction the kernel touches.
+  int support() const { return support_; }
+  /// Ghost layers a grid needs so that every point of an owned cell reaches only owned or ghost
+  /// points, on cell-centred and face-centred index sets alike.
+  int ghost_width() const { return (support_ + 1) / 2; }
+  /// True for kernels whose even and odd grid points each carry half the weight.
+  bool has_even_odd_condition() const { return kind_ == KernelKind::ib_4 || kind_ == KernelKind::ib_6; }
+
+  /// phi(r), r in units of the grid spacing.
+  double phi(double r) const;
+
+  /// The support() weights phi(s - (first + m)), m = 0 .. support()-1, for a point at grid coordinate
+  /// s (index units: grid point i sits at s = i). Returns `first`. The weights are evaluated per
+  /// piece so that their sum and moments hold to round-off.
+  int weights(double s, std::array<double, max_kernel_support>& w) const;
+
+ private:
+  KernelKind kind_;
+  int support_;
+};
+
+} // namespace ibvalve::ib
