@@ -62,6 +62,8 @@ Mat NodalSystem::create_matrix() const
   PETSC_CHECK(
       MatMPIAIJSetPreallocation(matrix, 0, diagonal_nonzeros_.data(), 0, off_diagonal_nonzeros_.data()));
   PETSC_CHECK(MatSetOption(matrix, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  // Dirichlet rows are zeroed and refilled at every Newton step: keep their structure.
+  PETSC_CHECK(MatSetOption(matrix, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
   return matrix;
 }
 
@@ -106,14 +108,31 @@ void NodalSystem::scatter(std::span<const double> replicated, Vec v) const
   PETSC_CHECK(VecRestoreArray(v, &values));
 }
 
-void zero_rows_columns(Mat matrix, std::span<const PetscInt> rows, double diagonal, Vec x, Vec b)
+namespace {
+
+std::vector<PetscInt> owned_rows(Mat matrix, std::span<const PetscInt> rows)
 {
-  // Every rank lists the same (replicated) rows; each passes on the ones it owns.
   PetscInt begin = 0, end = 0;
   PETSC_CHECK(MatGetOwnershipRange(matrix, &begin, &end));
   std::vector<PetscInt> owned;
   for (PetscInt r : rows)
     if (r >= begin && r < end) owned.push_back(r);
+  return owned;
+}
+
+} // namespace
+
+void zero_rows(Mat matrix, std::span<const PetscInt> rows, double diagonal)
+{
+  const std::vector<PetscInt> owned = owned_rows(matrix, rows);
+  PETSC_CHECK(
+      MatZeroRows(matrix, static_cast<PetscInt>(owned.size()), owned.data(), diagonal, nullptr, nullptr));
+}
+
+void zero_rows_columns(Mat matrix, std::span<const PetscInt> rows, double diagonal, Vec x, Vec b)
+{
+  // Every rank lists the same (replicated) rows; each passes on the ones it owns.
+  const std::vector<PetscInt> owned = owned_rows(matrix, rows);
   PETSC_CHECK(MatZeroRowsColumns(matrix, static_cast<PetscInt>(owned.size()), owned.data(), diagonal, x, b));
 }
 

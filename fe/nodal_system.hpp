@@ -56,4 +56,8 @@ class NodalSystem {
 void zero_rows_columns(Mat matrix, std::span<const PetscInt> rows, double diagonal, Vec x = nullptr,
                        Vec b = nullptr);
 
+/// Zeroes rows `rows` (the same list on every rank) of an assembled matrix and puts `diagonal` on
+/// their diagonal (PETSc MatZeroRows); the columns are kept.
+void zero_rows(Mat matrix, std::span<const PetscInt> rows, double diagonal);
+
 } // namespace ibvalve::fe

@@ -121,7 +121,7 @@ void QuasiStaticSolver::jacobian(Vec u_vec, Mat J)
   solid_.add_stiffness(u, system_, J);
   PETSC_CHECK(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
-  zero_rows_columns(J, constrained_, 1.0);
+  zero_rows(J, constrained_, 1.0);
 }
 
 QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
@@ -132,8 +132,6 @@ QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
   std::vector<double> current = std::move(initial);
   for (int step = 1; step <= options_.load_steps; ++step) {
     load_factor_ = static_cast<double>(step) / options_.load_steps;
-    for (std::size_t k = 0; k < constrained_.size(); ++k)
-      current[constrained_[k]] = load_factor_ * constrained_values_[k];
     system_.scatter(current, u);
     PETSC_CHECK(SNESSolve(snes_, nullptr, u));
     SNESConvergedReason reason;

@@ -2,9 +2,10 @@
 // Quasi-static hyperelastic equilibrium with PETSc SNES: find u with
 //   R(u) = - forces(u) - lambda f_ext = 0   at free unknowns,   u = lambda g(X)   at Dirichlet unknowns,
 // for load factors lambda = 1/n, 2/n, ..., 1 (load stepping), by Newton's method with the consistent
-// tangent K = dR/du (SolidModel::add_stiffness) in a PETSc Mat. Dirichlet rows and columns of K are
-// replaced by the identity (the step starts from a guess that already meets the conditions, so the
-// Newton update there is zero and K stays symmetric).
+// tangent K = dR/du (SolidModel::add_stiffness) in a PETSc Mat. Dirichlet rows of K are replaced by
+// identity rows (columns kept): each step starts from the previous solution and its first Newton
+// update moves the prescribed values and, through the kept columns, the interior consistently
+// (a linearised predictor), so large prescribed increments do not invert boundary elements.
 //
 // Everything is tunable through the options prefix (default "fe_"): -fe_snes_rtol, -fe_snes_monitor,
 // -fe_ksp_type, -fe_pc_type ... The defaults are Newton with a backtracking line search and a direct

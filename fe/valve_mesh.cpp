@@ -55,11 +55,14 @@ void orient_positively(Mesh& mesh)
   mesh = std::move(flipped);
 }
 
-Vec3 unit_direction(double angle) { return Vec3(std::cos(angle), std::sin(angle), 0.0); }
+Vec3 unit_direction(double angle)
+{
+  return Vec3(std::cos(angle), std::sin(angle), 0.0);
+}
 
 /// Leaflet k's mid-surface P(u, s) (see the header).
 class LeafletSurface {
-public:
+ public:
   LeafletSurface(const ValveMeshParameters& p, int k) : p_(p)
   {
     centre_angle_ = p.first_leaflet_angle * pi / 180.0 + 2.0 * pi * k / 3.0;
@@ -87,7 +90,8 @@ public:
 
   Vec3 point(double u, double s) const
   {
-    return (1.0 - s) * attachment(u) + s * free_edge(u) - Vec3(0, 0, p_.sag * std::sin(pi * s) * (1.0 - u * u));
+    return (1.0 - s) * attachment(u) + s * free_edge(u) -
+           Vec3(0, 0, p_.sag * std::sin(pi * s) * (1.0 - u * u));
   }
 
   /// Unit normal of the mid-surface (central differences in the parameters).
@@ -99,7 +103,7 @@ public:
     return du.cross(ds).normalized();
   }
 
-private:
+ private:
   const ValveMeshParameters& p_;
   double centre_angle_ = 0, offset_ = 0, attachment_radius_ = 0, half_angle_ = 0;
 };
@@ -111,11 +115,11 @@ Mesh leaflet_mesh(const ValveMeshParameters& p, int k)
   Mesh block = box_mesh(CellShape::hexahedron, Vec3::Zero(), Vec3::Ones(),
                         {p.leaflet_across, p.leaflet_radial, p.leaflet_through});
   const double tol = 1e-9;
-  block.add_boundary_group("attachment", [&](const Vec3& c) {
-    return c[1] < tol || c[0] < tol || c[0] > 1 - tol;
-  });
+  block.add_boundary_group("attachment",
+                           [&](const Vec3& c) { return c[1] < tol || c[0] < tol || c[0] > 1 - tol; });
   block.add_boundary_group("tau1", [&](const Vec3& c) { return (c[1] < tol && c[0] < 0.5) || c[0] < tol; });
-  block.add_boundary_group("tau2", [&](const Vec3& c) { return (c[1] < tol && c[0] > 0.5) || c[0] > 1 - tol; });
+  block.add_boundary_group("tau2",
+                           [&](const Vec3& c) { return (c[1] < tol && c[0] > 0.5) || c[0] > 1 - tol; });
   block.add_boundary_group("free_edge", [&](const Vec3& c) { return c[1] > 1 - tol; });
   std::vector<int> end1, end2;
   for (std::size_t n = 0; n < block.num_nodes(); ++n) {
@@ -137,7 +141,8 @@ Mesh leaflet_mesh(const ValveMeshParameters& p, int k)
 
 Mesh tube_mesh(const ValveMeshParameters& p)
 {
-  Mesh block = box_mesh(CellShape::hexahedron, Vec3::Zero(), Vec3::Ones(), {p.tube_through, p.tube_around, p.tube_along});
+  Mesh block = box_mesh(CellShape::hexahedron, Vec3::Zero(), Vec3::Ones(),
+                        {p.tube_through, p.tube_around, p.tube_along});
   // Close the ring: the last layer of nodes around (y = 1) is the first (y = 0).
   const int nx = p.tube_through + 1, ny = p.tube_around + 1;
   auto index_of = [&](int i, int j, int k) { return i + nx * (j + ny * k); };
@@ -154,12 +159,18 @@ Mesh tube_mesh(const ValveMeshParameters& p)
   std::vector<PhysicalGroup> kept;
   for (const PhysicalGroup& g : block.groups()) {
     PhysicalGroup renamed = g;
-    if (g.name == "body") renamed.name = "tube";
-    else if (g.name == "xmin") renamed.name = "tube_inner";
-    else if (g.name == "xmax") renamed.name = "tube_outer";
-    else if (g.name == "zmin") renamed.name = "tube_inlet";
-    else if (g.name == "zmax") renamed.name = "tube_outlet";
-    else continue; // the seam (ymin, ymax) and corner points are not surfaces of the ring
+    if (g.name == "body")
+      renamed.name = "tube";
+    else if (g.name == "xmin")
+      renamed.name = "tube_inner";
+    else if (g.name == "xmax")
+      renamed.name = "tube_outer";
+    else if (g.name == "zmin")
+      renamed.name = "tube_inlet";
+    else if (g.name == "zmax")
+      renamed.name = "tube_outlet";
+    else
+      continue; // the seam (ymin, ymax) and corner points are not surfaces of the ring
     for (int& n : renamed.cells) {
       const int i = n % nx, j = (n / nx) % ny, k = n / (nx * ny);
       if (j == p.tube_around) n = index_of(i, 0, k);

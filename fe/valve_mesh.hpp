@@ -10,9 +10,9 @@
 //   state. A leaflet's mid-surface is P(u, s) with u in [-1, 1] across the leaflet (commissure to
 //   commissure) and s in [0, 1] from the attachment to the free edge:
 //     attachment A(u): on the tube's inner wall (the mid-surface meets the wall, so the leaflet's
-//       outer half overlaps the tube, as an attached leaflet in the IB method may), z = base + (commissure_height - commissure_strip) u^2 (a scallop
-//       with its nadir at the leaflet's centre), plus a short strip up the wall at each commissure
-//       (u = +-1) so that no element degenerates;
+//       outer half overlaps the tube, as an attached leaflet in the IB method may), z = base +
+//       (commissure_height - commissure_strip) u^2 (a scallop with its nadir at the leaflet's centre), plus a
+//       short strip up the wall at each commissure (u = +-1) so that no element degenerates;
 //     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
 //       a coaptation line (theta_k +- 60 degrees) at the height of the commissures and free_edge_gap / 2
 //       away from it, so that neighbouring free edges (mid-surface) are free_edge_gap apart: seen along
@@ -48,9 +48,9 @@ struct ValveMeshParameters {
   double free_edge_gap = 0.02;     ///< distance between neighbouring closed free edges (mid-surface)
   double first_leaflet_angle = 90; ///< degrees: direction of leaflet 1's centre about the axis
   // Resolution (elements).
-  int leaflet_across = 32;  ///< commissure to commissure (u); even
-  int leaflet_radial = 12;  ///< attachment to free edge (s)
-  int leaflet_through = 1;  ///< through the thickness
+  int leaflet_across = 32; ///< commissure to commissure (u); even
+  int leaflet_radial = 12; ///< attachment to free edge (s)
+  int leaflet_through = 1; ///< through the thickness
   int tube_around = 96;
   int tube_along = 104;
   int tube_through = 1;

@@ -30,7 +30,8 @@ double smallest_corner_jacobian(const Mesh& mesh, std::size_t e)
 TEST(AorticValveMesh, EveryElementIsPositivelyOriented)
 {
   const Mesh mesh = aortic_valve_mesh({});
-  for (std::size_t e = 0; e < mesh.num_elements(); ++e) ASSERT_GT(smallest_corner_jacobian(mesh, e), 0.0) << e;
+  for (std::size_t e = 0; e < mesh.num_elements(); ++e)
+    ASSERT_GT(smallest_corner_jacobian(mesh, e), 0.0) << e;
 }
 
 TEST(AorticValveMesh, HasTheGroupsTheFiberRulesAndTheRunNeed)
@@ -44,10 +45,12 @@ TEST(AorticValveMesh, HasTheGroupsTheFiberRulesAndTheRunNeed)
   const ValveMeshParameters p;
   EXPECT_EQ(mesh.group("leaflet1").elements.size(),
             static_cast<std::size_t>(p.leaflet_across * p.leaflet_radial * p.leaflet_through));
-  EXPECT_EQ(mesh.group("tube").elements.size(), static_cast<std::size_t>(p.tube_around * p.tube_along * p.tube_through));
+  EXPECT_EQ(mesh.group("tube").elements.size(),
+            static_cast<std::size_t>(p.tube_around * p.tube_along * p.tube_through));
   // The FD2 halves split the attachment: together they are all of it.
   const auto& attachment = mesh.group("leaflet2_attachment");
-  EXPECT_EQ(mesh.group("leaflet2_tau1").cells.size() + mesh.group("leaflet2_tau2").cells.size(), attachment.cells.size());
+  EXPECT_EQ(mesh.group("leaflet2_tau1").cells.size() + mesh.group("leaflet2_tau2").cells.size(),
+            attachment.cells.size());
 }
 
 TEST(AorticValveMesh, GeometryFollowsTheParameters)
@@ -73,7 +76,9 @@ TEST(AorticValveMesh, GeometryFollowsTheParameters)
   for (int n : mesh.group("tube_outlet").nodes) z_max = std::max(z_max, mesh.nodes()[n][2]);
   EXPECT_NEAR(z_max, p.tube_length, 1e-12);
   // The tube's volume converges to the annulus' at second order in the angular spacing (polygonal wall).
-  const double annulus = std::numbers::pi * (std::pow(p.tube_radius + p.tube_wall, 2) - p.tube_radius * p.tube_radius) * p.tube_length;
+  const double annulus = std::numbers::pi *
+                         (std::pow(p.tube_radius + p.tube_wall, 2) - p.tube_radius * p.tube_radius) *
+                         p.tube_length;
   Mesh tube_only = submesh(mesh, mesh.group("tube").elements);
   const double dtheta = 2 * std::numbers::pi / p.tube_around;
   EXPECT_NEAR(tube_only.volume() / annulus, 1.0, dtheta * dtheta);
