@@ -111,6 +111,7 @@ int fit(const FitCommandOptions& options)
   for (std::size_t i = 0; i < info.parameters.size(); ++i) mean += padded(cell(sum[i] / n, 0), 14);
   mean += padded(cell(sum[info.parameters.size()] / n, 0), 12) +
           padded(cell(sum[info.parameters.size() + 1] / n, 0), 10);
+  mean.erase(mean.find_last_not_of(' ') + 1);
   if (samples.size() > 1) log.info(mean);
   if (!options.curves.empty()) {
     if (log.is_root()) io::write_file_atomically(options.curves, curves.str());

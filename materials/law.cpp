@@ -11,7 +11,7 @@ namespace {
 const std::array<LawInfo, 5>& law_table()
 {
   static const std::array<LawInfo, 5> table{{
-      {LawKind::neo_hookean, "neo-hookean", "mu/2 (I1-3)", {{"mu", true, 1e300, "shear modulus"}}, false},
+      {LawKind::neo_hookean, "neo-hookean", "mu/2 (I1-3)", {{"mu", true, 1e300, "isotropic modulus"}}, false},
       {LawKind::W1,
        "W1",
        "C10 (exp(C01 (I1-3)) - 1) + k1/(2 k2) (exp(k2 (I4-1)^2) - 1)",
