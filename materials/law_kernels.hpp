@@ -18,7 +18,7 @@
 //                 Gasser, Ogden & Holzapfel 2006, J. R. Soc. Interface 3:15).
 // Fibers in compression: when `fibers_bear_compression` is false, a family with I_i < 1 contributes
 // nothing (its term is removed, for W2 its part of the exponent), the usual choice for collagen,
-// which buckles (Holzapfel & Ogden 2015 discuss the switch for dispersed fibers).
+// which buckles (Holzapfel & Ogden 2015, Eur. J. Mech. A/Solids 49:561, discuss the switch).
 #include <cmath>
 
 namespace ibvalve::materials {
