@@ -1,0 +1,121 @@
+#include "ib/coupling_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+namespace ibvalve::ib {
+
+CouplingPoints::CouplingPoints(const fe::Mesh& mesh, CouplingPointSettings settings)
+    : mesh_(mesh), settings_(settings), per_direction_(mesh.num_elements(), 1)
+{
+  if (!(settings.spacing > 0.0) || settings.min_points < 1 || settings.max_points < settings.min_points)
+    throw std::invalid_argument(
+        "ib: coupling point spacing must be positive and 1 <= min_points <= max_points");
+  // The cell's edges are the sides of its faces (each face lists its nodes around its boundary).
+  std::set<std::pair<int, int>> edges;
+  for (const auto& face : mesh.type().faces())
+    for (std::size_t a = 0; a < face.size(); ++a) {
+      const int i = face[a], j = face[(a + 1) % face.size()];
+      edges.insert({std::min(i, j), std::max(i, j)});
+    }
+  edges_.assign(edges.begin(), edges.end());
+}
+
+const CouplingPoints::Rule& CouplingPoints::rule(int n)
+{
+  auto found = rules_.find(n);
+  if (found != rules_.end()) return found->second;
+  const fe::ElementType& type = mesh_.type();
+  Rule r;
+  // A Gauss rule with n points per direction is exact for degree 2n - 1 (tensor or conical product).
+  r.rule = type.quadrature(2 * n - 1);
+  const int nodes = type.num_nodes();
+  r.values.resize(r.rule.size() * nodes);
+  r.gradients.resize(r.rule.size() * nodes);
+  for (std::size_t q = 0; q < r.rule.size(); ++q) {
+    type.values(r.rule.points[q], std::span<double>(r.values.data() + q * nodes, nodes));
+    type.gradients(r.rule.points[q], std::span<fe::Vec3>(r.gradients.data() + q * nodes, nodes));
+  }
+  return rules_.emplace(n, std::move(r)).first->second;
+}
+
+std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h)
+{
+  const std::size_t elements = mesh_.num_elements();
+  const int nodes = mesh_.nodes_per_element();
+  std::size_t capped = 0;
+  std::size_t total = 0;
+  for (std::size_t e = 0; e < elements; ++e) {
+    const auto element = mesh_.element(e);
+    double longest = 0.0;
+    for (const auto& [i, j] : edges_)
+      longest = std::max(longest, (positions[element[i]] - positions[element[j]]).norm());
+    const double wanted = std::ceil(longest / (settings_.spacing * h) - 1e-9);
+    int n = static_cast<int>(std::clamp(wanted, 1.0, 1e6));
+    if (n > settings_.max_points) ++capped;
+    n = std::clamp(n, settings_.min_points, settings_.max_points);
+    per_direction_[e] = n;
+    total += rule(n).rule.size();
+  }
+  position_.resize(total);
+  element_.resize(total);
+  weight_.resize(total);
+  values_.resize(total);
+  const auto& X = mesh_.nodes();
+  std::size_t q = 0;
+  for (std::size_t e = 0; e < elements; ++e) {
+    const Rule& r = rules_.at(per_direction_[e]);
+    const auto element = mesh_.element(e);
+    for (std::size_t p = 0; p < r.rule.size(); ++p, ++q) {
+      const double* N = r.values.data() + p * nodes;
+      const fe::Vec3* dN = r.gradients.data() + p * nodes;
+      Vec3 x = Vec3::Zero();
+      Eigen::Matrix3d dXdxi = Eigen::Matrix3d::Zero();
+      for (int a = 0; a < nodes; ++a) {
+        x += N[a] * positions[element[a]];
+        dXdxi += X[element[a]] * dN[a].transpose();
+      }
+      position_[q] = x;
+      element_[q] = e;
+      weight_[q] = r.rule.weights[p] * dXdxi.determinant();
+      values_[q] = N;
+    }
+  }
+  return capped;
+}
+
+std::span<const double> CouplingPoints::shape_values(std::size_t q) const
+{
+  return {values_[q], static_cast<std::size_t>(mesh_.nodes_per_element())};
+}
+
+void CouplingPoints::evaluate(std::span<const double> nodal, int components, std::span<Vec3> values) const
+{
+  const int nodes = mesh_.nodes_per_element();
+  for (std::size_t q = 0; q < size(); ++q) {
+    const auto element = mesh_.element(element_[q]);
+    Vec3 v = Vec3::Zero();
+    for (int a = 0; a < nodes; ++a)
+      for (int c = 0; c < components; ++c) v[c] += values_[q][a] * nodal[components * element[a] + c];
+    values[q] = v;
+  }
+}
+
+void CouplingPoints::add_projection_rhs(std::span<const std::size_t> points, std::span<const Vec3> values,
+                                        std::span<double> rhs) const
+{
+  const int nodes = mesh_.nodes_per_element();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::size_t q = points[i];
+    const auto element = mesh_.element(element_[q]);
+    const Vec3 g = values[i] * weight_[q];
+    for (int a = 0; a < nodes; ++a)
+      for (int c = 0; c < 3; ++c) rhs[3 * element[a] + c] += values_[q][a] * g[c];
+  }
+}
+
+} // namespace ibvalve::ib

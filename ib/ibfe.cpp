@@ -1,0 +1,264 @@
+#include "ib/ibfe.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Eigenvalues>
+#include <mpi.h>
+
+#include "fe/loads.hpp"
+#include "io/errors.hpp"
+#include "io/logger.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::ib {
+
+namespace {
+
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(MPI_Wtime()) {}
+  ~Stopwatch() { total_ += MPI_Wtime() - start_; }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  double start_;
+};
+
+std::string format(double value)
+{
+  std::ostringstream s;
+  s.precision(3);
+  s << value;
+  return s.str();
+}
+
+// w_a of a tether: int_group N_a (area or volume) or 1 per node of a point group.
+std::vector<double> tether_weights(const fe::Mesh& mesh, const std::string& name, MPI_Comm comm)
+{
+  const fe::PhysicalGroup& group = mesh.group(name);
+  std::vector<double> w(mesh.num_nodes(), 0.0);
+  if (group.dimension == 2) {
+    const std::vector<double> load = fe::surface_traction_load(
+        mesh, name, [](const fe::Vec3&) { return fe::Vec3(1.0, 0.0, 0.0); }, 2, comm);
+    for (std::size_t n = 0; n < w.size(); ++n) w[n] = load[3 * n];
+  } else if (group.dimension == 3) {
+    const fe::QuadratureData quadrature(mesh, 2);
+    for (int e : group.elements) {
+      const auto element = mesh.element(e);
+      for (int q = 0; q < quadrature.points_per_element(); ++q)
+        for (std::size_t a = 0; a < element.size(); ++a)
+          w[element[a]] += quadrature.value(q, static_cast<int>(a)) * quadrature.JxW(e, q);
+    }
+  } else {
+    for (int n : group.nodes) w[n] = 1.0;
+  }
+  return w;
+}
+
+} // namespace
+
+IbfeIntegrator::IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings)
+    : fluid_(fluid), solid_(solid), settings_(std::move(settings)),
+      interaction_(fluid.grid(), settings_.kernel), points_(solid.mesh(), settings_.points),
+      velocity_mass_(solid.mesh(), settings_.velocity_projection, fluid.grid().comm(), "ib_velocity_mass_"),
+      displacement_(solid.num_dofs(), 0.0), velocity_(solid.num_dofs(), 0.0), forces_(solid.num_dofs(), 0.0)
+{
+  if (settings_.force_projection != settings_.velocity_projection)
+    force_mass_ = std::make_unique<NodalMass>(solid.mesh(), settings_.force_projection, fluid.grid().comm(),
+                                              "ib_force_mass_");
+  for (const Tether& t : settings_.tethers) {
+    if (t.stiffness < 0.0 || t.damping < 0.0)
+      throw InputError("ib: tether '" + t.group + "': stiffness and damping must be non-negative");
+    tethers_.emplace_back(tether_weights(solid.mesh(), t.group, fluid.grid().comm()), t);
+  }
+  h_min_ = std::min({fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
+  velocity_old_ = fluid.grid().create_local();
+  velocity_mid_ = fluid.grid().create_local();
+  place_points(displacement_);
+
+  const StabilityEstimate s = stability_estimate();
+  io::Logger::global().info(
+      "ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
+      std::to_string(points_.size()) + " coupling points at the start; stable time step " + "estimate " +
+      format(s.dt) + " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " + format(s.length) +
+      " cm; inertial limit " + format(s.inertial_dt) + " s, viscous limit " + format(s.viscous_dt) + " s)");
+}
+
+IbfeIntegrator::~IbfeIntegrator()
+{
+  if (velocity_old_) VecDestroy(&velocity_old_);
+  if (velocity_mid_) VecDestroy(&velocity_mid_);
+}
+
+void IbfeIntegrator::set_displacement(std::vector<double> displacement)
+{
+  if (displacement.size() != solid_.num_dofs())
+    throw std::invalid_argument("ib: displacement has the wrong size");
+  displacement_ = std::move(displacement);
+  place_points(displacement_);
+}
+
+std::vector<Vec3> IbfeIntegrator::positions() const
+{
+  const auto& X = solid_.mesh().nodes();
+  std::vector<Vec3> x(X.size());
+  for (std::size_t n = 0; n < X.size(); ++n)
+    x[n] = X[n] + Vec3(displacement_[3 * n], displacement_[3 * n + 1], displacement_[3 * n + 2]);
+  return x;
+}
+
+void IbfeIntegrator::place_points(std::span<const double> displacement)
+{
+  Stopwatch watch(timings_.points);
+  const auto& X = solid_.mesh().nodes();
+  std::vector<Vec3> x(X.size());
+  for (std::size_t n = 0; n < X.size(); ++n)
+    x[n] = X[n] + Vec3(displacement[3 * n], displacement[3 * n + 1], displacement[3 * n + 2]);
+  points_.update(x, h_min_);
+  owned_points_.clear();
+  owned_positions_.clear();
+  const auto p = points_.positions();
+  for (std::size_t q = 0; q < p.size(); ++q)
+    if (interaction_.owns(p[q])) {
+      owned_points_.push_back(q);
+      owned_positions_.push_back(p[q]);
+    }
+}
+
+std::vector<double> IbfeIntegrator::project_velocity(Vec velocity)
+{
+  std::vector<Vec3> values(owned_positions_.size());
+  {
+    Stopwatch watch(timings_.interpolation);
+    interaction_.interpolate(velocity, owned_positions_, values);
+  }
+  Stopwatch watch(timings_.projection);
+  std::vector<double> rhs(solid_.num_dofs(), 0.0);
+  points_.add_projection_rhs(owned_points_, values, rhs);
+  MPI_Allreduce(MPI_IN_PLACE, rhs.data(), static_cast<int>(rhs.size()), MPI_DOUBLE, MPI_SUM,
+                fluid_.grid().comm());
+  return velocity_mass_.solve(rhs);
+}
+
+std::vector<double> IbfeIntegrator::nodal_velocity(Vec velocity, std::span<const double> displacement)
+{
+  place_points(displacement);
+  return project_velocity(velocity);
+}
+
+std::vector<double> IbfeIntegrator::structure_forces(std::span<const double> displacement,
+                                                     std::span<const double> velocity)
+{
+  Stopwatch watch(timings_.force);
+  std::vector<double> F(solid_.num_dofs(), 0.0);
+  solid_.forces(displacement, F);
+  for (const auto& [w, t] : tethers_)
+    for (std::size_t n = 0; n < w.size(); ++n)
+      if (w[n] != 0.0)
+        for (int c = 0; c < 3; ++c)
+          F[3 * n + c] -= w[n] * (t.stiffness * displacement[3 * n + c] + t.damping * velocity[3 * n + c]);
+  return F;
+}
+
+void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
+{
+  std::vector<double> density;
+  {
+    Stopwatch watch(timings_.projection);
+    density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces);
+  }
+  Stopwatch watch(timings_.spreading);
+  std::vector<Vec3> point_forces(owned_points_.size());
+  for (std::size_t i = 0; i < owned_points_.size(); ++i) {
+    const std::size_t q = owned_points_[i];
+    const auto element = solid_.mesh().element(points_.element(q));
+    const auto N = points_.shape_values(q);
+    Vec3 f = Vec3::Zero();
+    for (std::size_t a = 0; a < element.size(); ++a)
+      f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
+    point_forces[i] = f * points_.weight(q);
+  }
+  interaction_.spread(owned_positions_, point_forces, fluid_.body_force());
+}
+
+void IbfeIntegrator::step(double dt)
+{
+  Stopwatch total(timings_.total);
+  if (timings_.steps == 0) {
+    const StabilityEstimate s = stability_estimate();
+    if (dt > s.dt)
+      io::Logger::global().warn("ib: the time step " + format(dt) + " s is above the stability estimate " +
+                                format(s.dt) + " s of the explicit IB/FE coupling; the run may blow up");
+  }
+  const std::size_t dofs = solid_.num_dofs();
+  // 1. U^n at chi^n, and the half-step position.
+  place_points(displacement_);
+  const std::vector<double> U_n = project_velocity(fluid_.state());
+  std::vector<double> u_half(dofs);
+  for (std::size_t i = 0; i < dofs; ++i) u_half[i] = displacement_[i] + 0.5 * dt * U_n[i];
+  // 2. Forces at chi^{n+1/2}, spread from the points placed there.
+  place_points(u_half);
+  forces_ = structure_forces(u_half, U_n);
+  spread_force_density(forces_);
+  // 3. The fluid step, keeping u^n.
+  PETSC_CHECK(VecCopy(fluid_.state(), velocity_old_));
+  {
+    Stopwatch watch(timings_.fluid);
+    fluid_.step(dt);
+  }
+  // 4. U^{n+1/2} from (u^n + u^{n+1})/2 at the same points, and the full position update.
+  PETSC_CHECK(VecAXPBYPCZ(velocity_mid_, 0.5, 0.5, 0.0, velocity_old_, fluid_.state()));
+  velocity_ = project_velocity(velocity_mid_);
+  for (std::size_t i = 0; i < dofs; ++i) {
+    displacement_[i] += dt * velocity_[i];
+    if (!std::isfinite(displacement_[i]))
+      throw RunError("ib: the structure's position became non-finite at t = " + format(fluid_.time()) +
+                     " s (the time step is probably above the stable limit)");
+  }
+  ++timings_.steps;
+}
+
+double IbfeIntegrator::volume() const
+{
+  double total = 0.0;
+  const fe::QuadratureData& quadrature = solid_.quadrature();
+  for (std::size_t e = 0; e < solid_.mesh().num_elements(); ++e)
+    for (int q = 0; q < quadrature.points_per_element(); ++q)
+      total += solid_.deformation_gradient(displacement_, e, q).determinant() * quadrature.JxW(e, q);
+  return total;
+}
+
+StabilityEstimate IbfeIntegrator::stability_estimate() const
+{
+  StabilityEstimate s;
+  for (const fe::BodyPart& part : solid_.parts()) {
+    if (part.elements.empty()) continue;
+    materials::Tangent T = materials::Tangent::Zero();
+    const materials::FiberFrame& fibers = solid_.fibers(static_cast<std::size_t>(part.elements.front()), 0);
+    for (const auto& law : part.laws) T += law->tangent(materials::Mat3::Identity(), fibers);
+    // The fluid keeps the motion (nearly) isochoric, so volumetric modes are not excited: the
+    // stiffness that matters is the tangent on trace-free perturbations of F.
+    materials::Tangent deviatoric = materials::Tangent::Identity();
+    for (int i : {0, 4, 8})
+      for (int j : {0, 4, 8}) deviatoric(i, j) -= 1.0 / 3.0;
+    const materials::Tangent symmetric = deviatoric * (0.5 * (T + T.transpose())) * deviatoric;
+    const Eigen::SelfAdjointEigenSolver<materials::Tangent> eigen(symmetric, Eigen::EigenvaluesOnly);
+    s.modulus = std::max(s.modulus, eigen.eigenvalues().cwiseAbs().maxCoeff());
+  }
+  for (const auto& [w, t] : tethers_)
+    for (double wa : w) s.tether_stiffness = std::max(s.tether_stiffness, t.stiffness * wa);
+  s.length = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  const double rho = fluid_.settings().rho, mu = fluid_.settings().mu, h = s.length;
+  const double omega2 = 12.0 * s.modulus / (rho * h * h) + s.tether_stiffness / (rho * h * h * h);
+  const double gamma = 12.0 * mu / (rho * h * h);
+  s.inertial_dt = omega2 > 0.0 ? 2.0 / std::sqrt(omega2) : 1e300;
+  s.viscous_dt = omega2 > 0.0 ? 2.0 * gamma / omega2 : 1e300;
+  s.dt = std::max(s.inertial_dt, s.viscous_dt);
+  return s;
+}
+
+} // namespace ibvalve::ib

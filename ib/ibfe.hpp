@@ -1,0 +1,140 @@
+#pragma once
+// The IB/FE method (Griffith & Luo 2017, Int. J. Numer. Meth. Biomed. Engng. 33:e2888): the fluid on
+// the staggered grid (fluid::NavierStokes), the structure a finite-element mesh (fe::SolidModel)
+// whose current position chi(X, t) = X + u(X, t) moves with the fluid,
+//
+//   d chi/dt = P_h J[chi] u          velocity interpolated at the coupling points, then L2-projected
+//                                    to the nodes (lumped or consistent mass)
+//   f        = S[chi] M^{-1} F[chi]  nodal forces F_a = -int P : grad_X N_a dX (+ tethers), L2-
+//                                    projected to a force density, spread from the coupling points
+//
+// advanced by the explicit midpoint rule (the "IB explicit" scheme of Griffith & Luo, section 3.4),
+// second order in time for smooth problems:
+//   1. U^n = P_h J[chi^n] u^n,                 chi^{n+1/2} = chi^n + dt/2 U^n
+//   2. f^{n+1/2} = S[chi^{n+1/2}] M^{-1} F(chi^{n+1/2}, U^n)
+//   3. (u^{n+1}, p^{n+1/2}) from the Navier–Stokes step with body force f^{n+1/2}
+//   4. U^{n+1/2} = P_h J[chi^{n+1/2}] (u^n + u^{n+1})/2,   chi^{n+1} = chi^n + dt U^{n+1/2}
+// Spreading (2) and the interpolation of (4) use the same points, so the power the structure puts
+// into the fluid equals the power it receives (the operators are adjoint).
+//
+// Tethers pull chosen nodes back to their reference positions with a spring and a dashpot,
+//   F_a += -w_a (kappa (chi_a - X_a) + eta U_a),
+// w_a = int_group N_a (dA for a surface group, dX for a volume group) or 1 for a point group; kappa is
+// then a stiffness per area, per volume or per node.
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "fe/mass.hpp"
+#include "fe/solid.hpp"
+#include "fluid/navier_stokes.hpp"
+#include "ib/coupling_points.hpp"
+#include "ib/interaction.hpp"
+#include "ib/nodal_mass.hpp"
+
+namespace ibvalve::ib {
+
+struct Tether {
+  std::string group;      ///< a physical group of the mesh (surface, volume or points)
+  double stiffness = 0.0; ///< kappa: dyn/cm^3 (surface), dyn/cm^4 (volume), dyn/cm (points)
+  double damping = 0.0;   ///< eta: the same per unit velocity (s/cm times kappa's unit)
+};
+
+struct IbfeSettings {
+  KernelKind kernel = default_kernel;
+  fe::MassKind velocity_projection = fe::MassKind::consistent;
+  fe::MassKind force_projection = fe::MassKind::consistent;
+  CouplingPointSettings points{};
+  std::vector<Tether> tethers;
+};
+
+/// Wall-clock seconds spent in the parts of the coupled steps so far.
+struct IbfeTimings {
+  double fluid = 0.0;         ///< Navier–Stokes steps
+  double interpolation = 0.0; ///< J u at the points (both interpolations)
+  double projection = 0.0;    ///< mass solves and the assembly of their right-hand sides
+  double force = 0.0;         ///< nodal forces from the materials and tethers
+  double spreading = 0.0;     ///< S F
+  double points = 0.0;        ///< choosing the rules and placing the coupling points
+  double total = 0.0;
+  long steps = 0;
+};
+
+/// The time-step estimate logged when a run starts (docs/ib.md, "Stability"): the largest stable dt
+/// of the explicit coupling for the structure's stiffest grid-resolved mode,
+///   omega^2 = 12 E / (rho h_s^2) + max_a kappa w_a / (rho h_s^3),  gamma = 12 mu / (rho h_s^2),
+///   dt_max ~ max(2 / omega, 2 gamma / omega^2),
+/// with E the largest eigenvalue of dP/dF at F = I on trace-free perturbations (the fluid keeps the
+/// motion isochoric, so the volumetric penalty does not count) over the body parts, h_s = max(grid spacing,
+/// smallest element edge); 2/omega is the inertial (leapfrog) limit and 2 gamma/omega^2 = 2 mu/E the
+/// limit when viscosity dominates. An estimate, not a guarantee.
+struct StabilityEstimate {
+  double modulus = 0.0;          ///< E, dyn/cm^2
+  double tether_stiffness = 0.0; ///< max_a kappa w_a, dyn/cm
+  double length = 0.0;           ///< h_s, cm
+  double inertial_dt = 0.0;
+  double viscous_dt = 0.0;
+  double dt = 0.0; ///< the estimate
+};
+
+class IbfeIntegrator {
+ public:
+  IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings);
+  ~IbfeIntegrator();
+  IbfeIntegrator(const IbfeIntegrator&) = delete;
+  IbfeIntegrator& operator=(const IbfeIntegrator&) = delete;
+
+  /// Sets the structure's current configuration chi = X + u (u replicated, 3 per node); zero at start.
+  void set_displacement(std::vector<double> displacement);
+
+  /// Advances fluid and structure from time() to time() + dt together.
+  void step(double dt);
+
+  double time() const { return fluid_.time(); }
+  const fluid::NavierStokes& fluid() const { return fluid_; }
+  const fe::SolidModel& solid() const { return solid_; }
+  const IbfeSettings& settings() const { return settings_; }
+  /// u = chi - X at the nodes (replicated, interlaced).
+  const std::vector<double>& displacement() const { return displacement_; }
+  /// The nodal velocity of the last position update, U^{n+1/2} (zero before the first step).
+  const std::vector<double>& velocity() const { return velocity_; }
+  /// The nodal forces of the last step (materials and tethers), F^{n+1/2}.
+  const std::vector<double>& nodal_forces() const { return forces_; }
+  /// Current node positions.
+  std::vector<Vec3> positions() const;
+  /// The structure's current volume, sum over quadrature points of det F w det J.
+  double volume() const;
+  const CouplingPoints& coupling_points() const { return points_; }
+  std::size_t coupling_point_count() const { return points_.size(); }
+  const IbfeTimings& timings() const { return timings_; }
+  StabilityEstimate stability_estimate() const;
+
+  /// Places the coupling points for the nodes at X + `displacement`, interpolates the face velocity
+  /// held in `velocity` (a local vector of the fluid grid) there and L2-projects it to the nodes.
+  std::vector<double> nodal_velocity(Vec velocity, std::span<const double> displacement);
+
+ private:
+  void place_points(std::span<const double> displacement);
+  std::vector<double> project_velocity(Vec velocity);
+  std::vector<double> structure_forces(std::span<const double> displacement,
+                                       std::span<const double> velocity);
+  void spread_force_density(std::span<const double> nodal_forces);
+
+  fluid::NavierStokes& fluid_;
+  const fe::SolidModel& solid_;
+  IbfeSettings settings_;
+  GridInteraction interaction_;
+  CouplingPoints points_;
+  NodalMass velocity_mass_;
+  std::unique_ptr<NodalMass> force_mass_; // null when it is the same kind as velocity_mass_
+  std::vector<std::pair<std::vector<double>, Tether>> tethers_; // node weights w_a, settings
+  std::vector<double> displacement_, velocity_, forces_;
+  std::vector<std::size_t> owned_points_;
+  std::vector<Vec3> owned_positions_;
+  Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
+  IbfeTimings timings_;
+  double h_min_ = 0.0;
+};
+
+} // namespace ibvalve::ib

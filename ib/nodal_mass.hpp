@@ -1,0 +1,46 @@
+#pragma once
+// Solves M v = b for 3-component nodal fields of the replicated structure mesh, with the consistent
+// mass matrix M_ab = int N_a N_b dX (PETSc CG + Jacobi, options prefix "ib_mass_") or the row-sum
+// lumped mass m_a = int N_a dX: the L2 projections of the IB/FE coupling (velocity to nodes, nodal
+// force to force density). Both are exact for a constant field; the consistent one for every field in
+// the finite-element space.
+#include <span>
+#include <string>
+#include <vector>
+
+#include <petscksp.h>
+
+#include "fe/mass.hpp"
+#include "fe/nodal_system.hpp"
+#include "fe/quadrature_data.hpp"
+
+namespace ibvalve::ib {
+
+class NodalMass {
+ public:
+  NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, const std::string& prefix = "ib_mass_");
+  ~NodalMass();
+  NodalMass(const NodalMass&) = delete;
+  NodalMass& operator=(const NodalMass&) = delete;
+
+  fe::MassKind kind() const { return kind_; }
+  /// int N_a dX, replicated.
+  const std::vector<double>& lumped() const { return lumped_; }
+  /// v with M v = b, both replicated and interlaced (3 per node). Collective.
+  std::vector<double> solve(std::span<const double> b) const;
+  /// Krylov iterations of the last consistent solve (summed over the components).
+  PetscInt last_iterations() const { return iterations_; }
+
+ private:
+  const fe::Mesh& mesh_;
+  fe::MassKind kind_;
+  fe::QuadratureData quadrature_;
+  fe::NodalSystem system_;
+  std::vector<double> lumped_;
+  Mat mass_ = nullptr;
+  KSP ksp_ = nullptr;
+  Vec x_ = nullptr, b_ = nullptr;
+  mutable PetscInt iterations_ = 0;
+};
+
+} // namespace ibvalve::ib
