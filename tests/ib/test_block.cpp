@@ -127,3 +127,58 @@ TEST(StretchedBlock, OneRankAndAllRanksAgreeOverTwentySteps)
               size, difference, scale);
   EXPECT_LT(difference, 1e-10 * scale);
 }
+
+TEST(StretchedBlock, TheCoupledSchemeIsSecondOrderInTime)
+{
+  // The structure's displacement at t = 0.032 s with dt, dt/2, dt/4 against dt/8: the error ratios
+  // between successive halvings approach 4 for a second-order scheme.
+  const double T = 0.032;
+  std::vector<std::vector<double>> results;
+  for (int steps : {8, 16, 32, 64}) {
+    BlockRun run(PETSC_COMM_WORLD, 16, fe::MassKind::consistent);
+    for (int s = 0; s < steps; ++s) run.ibfe->step(T / steps);
+    results.push_back(run.ibfe->displacement());
+  }
+  std::vector<double> errors;
+  for (std::size_t r = 0; r + 1 < results.size(); ++r) {
+    double e = 0.0;
+    for (std::size_t i = 0; i < results[r].size(); ++i)
+      e = std::max(e, std::abs(results[r][i] - results.back()[i]));
+    errors.push_back(e);
+  }
+  // With a reference at dt/8 the errors e_k ~ C dt_k^2 (1 - 1/64 ...): the ratio of the first two is
+  // (1 - 1/16) / (1/4 - 1/16) * ... ~ 5; require an observed order above 1.8.
+  const double order = std::log2((errors[0] - errors[1]) / (errors[1] - errors[2]));
+  std::printf("time convergence: errors %.3g %.3g %.3g against dt/8; observed order %.2f\n", errors[0],
+              errors[1], errors[2], order);
+  EXPECT_GT(order, 1.8);
+}
+
+TEST(Tethers, PullATranslatedBlockBackWhileAnUntetheredOneStays)
+{
+  // A rigid translation stores no elastic energy: without a tether the block does not move. A volume
+  // tether with stiffness kappa pulls it back (F_a = -kappa w_a u_a).
+  for (double stiffness : {0.0, 2e4}) {
+    auto fluid = periodic_fluid(PETSC_COMM_WORLD, 16, 1.0, 0.1);
+    const fe::Mesh mesh = block_mesh();
+    fe::SolidModel solid(mesh, one_part(mesh, neo_hookean(100.0, 1000.0)), 2, PETSC_COMM_WORLD);
+    ib::IbfeSettings settings;
+    settings.tethers.push_back({"body", stiffness, 0.0});
+    ib::IbfeIntegrator ibfe(*fluid, solid, settings);
+    std::vector<double> u(solid.num_dofs());
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n) u[3 * n] = 0.05;
+    ibfe.set_displacement(u);
+    for (int s = 0; s < 40; ++s) ibfe.step(1e-3);
+    double mean = 0.0, speed = 0.0;
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n) mean += ibfe.displacement()[3 * n] / mesh.num_nodes();
+    for (double v : ibfe.velocity()) speed = std::max(speed, std::abs(v));
+    std::printf("tether stiffness %g: mean x displacement 0.05 -> %.4g, max |U| %.3g\n", stiffness, mean,
+                speed);
+    if (stiffness == 0.0) {
+      EXPECT_NEAR(mean, 0.05, 1e-12);
+      EXPECT_LT(speed, 1e-12);
+    } else {
+      EXPECT_LT(mean, 0.025);
+    }
+  }
+}
