@@ -58,6 +58,7 @@ int main(int argc, char** argv)
   app::CommandAction action;
   app::add_run_command(cli, action);
   app::add_fit_command(cli, action);
+  app::add_fibers_command(cli, action);
 
   int code = 0;
   try {
