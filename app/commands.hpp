@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <mpi.h>
 
 namespace ibvalve::app {
 
@@ -24,5 +25,12 @@ void add_run_command(CLI::App& app, CommandAction& action);
 void add_fit_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve fibers MESH.msh --rule FD1|FD2 -o OUT` (fibers/rules.hpp).
 void add_fibers_command(CLI::App& app, CommandAction& action);
+
+/// Registers `ibvalve report RUN_DIR` (hemodynamics/report.hpp).
+void add_report_command(CLI::App& app, CommandAction& action);
+/// Registers `ibvalve compare RUN_DIR...` (hemodynamics/compare.hpp).
+void add_compare_command(CLI::App& app, CommandAction& action);
+/// Runs `work` on rank 0 of `comm` only and rethrows its InputError/RunError/other error on every rank.
+void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work);
 
 } // namespace ibvalve::app

@@ -58,6 +58,8 @@ int main(int argc, char** argv)
   app::CommandAction action;
   app::add_run_command(cli, action);
   app::add_fit_command(cli, action);
+  app::add_report_command(cli, action);
+  app::add_compare_command(cli, action);
   app::add_fibers_command(cli, action);
 
   int code = 0;

@@ -4,6 +4,8 @@
 
 namespace ibvalve::app {
 
+Model lumped_model(); // app/lumped_model.cpp
+
 namespace {
 std::vector<std::string> model_names()
 {
@@ -18,6 +20,7 @@ const std::vector<Model>& models()
   // Each model registers itself here as its folder provides it.
   static const std::vector<Model> all = [] {
     std::vector<Model> list;
+    list.push_back(lumped_model());
     return list;
   }();
   return all;

@@ -1,0 +1,64 @@
+// `ibvalve compare RUN_DIR...`: every metric per case and the 12-criterion ranking, as Markdown, CSV
+// and HTML (hemodynamics/compare.hpp).
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include <petscsys.h>
+
+#include "app/commands.hpp"
+#include "hemodynamics/compare.hpp"
+#include "hemodynamics/report.hpp"
+#include "io/logger.hpp"
+
+namespace ibvalve::app {
+
+namespace {
+
+struct CompareOptions {
+  std::vector<std::filesystem::path> runs;
+  std::filesystem::path output = "comparison";
+};
+
+int compare(const CompareOptions& options)
+{
+  run_on_root_rank(PETSC_COMM_WORLD, [&] {
+    std::vector<hemodynamics::CaseResult> cases;
+    for (const auto& run : options.runs) cases.push_back(hemodynamics::load_case(run));
+    // Cases with the same name (e.g. two runs of one case file) are told apart by their folders.
+    for (std::size_t i = 0; i < cases.size(); ++i)
+      for (std::size_t j = 0; j < cases.size(); ++j)
+        if (i != j && cases[i].name == cases[j].name) {
+          for (auto& c : cases)
+            c.name += " (" +
+                      std::filesystem::absolute(c.run_directory).lexically_normal().filename().string() + ")";
+          i = j = cases.size();
+        }
+    const auto files = hemodynamics::write_comparison(cases, options.output);
+    const auto ranking = hemodynamics::rank_cases(cases);
+    auto& log = io::Logger::global();
+    for (const auto& row : ranking.rows)
+      log.info("rank " + std::to_string(row.rank) + ": " + row.name + " (total " +
+               hemodynamics::format_value(row.total) + ")");
+    for (const auto& left : ranking.left_out) log.info("left out of the ranking: " + left);
+    log.info("comparison: " + files.html.string() + ", " + files.markdown.string() + ", " +
+             files.metrics_csv.string() + ", " + files.ranking_csv.string());
+  });
+  return 0;
+}
+
+} // namespace
+
+void add_compare_command(CLI::App& app, CommandAction& action)
+{
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* sub =
+      app.add_subcommand("compare", "Compare run folders: metrics table and 12-criterion ranking");
+  sub->add_option("runs", options->runs, "run folders")->required();
+  sub->add_option("-o,--output", options->output,
+                  "folder for comparison.{md,html}, metrics.csv, ranking.csv");
+  sub->callback(
+      [options, &action] { action = [options](const PetscArguments&) { return compare(*options); }; });
+}
+
+} // namespace ibvalve::app

@@ -1,0 +1,282 @@
+// `model = "lumped"`: a pressure-driven valve between the LV pressure waveform and the three-element
+// Windkessel, in 0-D, then the hemodynamic report. It explores outlet and valve parameters in about
+// a second and exercises the metrics/report pipeline end to end before a 3-D run exists.
+//
+// Valve (Mynard, Davidson, Penny & Smolich 2012, Int J Numer Meth Biomed Eng 28:626): a state
+// zeta in [0, 1] sets the effective orifice area A = (A_max - A_min) zeta + A_min, with
+// A_max = M_st A_ann, A_min = M_rg A_ann; the flow obeys Bernoulli with inertance,
+//   dp = B Q|Q| + L dQ/dt,  B = rho / (2 A^2),  L = rho l_eff / A,  dp = P_LV - P_Ao,
+// and zeta opens or closes at rates proportional to the pressure difference,
+//   dzeta/dt = (1 - zeta) K_vo (dp - dp_open)   when dp > dp_open,
+//   dzeta/dt = zeta K_vc (dp - dp_close)         when dp < dp_close.
+// Outlet: C dP_Wk/dt = Q - (P_Wk - P_d)/R_p, P_Ao = P_Wk + R_c Q (windkessel/windkessel.hpp). The
+// three states (Q, zeta, P_Wk) advance together by classical Runge–Kutta 4 with a fixed step.
+#include <array>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <sstream>
+
+#include <mpi.h>
+
+#include "app/commands.hpp"
+#include "app/model.hpp"
+#include "app/version.hpp"
+#include "hemodynamics/report.hpp"
+#include "hemodynamics/timeseries.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+#include "io/logger.hpp"
+#include "io/units.hpp"
+#include "windkessel/waveform.hpp"
+#include "windkessel/windkessel.hpp"
+
+namespace ibvalve::app {
+
+namespace {
+
+struct ValveParameters {
+  double annulus_area = 0.0;    // cm^2
+  double max_area_fraction = 0; // M_st
+  double min_area_fraction = 0; // M_rg
+  double effective_length = 0;  // cm
+  double opening_rate = 0;      // K_vo, 1/(dyn/cm^2 s)
+  double closing_rate = 0;      // K_vc
+  double opening_pressure = 0;  // dyn/cm^2
+  double closing_pressure = 0;
+  double density = 0; // g/cm^3
+
+  double area(double zeta) const
+  {
+    return annulus_area * ((max_area_fraction - min_area_fraction) * zeta + min_area_fraction);
+  }
+};
+
+/// The lumped system's state and right-hand side.
+struct LumpedSystem {
+  using State = std::array<double, 3>; // Q (cm^3/s), zeta, P_Wk (dyn/cm^2)
+  const windkessel::PeriodicWaveform& lv_pressure;
+  const windkessel::ThreeElementWindkessel& outlet; // for its parameters and right-hand side
+  ValveParameters valve;
+
+  double aortic_pressure(const State& y) const
+  {
+    return y[2] + outlet.parameters().proximal_resistance * y[0];
+  }
+
+  State rate(double t, const State& y) const
+  {
+    const double q = y[0], zeta = std::clamp(y[1], 0.0, 1.0);
+    const double dp = lv_pressure(t) - aortic_pressure(y);
+    const double area = valve.area(zeta);
+    const double bernoulli = valve.density / (2.0 * area * area);
+    const double inertance = valve.density * valve.effective_length / area;
+    double dzeta = 0.0;
+    if (dp > valve.opening_pressure)
+      dzeta = (1.0 - zeta) * valve.opening_rate * (dp - valve.opening_pressure);
+    else if (dp < valve.closing_pressure)
+      dzeta = zeta * valve.closing_rate * (dp - valve.closing_pressure);
+    return {(dp - bernoulli * q * std::abs(q)) / inertance, dzeta, outlet.reservoir_rate(y[2], q)};
+  }
+
+  State step(double t, const State& y, double dt) const
+  {
+    auto axpy = [](const State& a, double s, const State& b) {
+      return State{a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
+    };
+    const State k1 = rate(t, y);
+    const State k2 = rate(t + 0.5 * dt, axpy(y, 0.5 * dt, k1));
+    const State k3 = rate(t + 0.5 * dt, axpy(y, 0.5 * dt, k2));
+    const State k4 = rate(t + dt, axpy(y, dt, k3));
+    State next;
+    for (std::size_t i = 0; i < 3; ++i)
+      next[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    next[1] = std::clamp(next[1], 0.0, 1.0);
+    return next;
+  }
+};
+
+void add_lumped_schema(io::Schema& s)
+{
+  s.add_integer("time.cycles", "cardiac cycles to run (the report analyses the last)")
+      .defaults(std::int64_t{4})
+      .at_least(1)
+      .at_most(1000);
+  s.add_real("time.step", "time step (rounded so a cycle holds a whole number of steps)")
+      .unit("s")
+      .defaults(1.0e-4)
+      .positive()
+      .at_most(0.01);
+  s.add_integer("output.every", "write a time-series row every this many steps")
+      .defaults(std::int64_t{1})
+      .at_least(1);
+  windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure driving the valve, in mmHg");
+  windkessel::add_schema(s, "windkessel");
+  s.add_real("valve.annulus_radius", "radius of the annulus (A_ann = pi r^2)")
+      .unit("cm")
+      .defaults(1.3)
+      .positive();
+  s.add_real("valve.max_area_fraction", "M_st: largest effective area / A_ann")
+      .defaults(0.6)
+      .above(0.0)
+      .at_most(1.0);
+  s.add_real("valve.min_area_fraction", "M_rg: effective area when closed / A_ann (leakage)")
+      .defaults(0.002)
+      .above(0.0)
+      .below(1.0);
+  s.add_real("valve.effective_length", "l_eff: length of the inertance L = rho l_eff / A")
+      .unit("cm")
+      .defaults(1.0)
+      .positive();
+  s.add_real("valve.opening_rate", "K_vo in 1/(mmHg s): dzeta/dt = (1 - zeta) K_vo (dp - dp_open)")
+      .defaults(16.0)
+      .positive();
+  s.add_real("valve.closing_rate", "K_vc in 1/(mmHg s): dzeta/dt = zeta K_vc (dp - dp_close)")
+      .defaults(16.0)
+      .positive();
+  s.add_real("valve.opening_pressure", "dp_open: pressure difference above which the valve opens")
+      .unit("mmHg")
+      .defaults(0.0);
+  s.add_real("valve.closing_pressure", "dp_close: pressure difference below which the valve closes")
+      .unit("mmHg")
+      .defaults(0.0);
+  s.add_real("fluid.density", "blood density").unit("g/mL").defaults(1.0).positive();
+  hemodynamics::add_report_schema(s, "report");
+}
+
+class LumpedRun : public PreparedRun {
+ public:
+  explicit LumpedRun(const io::Config& config)
+      : lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
+        outlet_(windkessel::parameters_from_config(config, "windkessel")),
+        settings_(hemodynamics::metric_settings_from_config(config, "report"))
+  {
+    const double radius = config.real("valve.annulus_radius");
+    valve_.annulus_area = std::numbers::pi * radius * radius;
+    valve_.max_area_fraction = config.real("valve.max_area_fraction");
+    valve_.min_area_fraction = config.real("valve.min_area_fraction");
+    if (valve_.min_area_fraction >= valve_.max_area_fraction)
+      config.fail("valve.min_area_fraction", "must be below valve.max_area_fraction");
+    valve_.effective_length = config.real("valve.effective_length");
+    valve_.opening_rate = config.real("valve.opening_rate") / units::mmHg;
+    valve_.closing_rate = config.real("valve.closing_rate") / units::mmHg;
+    valve_.opening_pressure = config.real("valve.opening_pressure");
+    valve_.closing_pressure = config.real("valve.closing_pressure");
+    if (valve_.closing_pressure > valve_.opening_pressure)
+      config.fail("valve.closing_pressure", "must not exceed valve.opening_pressure");
+    valve_.density = config.real("fluid.density");
+    period_ = lv_pressure_.period();
+    if (std::abs(settings_.period - period_) > 1e-9 * period_)
+      config.fail("report.period", "is " + std::to_string(settings_.period) +
+                                       " s but the LV pressure table's period is " + std::to_string(period_) +
+                                       " s");
+    cycles_ = config.integer("time.cycles");
+    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
+    every_ = config.integer("output.every");
+    plots_ = config.boolean("report.plots");
+  }
+
+  RunSummary run(const RunContext& context) override
+  {
+    int rank = 0;
+    MPI_Comm_rank(context.comm, &rank);
+    // A 0-D model: rank 0 computes and writes; the others wait for its outcome.
+    std::string error;
+    int kind = 0; // 0 ok, 1 run error, 2 input error
+    RunSummary summary;
+    if (rank == 0) {
+      try {
+        summary = simulate(context.run_directory);
+      } catch (const InputError& e) {
+        kind = 2;
+        error = e.what();
+      } catch (const RunError& e) {
+        kind = 1;
+        error = e.what();
+      }
+    }
+    MPI_Bcast(&kind, 1, MPI_INT, 0, context.comm);
+    int length = static_cast<int>(error.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, context.comm);
+    error.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(error.data(), length, MPI_CHAR, 0, context.comm);
+    if (kind == 2) throw InputError(error);
+    if (kind == 1) throw RunError(error);
+    return summary;
+  }
+
+ private:
+  RunSummary simulate(const std::filesystem::path& directory)
+  {
+    auto& log = io::Logger::global();
+    const double dt = period_ / static_cast<double>(steps_per_cycle_);
+    const long steps = cycles_ * steps_per_cycle_;
+    const double end_time = static_cast<double>(cycles_) * period_;
+    std::vector<std::string> columns = hemodynamics::standard_columns();
+    columns.push_back("valve_state");
+    io::CsvWriter csv(directory / "timeseries.csv", columns);
+    LumpedSystem system{lv_pressure_, outlet_, valve_};
+    LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
+    auto write = [&](double t) {
+      const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
+      const double q = y[0];
+      csv.write_row({t, q / units::mL, q / units::mL, p_lv / units::mmHg, p_ao / units::mmHg,
+                     y[2] / units::mmHg, p_lv / units::mmHg, p_ao / units::mmHg, valve_.area(y[1]), y[1]});
+    };
+    log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
+             std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
+    write(0.0);
+    for (long n = 0; n < steps; ++n) {
+      const double t = static_cast<double>(n) * dt;
+      y = system.step(t, y, dt);
+      if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
+        throw RunError("lumped model: the state is not finite at t = " + std::to_string(t + dt) +
+                       " s (try a smaller time.step)");
+      if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
+      if ((n + 1) % 1000 == 0) log.progress({n + 1, static_cast<double>(n + 1) * dt, end_time});
+    }
+    log.finish_progress();
+
+    RunSummary summary;
+    hemodynamics::ReportOptions options;
+    options.settings = settings_;
+    options.python = python_executable;
+    options.plots = plots_;
+    const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
+    const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
+    const auto& m = *doc.find("metrics");
+    auto show = [&](const char* key) {
+      const auto* entry = m.find(key);
+      const auto* v = entry ? entry->find("value") : nullptr;
+      return (v && v->is_number() ? hemodynamics::format_value(v->number()) : std::string("missing")) + " " +
+             (entry ? entry->find("unit")->string() : "");
+    };
+    summary.lines.push_back("V_F " + show("forward_volume") + ", RF " + show("regurgitant_fraction") +
+                            ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +
+                            show("effective_orifice_area") + ", E_L " + show("energy_loss"));
+    summary.lines.push_back("report: " + files.html.string());
+    return summary;
+  }
+
+  windkessel::PeriodicWaveform lv_pressure_;
+  windkessel::ThreeElementWindkessel outlet_;
+  hemodynamics::MetricSettings settings_;
+  ValveParameters valve_;
+  double period_ = 0.8;
+  long cycles_ = 1, steps_per_cycle_ = 1, every_ = 1;
+  bool plots_ = true;
+};
+
+} // namespace
+
+Model lumped_model()
+{
+  return Model{"lumped",
+               "0-D valve (Mynard et al. 2012) between the LV pressure table and a three-element Windkessel; "
+               "writes timeseries.csv and the report in about a second",
+               add_lumped_schema, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+                 return std::make_unique<LumpedRun>(config);
+               }};
+}
+
+} // namespace ibvalve::app

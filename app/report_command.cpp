@@ -1,0 +1,102 @@
+// `ibvalve report RUN_DIR`: metrics.json, report.md and report.html (with matplotlib plots) for a run
+// folder's timeseries.csv. Metric settings come from the run's config.toml ([report] table) unless
+// given on the command line.
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include <mpi.h>
+#include <petscsys.h>
+
+#include "app/commands.hpp"
+#include "app/version.hpp"
+#include "hemodynamics/report.hpp"
+#include "io/errors.hpp"
+#include "io/logger.hpp"
+
+namespace ibvalve::app {
+
+void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work)
+{
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int kind = 0; // 0 ok, 1 run error, 2 input error, 3 other
+  std::string error;
+  if (rank == 0) {
+    try {
+      work();
+    } catch (const InputError& e) {
+      kind = 2;
+      error = e.what();
+    } catch (const RunError& e) {
+      kind = 1;
+      error = e.what();
+    } catch (const std::exception& e) {
+      kind = 3;
+      error = e.what();
+    }
+  }
+  MPI_Bcast(&kind, 1, MPI_INT, 0, comm);
+  int length = static_cast<int>(error.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  error.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  if (kind == 2) throw InputError(error);
+  if (kind == 1) throw RunError(error);
+  if (kind == 3) throw std::runtime_error(error);
+}
+
+namespace {
+
+struct ReportCommandOptions {
+  std::filesystem::path run_directory;
+  std::string python = python_executable;
+  bool no_plots = false;
+  std::optional<double> period;
+  std::optional<int> cycle;
+  std::optional<std::string> closure_rule;
+};
+
+int report(const ReportCommandOptions& options)
+{
+  run_on_root_rank(PETSC_COMM_WORLD, [&] {
+    hemodynamics::ReportOptions report_options;
+    report_options.settings = hemodynamics::metric_settings_from_run(options.run_directory);
+    if (options.period) report_options.settings.period = *options.period;
+    if (options.cycle) report_options.settings.cycle = *options.cycle;
+    if (options.closure_rule)
+      report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
+    report_options.python = options.python;
+    report_options.plots = !options.no_plots;
+    const auto files = hemodynamics::write_report(options.run_directory, report_options);
+    io::Logger::global().info("metrics: " + files.json.string());
+    io::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
+                              std::to_string(files.plots.size()) + " plots)");
+  });
+  return 0;
+}
+
+} // namespace
+
+void add_report_command(CLI::App& app, CommandAction& action)
+{
+  auto options = std::make_shared<ReportCommandOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "report",
+      "Write RUN_DIR/report/: metrics.json, report.md, report.html and plots from RUN_DIR/timeseries.csv");
+  sub->add_option("run", options->run_directory, "the run folder")->required();
+  sub->add_option("--python", options->python,
+                  "Python with matplotlib and numpy (default: the one CMake found)");
+  sub->add_flag("--no-plots", options->no_plots, "skip the plots");
+  sub->add_option("--period", options->period,
+                  "cardiac cycle, s (default: report.period of the run, else 0.8)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--cycle", options->cycle, "cycle to analyse (0 = first, -1 = last full)")
+      ->check(CLI::Range(-1, 1000000));
+  sub->add_option("--closure-rule", options->closure_rule, "how the closure instant is found")
+      ->check(CLI::IsMember({"auto", "flow", "area"}));
+  sub->callback(
+      [options, &action] { action = [options](const PetscArguments&) { return report(*options); }; });
+}
+
+} // namespace ibvalve::app

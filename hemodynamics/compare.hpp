@@ -1,0 +1,58 @@
+#pragma once
+// `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7) and the 12-criterion
+// scaled ranking (its Table 8), as Markdown, CSV and HTML.
+//
+// Ranking (REFERENCE.md): for each criterion the best case scores 1 and the worst 0, linearly in
+// between; a case's total is the sum; cases are ranked by total. When every case has the same value
+// all score 1. A criterion missing for any case (e.g. the fit error of a lumped run) is left out of
+// the ranking for all cases, and the output says so. Which direction is "best" is ibvalve's reading
+// of the study, listed in ranking_criteria() and docs/hemodynamics.md.
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "hemodynamics/json.hpp"
+#include "hemodynamics/metrics.hpp"
+
+namespace ibvalve::hemodynamics {
+
+struct Criterion {
+  std::string key;   // metrics.json key
+  std::string label; // as in the study's table
+  bool higher_is_better = false;
+};
+/// The 12 criteria, in the study's order.
+const std::vector<Criterion>& ranking_criteria();
+
+struct CaseResult {
+  std::string name;
+  std::filesystem::path run_directory;
+  Json metrics; // the "metrics" object of metrics.json
+};
+
+/// A run folder's metrics: report/metrics.json when present, otherwise computed from timeseries.csv
+/// with the settings of the run's config.toml. InputError for a folder that has neither.
+CaseResult load_case(const std::filesystem::path& run_directory);
+
+struct RankingRow {
+  std::string name;
+  std::vector<std::optional<double>> scores; // per criterion; empty when the criterion is left out
+  double total = 0.0;
+  int rank = 0;
+};
+struct Ranking {
+  std::vector<bool> used;            // per criterion
+  std::vector<std::string> left_out; // "fit_error (missing for: a, b)"
+  std::vector<RankingRow> rows;      // in the order of the cases
+};
+Ranking rank_cases(std::span<const CaseResult> cases);
+
+struct ComparisonFiles {
+  std::filesystem::path markdown, metrics_csv, ranking_csv, html;
+};
+/// Writes comparison.md, comparison.html, metrics.csv and ranking.csv into `output_directory`.
+ComparisonFiles write_comparison(std::span<const CaseResult> cases,
+                                 const std::filesystem::path& output_directory);
+
+} // namespace ibvalve::hemodynamics

@@ -1,0 +1,319 @@
+#include "hemodynamics/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "io/units.hpp"
+
+namespace ibvalve::hemodynamics {
+
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// Where the linear interpolant between samples i and i+1 takes `level`.
+double crossing(const std::vector<double>& t, const std::vector<double>& y, std::size_t i, double level)
+{
+  const double dy = y[i + 1] - y[i];
+  if (dy == 0.0) return t[i];
+  const double s = std::clamp((level - y[i]) / dy, 0.0, 1.0);
+  return t[i] + s * (t[i + 1] - t[i]);
+}
+
+struct Extreme {
+  double time = nan, value = nan;
+};
+
+/// The extreme sample i refined by the parabola through samples i-1, i, i+1 (non-uniform spacing).
+Extreme refine_extreme(const std::vector<double>& t, const std::vector<double>& y, std::size_t i)
+{
+  Extreme e{t[i], y[i]};
+  if (i == 0 || i + 1 >= t.size()) return e;
+  // Only a strict extreme sample is refined: on a plateau the samples already hold the extreme.
+  const bool strict_max = y[i] > y[i - 1] && y[i] > y[i + 1], strict_min = y[i] < y[i - 1] && y[i] < y[i + 1];
+  if (!strict_max && !strict_min) return e;
+  const double a = t[i - 1], b = t[i], c = t[i + 1];
+  const double fab = (y[i] - y[i - 1]) / (b - a), fbc = (y[i + 1] - y[i]) / (c - b);
+  const double fabc = (fbc - fab) / (c - a);
+  if (fabc == 0.0) return e;
+  const double x = 0.5 * (a + b) - fab / (2.0 * fabc);
+  if (x < a || x > c) return e;
+  e.time = x;
+  e.value = y[i - 1] + fab * (x - a) + fabc * (x - a) * (x - b);
+  return e;
+}
+
+std::size_t argmax(const std::vector<double>& y, std::size_t from, std::size_t to)
+{
+  std::size_t best = from;
+  for (std::size_t i = from; i < to; ++i)
+    if (y[i] > y[best]) best = i;
+  return best;
+}
+
+std::size_t argmin(const std::vector<double>& y, std::size_t from, std::size_t to)
+{
+  std::size_t best = from;
+  for (std::size_t i = from; i < to; ++i)
+    if (y[i] < y[best]) best = i;
+  return best;
+}
+
+std::vector<double> combine(const std::vector<double>& a, const std::vector<double>& b, auto op)
+{
+  std::vector<double> out(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) out[i] = op(a[i], b[i]);
+  return out;
+}
+
+std::string seconds(double t)
+{
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4f s", t);
+  return buffer;
+}
+
+} // namespace
+
+ClosureRule closure_rule_from_name(const std::string& name)
+{
+  if (name == "auto") return ClosureRule::automatic;
+  if (name == "flow") return ClosureRule::flow;
+  if (name == "area") return ClosureRule::area;
+  throw std::invalid_argument("unknown closure rule '" + name + "' (auto, flow, area)");
+}
+
+std::string closure_rule_name(ClosureRule rule)
+{
+  switch (rule) {
+  case ClosureRule::automatic:
+    return "auto";
+  case ClosureRule::flow:
+    return "flow";
+  case ClosureRule::area:
+    return "area";
+  }
+  return "?";
+}
+
+double mmHg_mL_in_mJ()
+{
+  return units::mmHg * units::mL / units::mJ;
+}
+
+const Metric* ValveMetrics::find(const std::string& key) const
+{
+  for (const Metric& m : metrics)
+    if (m.key == key) return &m;
+  return nullptr;
+}
+
+double ValveMetrics::value(const std::string& key) const
+{
+  const Metric* m = find(key);
+  return m && m->value ? *m->value : nan;
+}
+
+ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& settings)
+{
+  if (!(settings.period > 0.0)) throw std::invalid_argument("period must be positive");
+  const double t_first = series.t.front();
+  const double span = series.t.back() - t_first;
+  const long full_cycles = static_cast<long>(std::floor(span / settings.period * (1.0 + 1e-9)));
+  if (full_cycles < 1)
+    throw std::invalid_argument("the series spans " + std::to_string(span) + " s, less than one period (" +
+                                std::to_string(settings.period) + " s)");
+  const long k = settings.cycle < 0 ? full_cycles - 1 : settings.cycle;
+  if (k >= full_cycles)
+    throw std::invalid_argument("cycle " + std::to_string(settings.cycle) +
+                                " asked for, but the series holds " + std::to_string(full_cycles) +
+                                " full cycle(s)");
+  const double t0 = t_first + static_cast<double>(k) * settings.period;
+  const double t1 = std::min(t0 + settings.period, series.t.back());
+  const ValveSeries w = time_window(series, t0, t1);
+  const std::vector<double>& t = w.t;
+  const std::vector<double>& q = w.valve_flow;
+  const std::size_t n = t.size();
+
+  ValveMetrics out;
+  Phases& ph = out.phases;
+  ph = Phases{t0, t1, nan, nan, nan, nan, nan, "", nan, nan, nan, nan};
+  out.notes.push_back("cycle " + std::to_string(k) + " of " + std::to_string(full_cycles) + ": [" +
+                      seconds(t0) + ", " + seconds(t1) + "], " + std::to_string(n) + " samples");
+
+  // --- Orifice-area phases.
+  bool area_phases = false;
+  double area_max = nan;
+  if (w.has_orifice_area()) {
+    const auto& area = w.orifice_area;
+    const std::size_t i_hi = argmax(area, 0, n), i_lo = argmin(area, 0, n);
+    area_max = refine_extreme(t, area, i_hi).value;
+    const double a_min = area[i_lo], a_max = area[i_hi];
+    if (a_max - a_min > 1e-12 * std::max(1.0, std::abs(a_max))) {
+      area_phases = true;
+      std::vector<double> a(n);
+      for (std::size_t i = 0; i < n; ++i) a[i] = (area[i] - a_min) / (a_max - a_min);
+      const double open = settings.open_area_fraction, closed = settings.closed_area_fraction;
+      std::size_t i_open = 0;
+      while (a[i_open] < open) ++i_open; // exists: a reaches 1
+      std::size_t j = i_open;
+      while (j > 0 && a[j - 1] > closed) --j;
+      ph.opening_start = j == 0 ? t[0] : crossing(t, a, j - 1, closed);
+      if (j == 0) out.notes.push_back("the orifice was already open at the start of the cycle");
+      ph.fully_open_start = i_open == 0 ? t[0] : crossing(t, a, i_open - 1, open);
+      std::size_t i_last = n - 1;
+      while (a[i_last] < open) --i_last;
+      ph.fully_open_end = i_last + 1 == n ? t[n - 1] : crossing(t, a, i_last, open);
+      j = i_last;
+      while (j + 1 < n && a[j + 1] > closed) ++j;
+      if (j + 1 < n)
+        ph.closing_end = crossing(t, a, j, closed);
+      else
+        out.notes.push_back("the orifice did not close within the cycle");
+    } else {
+      out.notes.push_back("the orifice area does not vary: no opening/closing durations");
+    }
+  }
+
+  // --- Forward ejection: the lobe of Q above the threshold around the largest flow.
+  const double threshold = settings.forward_threshold;
+  const std::size_t i_max = argmax(q, 0, n);
+  const Extreme forward_peak = refine_extreme(t, q, i_max);
+  const std::size_t i_min_all = argmin(q, 0, n);
+  const Extreme regurgitant_peak_all = refine_extreme(t, q, i_min_all);
+  const bool forward = q[i_max] > threshold;
+  std::size_t after_ejection = n;
+  if (forward) {
+    std::size_t i = i_max;
+    while (i > 0 && q[i - 1] > threshold) --i;
+    ph.ejection_start = i == 0 ? t[0] : crossing(t, q, i - 1, threshold);
+    if (i == 0) out.notes.push_back("forward flow at the start of the cycle: t_bs is the cycle's start");
+    std::size_t j = i_max;
+    while (j + 1 < n && q[j + 1] > threshold) ++j;
+    ph.ejection_end = j + 1 == n ? t[n - 1] : crossing(t, q, j, threshold);
+    if (j + 1 == n) out.notes.push_back("forward flow at the end of the cycle: t_es is the cycle's end");
+    after_ejection = j + 1;
+    ph.peak_forward_time = forward_peak.time;
+  } else {
+    out.notes.push_back("no forward flow above the threshold in this cycle: ejection metrics are missing");
+  }
+
+  // --- Closure.
+  ClosureRule rule = settings.closure_rule;
+  if (rule == ClosureRule::automatic) rule = area_phases ? ClosureRule::area : ClosureRule::flow;
+  if (rule == ClosureRule::area && !area_phases) {
+    out.notes.push_back(
+        "closure rule 'area' asked for without a varying orifice area: the 'flow' rule is used");
+    rule = ClosureRule::flow;
+  }
+  if (rule == ClosureRule::area && std::isnan(ph.closing_end)) {
+    out.notes.push_back("the orifice did not close within the cycle: the 'flow' rule gives the closure");
+    rule = ClosureRule::flow;
+  }
+  Extreme regurgitant_peak{nan, 0.0};
+  if (forward) {
+    if (after_ejection < n) {
+      const std::size_t i_min = argmin(q, after_ejection, n);
+      if (q[i_min] < 0.0) {
+        regurgitant_peak = refine_extreme(t, q, i_min);
+        ph.peak_regurgitant_time = regurgitant_peak.time;
+      }
+    }
+    if (rule == ClosureRule::area) {
+      ph.closure_rule = "area";
+      ph.closure = ph.closing_end;
+      if (ph.closure < ph.ejection_end) {
+        out.notes.push_back(
+            "the orifice closed before forward flow ended: t_c is set to t_es (no closing volume)");
+        ph.closure = ph.ejection_end;
+      }
+    } else {
+      ph.closure_rule = "flow";
+      if (std::isnan(regurgitant_peak.time)) {
+        ph.closure = ph.ejection_end;
+        out.notes.push_back("no backward flow after ejection: t_c = t_es");
+      } else {
+        const std::size_t i_min = argmin(q, after_ejection, n);
+        const double leakage = q[n - 1];
+        const double level = leakage + settings.closure_flow_fraction * (q[i_min] - leakage);
+        std::size_t j = i_min;
+        while (j + 1 < n && q[j + 1] < level) ++j;
+        if (j + 1 < n) {
+          ph.closure = crossing(t, q, j, level);
+        } else {
+          ph.closure = t[argmax(q, i_min, n)];
+          out.notes.push_back(
+              "the backward flow never rose to the closure level: t_c is the time of the largest "
+              "flow after the regurgitant peak");
+        }
+      }
+    }
+    out.notes.push_back("phases: t_bs = " + seconds(ph.ejection_start) +
+                        ", t_es = " + seconds(ph.ejection_end) + ", t_c = " + seconds(ph.closure) +
+                        " (rule '" + ph.closure_rule + "')");
+  }
+
+  // --- Metrics.
+  auto add = [&](std::string key, std::string symbol, std::string unit, std::string description,
+                 std::optional<double> value, std::string note = "") {
+    out.metrics.push_back(Metric{std::move(key), std::move(symbol), std::move(unit), std::move(description),
+                                 value, std::move(note)});
+  };
+  std::optional<double> vf, vr, vl, rf, tpg, qrms, eoa, duration;
+  if (forward) {
+    duration = ph.ejection_end - ph.ejection_start;
+    vf = integrate(t, q, ph.ejection_start, ph.ejection_end);
+    vr = -integrate(t, q, ph.ejection_end, ph.closure);
+    vl = -(integrate(t, q, t0, ph.ejection_start) + integrate(t, q, ph.closure, t1));
+    rf = (*vr + *vl) / *vf * 100.0;
+    const auto gradient = combine(w.near_lv_pressure, w.near_aortic_pressure, std::minus<>());
+    tpg = integrate(t, gradient, ph.ejection_start, ph.ejection_end) / *duration;
+    const auto q2 = combine(q, q, std::multiplies<>());
+    qrms = std::sqrt(integrate(t, q2, ph.ejection_start, ph.ejection_end) / *duration);
+    if (*tpg > 0.0) eoa = *qrms / (51.6 * std::sqrt(*tpg / settings.density));
+  }
+  const std::string no_ejection = forward ? "" : "no forward ejection";
+  add("forward_volume", "V_F", "mL", "forward volume over ejection", vf, no_ejection);
+  add("regurgitant_volume", "V_R", "mL", "closing regurgitant volume (end of ejection to closure)", vr,
+      no_ejection);
+  add("leakage_volume", "V_L", "mL", "leakage volume (rest of the cycle)", vl, no_ejection);
+  add("regurgitant_fraction", "RF", "%", "(V_R + V_L) / V_F", rf, no_ejection);
+  add("transvalvular_pressure_gradient", "TPG", "mmHg", "mean P_nlv - P_nao over ejection", tpg, no_ejection);
+  add("rms_forward_flow", "Q_rms", "mL/s", "root mean square flow over ejection", qrms, no_ejection);
+  add("effective_orifice_area", "EOA", "cm^2", "Q_rms / (51.6 sqrt(TPG / rho))", eoa,
+      forward && !eoa ? "TPG <= 0" : no_ejection);
+  const auto dp_q =
+      combine(combine(w.lv_pressure, w.aortic_pressure, std::minus<>()), q, std::multiplies<>());
+  add("energy_loss", "E_L", "mJ", "mmHg mL -> mJ times the integral of (P_LV - P_Ao) Q over the cycle",
+      mmHg_mL_in_mJ() * integrate(t, dp_q, t0, t1));
+  add("peak_forward_flow", "Q_max", "mL/s", "largest forward flow", forward_peak.value);
+  add("peak_regurgitant_flow", "Q_reg", "mL/s", "largest backward flow (positive)",
+      std::max(0.0, -regurgitant_peak_all.value));
+  add("ejection_duration", "T_ej", "ms", "t_es - t_bs",
+      duration ? std::optional(*duration * 1e3) : std::nullopt, no_ejection);
+  add("net_volume", "V_net", "mL", "integral of Q over the cycle", integrate(t, q, t0, t1));
+  add("mean_aortic_pressure", "P_Ao,mean", "mmHg", "mean P_Ao over the cycle",
+      integrate(t, w.aortic_pressure, t0, t1) / (t1 - t0));
+  add("systolic_aortic_pressure", "P_Ao,max", "mmHg", "largest P_Ao in the cycle",
+      *std::max_element(w.aortic_pressure.begin(), w.aortic_pressure.end()));
+  add("diastolic_aortic_pressure", "P_Ao,min", "mmHg", "smallest P_Ao in the cycle",
+      *std::min_element(w.aortic_pressure.begin(), w.aortic_pressure.end()));
+  const std::string no_area = !w.has_orifice_area() ? "no orifice_area column" : "orifice area does not vary";
+  add("max_orifice_area", "GOA_max", "cm^2", "largest orifice area",
+      w.has_orifice_area() ? std::optional(area_max) : std::nullopt, w.has_orifice_area() ? "" : no_area);
+  auto ms = [](double a, double b) {
+    return std::isnan(a) || std::isnan(b) ? std::nullopt : std::optional((b - a) * 1e3);
+  };
+  add("opening_duration", "T_open", "ms", "orifice opening (closed -> fully open)",
+      area_phases ? ms(ph.opening_start, ph.fully_open_start) : std::nullopt, area_phases ? "" : no_area);
+  add("fully_open_duration", "T_full", "ms", "orifice fully open",
+      area_phases ? ms(ph.fully_open_start, ph.fully_open_end) : std::nullopt, area_phases ? "" : no_area);
+  add("closing_duration", "T_close", "ms", "orifice closing (fully open -> closed)",
+      area_phases ? ms(ph.fully_open_end, ph.closing_end) : std::nullopt,
+      area_phases ? (std::isnan(ph.closing_end) ? "did not close in the cycle" : "") : no_area);
+  return out;
+}
+
+} // namespace ibvalve::hemodynamics

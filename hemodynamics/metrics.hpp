@@ -1,0 +1,93 @@
+#pragma once
+// Hemodynamic metrics of one cardiac cycle of a valve run (REFERENCE.md, "Hemodynamic metrics"), with
+// the cycle's phases detected from the flow (and the orifice area when there is one).
+//
+// Phase rules (every threshold is a setting; docs/hemodynamics.md explains them with figures):
+//  * Cycle: [t0 + k T, t0 + (k+1) T], T = `period`, t0 the first sample, k = `cycle` (-1: the last full
+//    cycle in the series). Columns are interpolated linearly at the two ends.
+//  * Forward ejection [t_bs, t_es]: the lobe of Q > forward_threshold that holds the cycle's largest
+//    flow; its ends are the threshold crossings next to the peak, found by linear interpolation.
+//  * Closure t_c, rule "flow" (the default): after t_es, find the peak regurgitant flow Q_min (most
+//    negative Q before the end of the cycle) and the leakage flow Q_end (Q at the end of the cycle,
+//    late diastole); t_c is the first time after the peak that Q has recovered to
+//    Q_end + closure_flow_fraction (Q_min - Q_end), i.e. (1 - fraction) of the way back from the
+//    backflow peak to the leakage flow (linear interpolation). If it never does, t_c is the time of
+//    the largest Q after the peak. Rule "area": t_c is the end of the closing phase below
+//    (normalised area falls to closed_area_fraction). Rule "auto": "area" when an orifice-area column
+//    varies, else "flow".
+//  * Closing regurgitation [t_es, t_c]; leakage: the rest of the cycle, [t0, t_bs] and [t_c, t1].
+//  * Orifice area a(t) = (A - A_min) / (A_max - A_min) over the cycle: opening from the last upward
+//    crossing of closed_area_fraction before a first reaches open_area_fraction, fully open from then
+//    to the last time a >= open_area_fraction, closing from then to the next downward crossing of
+//    closed_area_fraction.
+// Metrics (integrals: trapezoidal rule on the samples, ends of phases interpolated linearly):
+//  V_F = int_{t_bs}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -(int_{t0}^{t_bs} Q + int_{t_c}^{t1} Q);
+//  RF = (V_R + V_L) / V_F * 100;  TPG = mean over [t_bs, t_es] of P_nlv - P_nao;
+//  Q_rms = sqrt(mean over [t_bs, t_es] of Q^2);  EOA = Q_rms / (51.6 sqrt(TPG / rho));
+//  E_L = k * int_{t0}^{t1} (P_LV - P_Ao) Q dt with k = 1 mmHg mL in mJ (0.133322): the study writes
+//  dp = P_Ao - P_LV; with that sign the loss would come out negative, so ibvalve uses
+//  dp = P_LV - P_Ao and reports E_L > 0 for energy dissipated across the valve.
+//  Peak forward / regurgitant flow: max Q and -min Q over the cycle (refined by a parabola through
+//  the three samples around the extreme).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hemodynamics/timeseries.hpp"
+
+namespace ibvalve::hemodynamics {
+
+enum class ClosureRule { automatic, flow, area };
+ClosureRule closure_rule_from_name(const std::string& name); // "auto", "flow", "area"
+std::string closure_rule_name(ClosureRule rule);
+
+struct MetricSettings {
+  double period = 0.8;            // s, the cardiac cycle
+  int cycle = -1;                 // which cycle (0 = first); -1 = the last full cycle
+  double forward_threshold = 0.0; // mL/s: forward ejection is Q above this
+  ClosureRule closure_rule = ClosureRule::flow;
+  double closure_flow_fraction =
+      0.1; // rule "flow": closed once Q is this fraction of the way from Q_end to Q_min
+  double open_area_fraction = 0.9;    // normalised area counted as fully open
+  double closed_area_fraction = 0.05; // normalised area counted as closed
+  double density = 1.0;               // g/mL, for EOA
+};
+
+/// Instants of the analysed cycle, s (NaN when a phase was not found).
+struct Phases {
+  double cycle_start = 0.0, cycle_end = 0.0;
+  double ejection_start = 0.0, ejection_end = 0.0; // t_bs, t_es
+  double closure = 0.0;                            // t_c
+  double peak_forward_time = 0.0, peak_regurgitant_time = 0.0;
+  std::string closure_rule; // the rule applied ("flow" or "area")
+  // From the orifice area (NaN without one).
+  double opening_start = 0.0, fully_open_start = 0.0, fully_open_end = 0.0, closing_end = 0.0;
+};
+
+/// One reported quantity. `value` is empty when it cannot be computed for this run (with `note`).
+struct Metric {
+  std::string key;    // metrics.json key, e.g. "forward_volume"
+  std::string symbol; // as in the study, e.g. "V_F"
+  std::string unit;   // report unit, e.g. "mL"
+  std::string description;
+  std::optional<double> value;
+  std::string note;
+};
+
+struct ValveMetrics {
+  Phases phases;
+  std::vector<Metric> metrics;
+  std::vector<std::string> notes; // how the phases were found, what is missing and why
+  const Metric* find(const std::string& key) const;
+  /// The value of a metric, or NaN when missing or unknown.
+  double value(const std::string& key) const;
+};
+
+/// Phases and metrics of one cycle. std::invalid_argument when the series does not hold the cycle
+/// asked for (too short for one period, or cycle out of range).
+ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& settings);
+
+/// 1 mmHg mL in mJ: the study's 0.1333.
+double mmHg_mL_in_mJ();
+
+} // namespace ibvalve::hemodynamics

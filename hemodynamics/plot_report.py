@@ -1,0 +1,129 @@
+"""Plots of an ibvalve report (run by `ibvalve report` with Debian's /usr/bin/python3).
+
+usage: plot_report.py TIMESERIES.csv METRICS.json OUTPUT_DIR
+
+Reads the run's time series and the metrics.json written beside the report (for the analysed cycle and
+its phases) and writes flow.png, pressures.png, pressure_difference.png and, when the series has an
+orifice_area column, orifice_area.png. Only the analysed cycle is drawn.
+"""
+import json
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def read_series(path):
+    with open(path) as f:
+        lines = [line for line in f if line.strip() and not line.lstrip().startswith("#")]
+    header = [h.strip() for h in lines[0].split(",")]
+    data = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    return {name: data[:, i] for i, name in enumerate(header)}
+
+
+def finite(x):
+    return x is not None and isinstance(x, (int, float)) and math.isfinite(x)
+
+
+def shade(ax, start, end, color, label):
+    if finite(start) and finite(end) and end > start:
+        ax.axvspan(start, end, color=color, alpha=0.18, lw=0, label=label)
+
+
+def main():
+    series_path, metrics_path, out_dir = sys.argv[1:4]
+    s = read_series(series_path)
+    with open(metrics_path) as f:
+        doc = json.load(f)
+    ph = doc["phases"]
+    t0, t1 = ph["cycle_start"], ph["cycle_end"]
+    t = s["t"]
+    sel = (t >= t0 - 1e-12) & (t <= t1 + 1e-12)
+    t = t[sel]
+
+    def col(name):
+        return s[name][sel] if name in s else None
+
+    bs, es, tc = ph.get("ejection_start"), ph.get("ejection_end"), ph.get("closure")
+    written = []
+
+    def save(fig, name):
+        path = os.path.join(out_dir, name)
+        fig.tight_layout()
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        written.append(path)
+
+    # Flow with phases.
+    fig, ax = plt.subplots(figsize=(8, 4))
+    shade(ax, bs, es, "tab:green", "forward ejection")
+    shade(ax, es, tc, "tab:orange", "closing regurgitation")
+    shade(ax, t0, bs, "tab:gray", "leakage")
+    shade(ax, tc, t1, "tab:gray", None)
+    ax.plot(t, col("Q_valve"), color="k", lw=1.5, label="Q through the valve")
+    if col("Q_outlet") is not None:
+        ax.plot(t, col("Q_outlet"), color="tab:blue", lw=1, ls="--", label="Q at the outlet")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("Q (mL/s)")
+    ax.set_xlim(t0, t1)
+    ax.legend(loc="upper right", fontsize=8)
+    m = doc["metrics"]
+
+    def val(key):
+        v = m.get(key, {}).get("value")
+        return f"{v:.3g}" if finite(v) else "missing"
+
+    ax.set_title(f"V_F {val('forward_volume')} mL, V_R {val('regurgitant_volume')} mL, "
+                 f"V_L {val('leakage_volume')} mL, RF {val('regurgitant_fraction')} %", fontsize=10)
+    save(fig, "flow.png")
+
+    # Pressures.
+    fig, ax = plt.subplots(figsize=(8, 4))
+    for name, style in (("P_LV", "tab:red"), ("P_Ao", "tab:blue"), ("P_Wk", "tab:purple")):
+        if col(name) is not None:
+            ax.plot(t, col(name), color=style, lw=1.3, label=name)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("pressure (mmHg)")
+    ax.set_xlim(t0, t1)
+    ax.legend(loc="upper right", fontsize=8)
+    save(fig, "pressures.png")
+
+    # Pressure difference across the leaflets.
+    fig, ax = plt.subplots(figsize=(8, 4))
+    shade(ax, bs, es, "tab:green", "forward ejection")
+    ax.plot(t, col("P_nlv") - col("P_nao"), color="k", lw=1.3, label="P_nlv - P_nao")
+    tpg = m.get("transvalvular_pressure_gradient", {}).get("value")
+    if finite(tpg) and finite(bs) and finite(es):
+        ax.hlines(tpg, bs, es, colors="tab:green", linestyles="--", label=f"TPG {tpg:.3g} mmHg")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("P_nlv - P_nao (mmHg)")
+    ax.set_xlim(t0, t1)
+    ax.legend(loc="lower right", fontsize=8)
+    save(fig, "pressure_difference.png")
+
+    # Orifice area.
+    if col("orifice_area") is not None:
+        fig, ax = plt.subplots(figsize=(8, 4))
+        shade(ax, ph.get("opening_start"), ph.get("fully_open_start"), "tab:cyan", "opening")
+        shade(ax, ph.get("fully_open_start"), ph.get("fully_open_end"), "tab:green", "fully open")
+        shade(ax, ph.get("fully_open_end"), ph.get("closing_end"), "tab:orange", "closing")
+        ax.plot(t, col("orifice_area"), color="k", lw=1.3, label="orifice area")
+        ax.set_xlabel("t (s)")
+        ax.set_ylabel("area (cm$^2$)")
+        ax.set_xlim(t0, t1)
+        ax.legend(loc="upper right", fontsize=8)
+        save(fig, "orifice_area.png")
+
+    for path in written:
+        print(path)
+
+
+if __name__ == "__main__":
+    main()

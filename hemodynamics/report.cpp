@@ -1,0 +1,427 @@
+#include "hemodynamics/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "io/errors.hpp"
+#include "io/files.hpp"
+
+namespace ibvalve::hemodynamics {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Settings
+
+void add_report_schema(io::Schema& schema, const std::string& prefix)
+{
+  const std::string p = prefix + ".";
+  schema.add_real(p + "period", "cardiac cycle of the metrics (must match the driving waveform)")
+      .unit("s")
+      .defaults(0.8)
+      .positive();
+  schema.add_integer(p + "cycle", "cycle to analyse, 0 = first; -1 = the last full cycle")
+      .defaults(std::int64_t{-1})
+      .at_least(-1);
+  schema.add_real(p + "forward_threshold", "forward ejection is valve flow above this")
+      .unit("mL/s")
+      .defaults(0.0);
+  schema.add_string(p + "closure_rule", "how the closure instant is found (docs/hemodynamics.md)")
+      .defaults(std::string("flow"))
+      .choices({"flow", "area", "auto"});
+  schema
+      .add_real(p + "closure_flow_fraction",
+                "rule 'flow': closed once Q is back to this fraction of the peak backflow")
+      .defaults(0.1)
+      .above(0.0)
+      .below(1.0);
+  schema.add_real(p + "open_area_fraction", "normalised orifice area counted as fully open")
+      .defaults(0.9)
+      .above(0.0)
+      .below(1.0);
+  schema.add_real(p + "closed_area_fraction", "normalised orifice area counted as closed")
+      .defaults(0.05)
+      .above(0.0)
+      .below(1.0);
+  schema.add_real(p + "density", "blood density for the EOA formula").unit("g/mL").defaults(1.0).positive();
+  schema.add_boolean(p + "plots", "draw the report's plots (matplotlib)").defaults(true);
+}
+
+MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix)
+{
+  const std::string p = prefix + ".";
+  MetricSettings s;
+  s.period = config.real(p + "period");
+  s.cycle = static_cast<int>(config.integer(p + "cycle"));
+  s.forward_threshold = config.real(p + "forward_threshold");
+  s.closure_rule = closure_rule_from_name(config.string(p + "closure_rule"));
+  s.closure_flow_fraction = config.real(p + "closure_flow_fraction");
+  s.open_area_fraction = config.real(p + "open_area_fraction");
+  s.closed_area_fraction = config.real(p + "closed_area_fraction");
+  s.density = config.real(p + "density");
+  if (s.closed_area_fraction >= s.open_area_fraction)
+    config.fail(p + "closed_area_fraction", "must be below report.open_area_fraction");
+  return s;
+}
+
+MetricSettings metric_settings_from_run(const fs::path& run_directory)
+{
+  MetricSettings s;
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return s;
+  const toml::table root = io::parse_toml_file(file);
+  const toml::table* report = root["report"].as_table();
+  if (!report) return s;
+  auto real = [&](const char* key, double& into) {
+    if (const toml::node* n = report->get(key)) {
+      if (!n->is_number())
+        throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) + ": report." + key +
+                         ": expected a number");
+      into = *n->value<double>();
+    }
+  };
+  real("period", s.period);
+  real("forward_threshold", s.forward_threshold);
+  real("closure_flow_fraction", s.closure_flow_fraction);
+  real("open_area_fraction", s.open_area_fraction);
+  real("closed_area_fraction", s.closed_area_fraction);
+  real("density", s.density);
+  if (const toml::node* n = report->get("cycle"); n && n->is_integer())
+    s.cycle = static_cast<int>(*n->value<std::int64_t>());
+  if (const toml::node* n = report->get("closure_rule"); n && n->is_string()) {
+    try {
+      s.closure_rule = closure_rule_from_name(*n->value<std::string>());
+    } catch (const std::invalid_argument& error) {
+      throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) +
+                       ": report.closure_rule: " + error.what());
+    }
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Formatting helpers
+
+std::string base64(std::string_view data)
+{
+  static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((data.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < data.size(); i += 3) {
+    const unsigned v = static_cast<unsigned char>(data[i]) << 16 |
+                       static_cast<unsigned char>(data[i + 1]) << 8 | static_cast<unsigned char>(data[i + 2]);
+    out += alphabet[v >> 18 & 63];
+    out += alphabet[v >> 12 & 63];
+    out += alphabet[v >> 6 & 63];
+    out += alphabet[v & 63];
+  }
+  if (i + 1 == data.size()) {
+    const unsigned v = static_cast<unsigned char>(data[i]) << 16;
+    out += alphabet[v >> 18 & 63];
+    out += alphabet[v >> 12 & 63];
+    out += "==";
+  } else if (i + 2 == data.size()) {
+    const unsigned v = static_cast<unsigned char>(data[i]) << 16 | static_cast<unsigned char>(data[i + 1])
+                                                                       << 8;
+    out += alphabet[v >> 18 & 63];
+    out += alphabet[v >> 12 & 63];
+    out += alphabet[v >> 6 & 63];
+    out += '=';
+  }
+  return out;
+}
+
+std::string html_escape(std::string_view text)
+{
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    default:
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string format_value(double value)
+{
+  if (!std::isfinite(value)) return "missing";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.4g", value);
+  return buffer;
+}
+
+// ---------------------------------------------------------------------------------------------
+// metrics.json
+
+namespace {
+
+Json metric_json(const std::string& symbol, const std::string& unit, const std::string& description,
+                 std::optional<double> value, const std::string& note)
+{
+  Json::Object o;
+  o.emplace_back("value", value ? Json(*value) : Json());
+  o.emplace_back("unit", unit);
+  o.emplace_back("symbol", symbol);
+  o.emplace_back("description", description);
+  if (!note.empty()) o.emplace_back("note", note);
+  return Json(std::move(o));
+}
+
+std::string shell_quote(const std::string& s)
+{
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+} // namespace
+
+Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
+                      const std::string& run_name, const fs::path& run_directory)
+{
+  Json::Object settings_json{{"period_s", settings.period},
+                             {"cycle", settings.cycle},
+                             {"forward_threshold_mL_per_s", settings.forward_threshold},
+                             {"closure_rule", closure_rule_name(settings.closure_rule)},
+                             {"closure_flow_fraction", settings.closure_flow_fraction},
+                             {"open_area_fraction", settings.open_area_fraction},
+                             {"closed_area_fraction", settings.closed_area_fraction},
+                             {"density_g_per_mL", settings.density}};
+  const Phases& p = metrics.phases;
+  Json::Object phases{{"cycle_start", p.cycle_start},
+                      {"cycle_end", p.cycle_end},
+                      {"ejection_start", p.ejection_start},
+                      {"ejection_end", p.ejection_end},
+                      {"closure", p.closure},
+                      {"closure_rule", p.closure_rule},
+                      {"peak_forward_time", p.peak_forward_time},
+                      {"peak_regurgitant_time", p.peak_regurgitant_time},
+                      {"opening_start", p.opening_start},
+                      {"fully_open_start", p.fully_open_start},
+                      {"fully_open_end", p.fully_open_end},
+                      {"closing_end", p.closing_end}};
+  Json::Object values;
+  for (const Metric& m : metrics.metrics)
+    values.emplace_back(m.key, metric_json(m.symbol, m.unit, m.description, m.value, m.note));
+  Json::Array notes;
+  for (const auto& n : metrics.notes) notes.emplace_back(n);
+  const fs::path extra_file = run_directory / "extra_metrics.json";
+  if (fs::exists(extra_file)) {
+    Json extra;
+    try {
+      extra = Json::parse(io::read_text_file(extra_file));
+    } catch (const std::runtime_error& error) {
+      throw InputError(extra_file.string() + ": " + error.what());
+    }
+    if (!extra.is_object()) throw InputError(extra_file.string() + ": expected a JSON object of metrics");
+    for (const auto& [key, v] : extra.object()) {
+      auto text = [&](const char* field) {
+        const Json* f = v.find(field);
+        return f && f->is_string() ? f->string() : std::string();
+      };
+      if (v.is_number()) {
+        values.emplace_back(key, metric_json(key, "", "from extra_metrics.json", v.number(), ""));
+      } else if (v.is_object()) {
+        const Json* value = v.find("value");
+        values.emplace_back(
+            key, metric_json(text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
+                             value && value->is_number() ? std::optional(value->number()) : std::nullopt,
+                             text("note")));
+      } else {
+        throw InputError(extra_file.string() + ": " + key +
+                         ": expected a number or an object with \"value\"");
+      }
+    }
+    notes.emplace_back("metrics added from extra_metrics.json");
+  }
+  return Json(Json::Object{{"ibvalve_metrics", 1},
+                           {"run", run_name},
+                           {"source", "timeseries.csv"},
+                           {"settings", Json(std::move(settings_json))},
+                           {"phases", Json(std::move(phases))},
+                           {"metrics", Json(std::move(values))},
+                           {"notes", Json(std::move(notes))}});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Markdown and HTML
+
+namespace {
+
+struct PlotInfo {
+  const char* file;
+  const char* caption;
+};
+
+constexpr PlotInfo plot_list[] = {
+    {"flow.png",
+     "Flow through the valve Q(t), phases shaded: forward ejection, closing regurgitation, leakage"},
+    {"pressures.png", "P_LV (driving), P_Ao (outlet) and P_Wk (Windkessel reservoir)"},
+    {"pressure_difference.png", "P_nlv - P_nao across the leaflets; its mean over ejection is the TPG"},
+    {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
+};
+
+std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
+{
+  std::ostringstream md;
+  md << "# ibvalve report: " << doc.find("run")->string() << "\n\n";
+  const Json& ph = *doc.find("phases");
+  md << "Cycle ["
+     << format_value(ph.find("cycle_start")->is_number() ? ph.find("cycle_start")->number() : NAN) << ", "
+     << format_value(ph.find("cycle_end")->number()) << "] s of `timeseries.csv`.\n\n";
+  md << "| metric | symbol | value | unit | note |\n|---|---|---|---|---|\n";
+  for (const auto& [key, m] : doc.find("metrics")->object()) {
+    const Json* v = m.find("value");
+    const Json* note = m.find("note");
+    md << "| " << (m.find("description")->string().empty() ? key : m.find("description")->string()) << " (`"
+       << key << "`) | " << m.find("symbol")->string() << " | "
+       << format_value(v->is_number() ? v->number() : NAN) << " | " << m.find("unit")->string() << " | "
+       << (note ? note->string() : "") << " |\n";
+  }
+  md << "\n## Phases (s)\n\n| instant | time |\n|---|---|\n";
+  for (const auto& [key, v] : ph.object())
+    md << "| " << key << " | "
+       << (v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN)) << " |\n";
+  md << "\n## Plots\n\n";
+  for (const auto& p : plots) {
+    std::string caption;
+    for (const auto& info : plot_list)
+      if (p.filename() == info.file) caption = info.caption;
+    md << "![" << caption << "](" << p.filename().string() << ")\n\n";
+  }
+  if (plots.empty()) md << "(no plots)\n\n";
+  md << "## Notes\n\n";
+  for (const auto& n : doc.find("notes")->array()) md << "- " << n.string() << "\n";
+  md << "\nDefinitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is "
+        "positive.\n";
+  return md.str();
+}
+
+std::string html(const Json& doc, const std::vector<fs::path>& plots)
+{
+  std::ostringstream h;
+  const std::string run = html_escape(doc.find("run")->string());
+  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ibvalve report: " << run
+    << "</title>\n<style>\nbody{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}\n"
+       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
+       "8px;text-align:left}\n"
+       "td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em "
+       "0}img{max-width:100%}\n"
+       ".missing{color:#999}\n</style>\n</head>\n<body>\n<h1>ibvalve report: "
+    << run << "</h1>\n";
+  const Json& ph = *doc.find("phases");
+  h << "<p>Cycle [" << format_value(ph.find("cycle_start")->number()) << ", "
+    << format_value(ph.find("cycle_end")->number())
+    << "] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>\n";
+  h << "<h2>Metrics</h2>\n<table "
+       "id=\"metrics\">\n<tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th>"
+       "<th>note</th></tr>\n";
+  for (const auto& [key, m] : doc.find("metrics")->object()) {
+    const Json* v = m.find("value");
+    const Json* note = m.find("note");
+    const bool has = v->is_number();
+    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(m.find("description")->string())
+      << " (<code>" << html_escape(key) << "</code>)</td><td>" << html_escape(m.find("symbol")->string())
+      << "</td><td class=\"value" << (has ? "" : " missing") << "\" data-value=\""
+      << (has ? json_number(v->number()) : "null") << "\">" << format_value(has ? v->number() : NAN)
+      << "</td><td>" << html_escape(m.find("unit")->string()) << "</td><td>"
+      << html_escape(note ? note->string() : "") << "</td></tr>\n";
+  }
+  h << "</table>\n<h2>Phases</h2>\n<table id=\"phases\">\n<tr><th>instant</th><th>time (s)</th></tr>\n";
+  for (const auto& [key, v] : ph.object())
+    h << "<tr><td>" << html_escape(key) << "</td><td class=\"value\">"
+      << html_escape(v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN))
+      << "</td></tr>\n";
+  h << "</table>\n<h2>Plots</h2>\n";
+  for (const auto& p : plots) {
+    std::string caption;
+    for (const auto& info : plot_list)
+      if (p.filename() == info.file) caption = info.caption;
+    const std::string name = p.filename().string();
+    // Embedded (the file opens anywhere) and linked to the PNG beside it.
+    h << "<figure><a href=\"" << html_escape(name) << "\"><img alt=\"" << html_escape(caption)
+      << "\" src=\"data:image/png;base64," << base64(io::read_text_file(p)) << "\"></a><figcaption>"
+      << html_escape(caption) << " (<a href=\"" << html_escape(name) << "\">" << html_escape(name)
+      << "</a>)</figcaption></figure>\n";
+  }
+  if (plots.empty()) h << "<p>(no plots)</p>\n";
+  h << "<h2>Notes</h2>\n<ul>\n";
+  for (const auto& n : doc.find("notes")->array()) h << "<li>" << html_escape(n.string()) << "</li>\n";
+  h << "<li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is "
+       "positive.</li>\n</ul>\n</body>\n</html>\n";
+  return h.str();
+}
+
+} // namespace
+
+ReportFiles write_report(const fs::path& run_directory, const ReportOptions& options)
+{
+  const fs::path series_file = run_directory / "timeseries.csv";
+  if (!fs::is_directory(run_directory)) throw InputError(run_directory.string() + ": no such run folder");
+  if (!fs::exists(series_file))
+    throw InputError(series_file.string() + ": no such file (is this a run folder?)");
+  const ValveSeries series = read_valve_series(series_file);
+  ValveMetrics metrics;
+  try {
+    metrics = compute_metrics(series, options.settings);
+  } catch (const std::invalid_argument& error) {
+    throw InputError(series_file.string() + ": " + error.what());
+  }
+  std::string run_name = fs::absolute(run_directory).lexically_normal().filename().string();
+  if (run_name.empty())
+    run_name = fs::absolute(run_directory).lexically_normal().parent_path().filename().string();
+  const Json doc = metrics_document(metrics, options.settings, run_name, run_directory);
+
+  ReportFiles files;
+  files.directory = run_directory / "report";
+  fs::create_directories(files.directory);
+  files.json = files.directory / "metrics.json";
+  files.markdown = files.directory / "report.md";
+  files.html = files.directory / "report.html";
+  io::write_file_atomically(files.json, doc.dump() + "\n");
+
+  std::string plot_problem;
+  if (options.plots) {
+    const fs::path script = files.directory / "plot_report.py";
+    io::write_file_atomically(script, plot_report_script());
+    for (const auto& info : plot_list) fs::remove(files.directory / info.file);
+    const fs::path log = files.directory / "plot_log.txt";
+    const std::string command = shell_quote(options.python) + " " + shell_quote(script.string()) + " " +
+                                shell_quote(series_file.string()) + " " + shell_quote(files.json.string()) +
+                                " " + shell_quote(files.directory.string()) + " > " +
+                                shell_quote(log.string()) + " 2>&1";
+    const int status = std::system(command.c_str());
+    if (status != 0) {
+      std::string tail = io::read_text_file(log);
+      while (!tail.empty() && tail.back() == '\n') tail.pop_back();
+      const auto cut = tail.rfind('\n');
+      plot_problem = "plotting with " + options.python + " failed (" + log.string() +
+                     "): " + (cut == std::string::npos ? tail : tail.substr(cut + 1));
+    }
+    for (const auto& info : plot_list)
+      if (fs::exists(files.directory / info.file)) files.plots.push_back(files.directory / info.file);
+  }
+  io::write_file_atomically(files.markdown, markdown(doc, files.plots));
+  io::write_file_atomically(files.html, html(doc, files.plots));
+  if (!plot_problem.empty()) throw RunError(plot_problem);
+  return files;
+}
+
+} // namespace ibvalve::hemodynamics

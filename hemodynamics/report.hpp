@@ -1,0 +1,57 @@
+#pragma once
+// `ibvalve report`: metrics.json, report.md and report.html (plots by matplotlib) for one run folder,
+// and the metric settings as case-file keys ([report] table).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "hemodynamics/json.hpp"
+#include "hemodynamics/metrics.hpp"
+#include "io/config.hpp"
+
+namespace ibvalve::hemodynamics {
+
+/// The [report] keys (period, cycle, thresholds, closure rule, density, plots) under `prefix`.
+void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
+MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix = "report");
+/// The settings stored in a run folder's resolved config.toml ([report] table), defaults for keys it
+/// lacks (or when there is no config.toml). A key of the wrong type is an InputError.
+MetricSettings metric_settings_from_run(const std::filesystem::path& run_directory);
+
+struct ReportOptions {
+  MetricSettings settings;
+  std::string python = "/usr/bin/python3"; // an interpreter with matplotlib and numpy
+  bool plots = true;
+};
+
+struct ReportFiles {
+  std::filesystem::path directory, json, markdown, html;
+  std::vector<std::filesystem::path> plots;
+};
+
+/// metrics.json as a document: settings, phases, metrics (value, unit, symbol, description, note),
+/// notes. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value, unit,
+/// symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error,
+/// strain and stress variation, displacements) it computes itself.
+Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
+                      const std::string& run_name, const std::filesystem::path& run_directory);
+
+/// Reads <run>/timeseries.csv, computes the metrics and writes <run>/report/{metrics.json, report.md,
+/// report.html, plot_report.py, *.png}. Bad input (missing file, missing column, bad line) is an
+/// InputError raised before anything is written; a plotting failure is a RunError after the metrics,
+/// Markdown and HTML (without plots) are written.
+ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
+
+/// The embedded plotting script (hemodynamics/plot_report.py).
+const char* plot_report_script();
+
+/// Base64 of binary data (RFC 4648), for images embedded in HTML.
+std::string base64(std::string_view data);
+/// Text made safe inside HTML.
+std::string html_escape(std::string_view text);
+/// A value for tables: 4 significant digits (or "missing").
+std::string format_value(double value);
+
+} // namespace ibvalve::hemodynamics

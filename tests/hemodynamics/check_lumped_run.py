@@ -1,0 +1,91 @@
+"""Checks of the lumped end-to-end run (run by CTest with Debian's python3).
+
+usage: check_lumped_run.py report RUN_DIR      the run covers full cycles; the metrics are in
+                                               physiological ranges; report.html exists, references
+                                               existing PNGs and shows metrics.json's values
+       check_lumped_run.py compare OUT_DIR     comparison files exist, fit error reported missing
+"""
+import csv
+import json
+import math
+import os
+import re
+import sys
+
+
+def fail(message):
+    print("FAIL:", message)
+    sys.exit(1)
+
+
+def check_report(run):
+    with open(os.path.join(run, "timeseries.csv")) as f:
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
+    header = rows[0]
+    for name in ("t", "Q_valve", "Q_outlet", "P_LV", "P_Ao", "P_Wk", "P_nlv", "P_nao", "orifice_area"):
+        if name not in header:
+            fail(f"timeseries.csv lacks column {name}")
+    t_end = float(rows[-1][header.index("t")])
+    if t_end < 0.8 - 1e-9:
+        fail(f"the run does not cover a full cycle (ends at {t_end} s)")
+
+    report = os.path.join(run, "report")
+    with open(os.path.join(report, "metrics.json")) as f:
+        doc = json.load(f)
+    m = {k: v["value"] for k, v in doc["metrics"].items()}
+    # Physiological ranges for an adult aortic valve at rest.
+    ranges = {"forward_volume": (40.0, 130.0), "regurgitant_fraction": (0.5, 25.0),
+              "transvalvular_pressure_gradient": (0.5, 20.0), "effective_orifice_area": (1.0, 5.0),
+              "peak_forward_flow": (200.0, 800.0), "systolic_aortic_pressure": (90.0, 150.0),
+              "diastolic_aortic_pressure": (50.0, 95.0), "energy_loss": (0.0, 200.0)}
+    for key, (lo, hi) in ranges.items():
+        v = m.get(key)
+        if v is None or not (lo <= v <= hi):
+            fail(f"{key} = {v} outside the physiological range [{lo}, {hi}]")
+        print(f"{key} = {v:.4g} in [{lo}, {hi}]")
+
+    html_path = os.path.join(report, "report.html")
+    if not os.path.exists(html_path):
+        fail("report.html missing")
+    html = open(html_path).read()
+    pngs = set(re.findall(r'href="([^"]+\.png)"', html))
+    if len(pngs) < 4:
+        fail(f"report.html references {len(pngs)} PNGs, expected 4")
+    for png in pngs:
+        path = os.path.join(report, png)
+        if not os.path.exists(path) or open(path, "rb").read(8) != b"\x89PNG\r\n\x1a\n":
+            fail(f"{png} referenced by report.html is not a PNG beside it")
+    cells = re.findall(r'<tr data-key="([a-z_]+)">.*?data-value="([^"]+)"', html)
+    if len(cells) != len(m):
+        fail(f"report.html shows {len(cells)} metrics, metrics.json has {len(m)}")
+    for key, text in cells:
+        value = None if text == "null" else float(text)
+        if value != m[key]:
+            fail(f"{key}: report.html shows {value}, metrics.json has {m[key]}")
+    md = open(os.path.join(report, "report.md")).read()
+    for png in pngs:
+        if f"({png})" not in md:
+            fail(f"report.md does not show {png}")
+    print(f"report.html: {len(pngs)} PNGs, {len(cells)} metrics equal to metrics.json")
+
+
+def check_compare(out):
+    for name in ("comparison.md", "comparison.html", "metrics.csv", "ranking.csv"):
+        if not os.path.exists(os.path.join(out, name)):
+            fail(f"{name} missing")
+    md = open(os.path.join(out, "comparison.md")).read()
+    if "fit_error (missing for:" not in md:
+        fail("the fit error of lumped runs is not reported as missing")
+    with open(os.path.join(out, "ranking.csv")) as f:
+        rows = list(csv.reader(f))
+    if len(rows) != 3 or rows[0][-2:] != ["total", "rank"]:
+        fail("ranking.csv: expected a header and two cases")
+    totals = [float(r[-2]) for r in rows[1:]]
+    if not all(math.isfinite(x) for x in totals):
+        fail("ranking totals not finite")
+    print("comparison files written; ranking totals", totals)
+
+
+if __name__ == "__main__":
+    mode, target = sys.argv[1], sys.argv[2]
+    {"report": check_report, "compare": check_compare}[mode](target)

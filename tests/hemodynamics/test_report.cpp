@@ -1,0 +1,178 @@
+// Reports and comparisons: JSON round trips, the report files of a synthetic run (HTML that
+// references existing PNGs and shows metrics.json's values), extra metrics, and the scaled ranking.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <numbers>
+#include <regex>
+
+#include <gtest/gtest.h>
+
+#include "hemodynamics/compare.hpp"
+#include "hemodynamics/report.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+
+namespace hd = ibvalve::hemodynamics;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name)
+{
+  const auto dir = fs::temp_directory_path() / ("ibvalve_test_report_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// A run folder with a smooth synthetic cycle (forward and backward half-sine lobes, an orifice area).
+void write_run(const fs::path& dir, double forward_amplitude)
+{
+  std::ofstream out(dir / "timeseries.csv");
+  out << std::setprecision(15) << "t,Q_valve,Q_outlet,P_LV,P_Ao,P_Wk,P_nlv,P_nao,orifice_area\n";
+  const double pi = std::numbers::pi;
+  for (int i = 0; i <= 3200; ++i) {
+    const double t = i * 0.8 / 1600, tau = std::fmod(t, 0.8);
+    double q = -3.0 * std::sin(pi * tau / 0.1), a = 0.02;
+    if (tau >= 0.1 && tau < 0.4) {
+      q = forward_amplitude * std::sin(pi * (tau - 0.1) / 0.3);
+      a = 0.02 + 3.0 * std::sin(pi * (tau - 0.1) / 0.3);
+    } else if (tau >= 0.4) {
+      q = -40.0 * std::sin(pi * (tau - 0.4) / 0.4) * std::exp(-20 * (tau - 0.4));
+    }
+    const double p_ao = 80 + 10 * std::sin(2 * pi * t / 0.8);
+    out << t << "," << q << "," << q << "," << p_ao + 0.01 * q << "," << p_ao << "," << p_ao - 1 << ","
+        << p_ao + 0.01 * q << "," << p_ao << "," << a << "\n";
+  }
+}
+
+} // namespace
+
+TEST(Json, RoundTripsNumbersStringsAndStructure)
+{
+  hd::Json doc(hd::Json::Object{{"a", 0.1},
+                                {"b", hd::Json::Array{1.0 / 3.0, -2.5e-300, hd::Json(), true}},
+                                {"c", "quote \" backslash \\ newline \n"},
+                                {"nan", std::nan("")}});
+  const hd::Json back = hd::Json::parse(doc.dump());
+  EXPECT_EQ(back.find("a")->number(), 0.1);
+  EXPECT_EQ(back.find("b")->array()[0].number(), 1.0 / 3.0);
+  EXPECT_EQ(back.find("b")->array()[1].number(), -2.5e-300);
+  EXPECT_TRUE(back.find("b")->array()[2].is_null());
+  EXPECT_EQ(back.find("c")->string(), "quote \" backslash \\ newline \n");
+  EXPECT_TRUE(back.find("nan")->is_null());
+  EXPECT_THROW(hd::Json::parse("{\"a\": 1,}"), std::runtime_error);
+  EXPECT_THROW(hd::Json::parse("[1, 2"), std::runtime_error);
+  EXPECT_EQ(hd::base64("Man"), "TWFu");
+  EXPECT_EQ(hd::base64("Ma"), "TWE=");
+  EXPECT_EQ(hd::base64("M"), "TQ==");
+}
+
+TEST(Report, HtmlReferencesExistingPngsAndShowsTheMetricsOfTheJson)
+{
+  const auto run = scratch("run");
+  write_run(run, 300.0);
+  std::ofstream(run / "extra_metrics.json")
+      << R"({"fit_error": {"value": 1.25, "unit": "kPa", "symbol": "MAE"},
+    "strain_variation": 0.05})";
+  hd::ReportOptions options;
+  options.python = IBVALVE_PYTHON;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  ASSERT_TRUE(fs::exists(files.html));
+  ASSERT_TRUE(fs::exists(files.markdown));
+  EXPECT_EQ(files.plots.size(), 4u);
+  const std::string html = ibvalve::io::read_text_file(files.html);
+  // Every referenced PNG exists beside the HTML, and every plot is referenced.
+  std::regex href("href=\"([^\"]+\\.png)\"");
+  std::set<std::string> referenced;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), href); it != std::sregex_iterator(); ++it) {
+    referenced.insert((*it)[1]);
+    EXPECT_TRUE(fs::exists(files.directory / (*it)[1].str())) << (*it)[1];
+  }
+  EXPECT_EQ(referenced.size(), 4u);
+  EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos); // embedded PNG signature
+  // The values in the HTML are those of metrics.json.
+  const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  std::regex cell("<tr data-key=\"([a-z_]+)\">.*?data-value=\"([^\"]+)\"");
+  int compared = 0;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), cell); it != std::sregex_iterator(); ++it) {
+    const hd::Json* m = doc.find("metrics")->find((*it)[1].str());
+    ASSERT_NE(m, nullptr) << (*it)[1];
+    const hd::Json* v = m->find("value");
+    if ((*it)[2] == "null") {
+      EXPECT_TRUE(v->is_null());
+    } else {
+      EXPECT_EQ(std::stod((*it)[2]), v->number()) << (*it)[1];
+    }
+    ++compared;
+  }
+  EXPECT_EQ(static_cast<std::size_t>(compared), doc.find("metrics")->object().size());
+  EXPECT_EQ(doc.find("metrics")->find("fit_error")->find("value")->number(), 1.25);
+  EXPECT_EQ(doc.find("metrics")->find("strain_variation")->find("value")->number(), 0.05);
+  EXPECT_GT(doc.find("metrics")->find("forward_volume")->find("value")->number(), 0.0);
+  fs::remove_all(run);
+}
+
+TEST(Report, BadRunFoldersAreInputErrorsBeforeWriting)
+{
+  const auto run = scratch("bad");
+  hd::ReportOptions options;
+  options.plots = false;
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError); // no timeseries.csv
+  std::ofstream(run / "timeseries.csv") << "t,Q_valve,P_LV\n0,1,2\n";
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError); // missing columns
+  EXPECT_FALSE(fs::exists(run / "report"));
+  fs::remove_all(run);
+}
+
+TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
+{
+  auto make = [](const std::string& name, double vf, double rf, std::optional<double> fit) {
+    hd::CaseResult c;
+    c.name = name;
+    hd::Json::Object m;
+    auto entry = [](std::optional<double> v) {
+      return hd::Json(
+          hd::Json::Object{{"value", v ? hd::Json(*v) : hd::Json()}, {"unit", ""}, {"symbol", ""}});
+    };
+    m.emplace_back("forward_volume", entry(vf));
+    m.emplace_back("regurgitant_fraction", entry(rf));
+    m.emplace_back("fit_error", entry(fit));
+    c.metrics = hd::Json(std::move(m));
+    return c;
+  };
+  std::vector<hd::CaseResult> cases{make("a", 60, 10, 1.0), make("b", 80, 5, std::nullopt),
+                                    make("c", 70, 20, 2.0)};
+  const hd::Ranking r = hd::rank_cases(cases);
+  const auto& criteria = hd::ranking_criteria();
+  ASSERT_EQ(criteria.size(), 12u);
+  auto index = [&](const std::string& key) {
+    for (std::size_t k = 0; k < criteria.size(); ++k)
+      if (criteria[k].key == key) return k;
+    return criteria.size();
+  };
+  const std::size_t vf = index("forward_volume"), rf = index("regurgitant_fraction"),
+                    fit = index("fit_error");
+  EXPECT_TRUE(r.used[vf]);
+  EXPECT_TRUE(r.used[rf]);
+  EXPECT_FALSE(r.used[fit]); // missing for b
+  EXPECT_EQ(r.left_out.size(), 10u);
+  EXPECT_DOUBLE_EQ(*r.rows[0].scores[vf], 0.0); // 60: worst (higher is better)
+  EXPECT_DOUBLE_EQ(*r.rows[1].scores[vf], 1.0);
+  EXPECT_DOUBLE_EQ(*r.rows[2].scores[vf], 0.5);
+  EXPECT_DOUBLE_EQ(*r.rows[0].scores[rf], 10.0 / 15.0); // (20 - 10) / (20 - 5), lower is better
+  EXPECT_DOUBLE_EQ(*r.rows[1].scores[rf], 1.0);
+  EXPECT_DOUBLE_EQ(*r.rows[2].scores[rf], 0.0);
+  EXPECT_EQ(r.rows[1].rank, 1);
+  EXPECT_EQ(r.rows[2].rank, 3);
+  EXPECT_EQ(r.rows[0].rank, 2);
+  const auto out = scratch("compare");
+  const auto files = hd::write_comparison(cases, out);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_NE(md.find("fit_error (missing for: b)"), std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(files.ranking_csv).find("b,missing,missing"), std::string::npos);
+  EXPECT_TRUE(fs::exists(files.html));
+  fs::remove_all(out);
+}
