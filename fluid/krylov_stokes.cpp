@@ -1,5 +1,6 @@
 #include "fluid/krylov_stokes.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "io/petsc_check.hpp"
@@ -320,30 +321,27 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
     });
   if (!pressure_has_constant_) return;
   // Without a traction side the boundary velocity must carry zero net flux for the system to have a
-  // solution; remove the discrete net outflow of the data (an O(h^2) change for smooth data) evenly
-  // over the velocity-side faces.
-  double flux_area[2] = {0.0, 0.0};
-  for (int d = 0; d < 3; ++d) {
-    if (grid_.periodic(d)) continue;
-    const double area = grid_.cell_volume() / grid_.h(d);
-    for_owned_faces(grid_, d, [&](const Index3& idx) {
-      if (!grid_.is_boundary_face(d, idx[d])) return;
-      const double outward = idx[d] == 0 ? -1.0 : 1.0;
-      flux_area[0] += outward * r(idx[0], idx[1], idx[2], grid_.face_slot(d)) * area;
-      flux_area[1] += area;
-    });
-  }
-  MPI_Allreduce(MPI_IN_PLACE, flux_area, 2, MPI_DOUBLE, MPI_SUM, grid_.comm());
-  if (flux_area[1] == 0.0) return;
-  const double correction = flux_area[0] / flux_area[1];
-  for (int d = 0; d < 3; ++d) {
-    if (grid_.periodic(d)) continue;
-    for_owned_faces(grid_, d, [&](const Index3& idx) {
-      if (!grid_.is_boundary_face(d, idx[d])) return;
-      const double outward = idx[d] == 0 ? -1.0 : 1.0;
-      r(idx[0], idx[1], idx[2], grid_.face_slot(d)) -= outward * correction;
-    });
-  }
+  // solution. Remove the discrete net outflow of the data (an O(h^2) change for smooth data that is
+  // compatible in the continuum) in proportion to |u_n|, so impermeable walls stay impermeable.
+  double sums[2] = {0.0, 0.0}; // net outflow, sum of |u_n| dA
+  auto for_boundary_faces = [&](auto&& f) {
+    for (int d = 0; d < 3; ++d) {
+      if (grid_.periodic(d)) continue;
+      const double area = grid_.cell_volume() / grid_.h(d);
+      for_owned_faces(grid_, d, [&](const Index3& idx) {
+        if (grid_.is_boundary_face(d, idx[d]))
+          f(r(idx[0], idx[1], idx[2], grid_.face_slot(d)), idx[d] == 0 ? -1.0 : 1.0, area);
+      });
+    }
+  };
+  for_boundary_faces([&](double& un, double outward, double area) {
+    sums[0] += outward * un * area;
+    sums[1] += std::abs(un) * area;
+  });
+  MPI_Allreduce(MPI_IN_PLACE, sums, 2, MPI_DOUBLE, MPI_SUM, grid_.comm());
+  if (sums[1] == 0.0) return;
+  const double c = sums[0] / sums[1];
+  for_boundary_faces([&](double& un, double outward, double) { un -= outward * c * std::abs(un); });
 }
 
 SolveStatistics KrylovStokesSolver::solve(Vec rhs, Vec solution)

@@ -1,0 +1,174 @@
+// Runs on 2 ranks: the same flows computed on 1 rank (a sub-communicator) and on 2 ranks agree to
+// 1e-10 (fft solver on a periodic box, Krylov solver with traction and wall sides), and the volume
+// flux into a closed box equals the flux out, through the sides and through interior planes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+#include "fluid/queries.hpp"
+#include "tests/fluid/exact_solutions.hpp"
+
+namespace ibvalve::fluid {
+namespace {
+
+int world_rank()
+{
+  int r = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
+  return r;
+}
+
+/// The whole grid's cell-centred velocity, vorticity and pressure on rank 0 of `comm`.
+std::vector<double> gather_fields(const NavierStokes& fluid)
+{
+  const StaggeredGrid& grid = fluid.grid();
+  const CellFields mine = cell_fields(fluid);
+  const PetscInt nx = grid.cells(0), ny = grid.cells(1), nz = grid.cells(2);
+  std::vector<double> all(static_cast<std::size_t>(7 * nx * ny * nz), 0.0);
+  std::size_t c = 0;
+  for (PetscInt k = mine.begin[2]; k < mine.begin[2] + mine.count[2]; ++k)
+    for (PetscInt j = mine.begin[1]; j < mine.begin[1] + mine.count[1]; ++j)
+      for (PetscInt i = mine.begin[0]; i < mine.begin[0] + mine.count[0]; ++i, ++c) {
+        const auto cell = static_cast<std::size_t>((k * ny + j) * nx + i);
+        for (int q = 0; q < 3; ++q) {
+          all[7 * cell + q] = mine.velocity[3 * c + q];
+          all[7 * cell + 3 + q] = mine.vorticity[3 * c + q];
+        }
+        all[7 * cell + 6] = mine.pressure[c];
+      }
+  MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, grid.comm());
+  return all;
+}
+
+using FlowSetup = std::function<std::unique_ptr<NavierStokes>(MPI_Comm)>;
+
+/// Runs `steps` steps of the flow `setup` builds on `comm`, returns the gathered fields.
+std::vector<double> run(const FlowSetup& setup, MPI_Comm comm, int steps, double dt)
+{
+  auto fluid = setup(comm);
+  for (int s = 0; s < steps; ++s) fluid->step(dt);
+  return gather_fields(*fluid);
+}
+
+void expect_same_on_one_and_two_ranks(const FlowSetup& setup, int steps, double dt, const char* name)
+{
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  ASSERT_EQ(size, 2) << "this test runs on 2 ranks";
+  const std::vector<double> two = run(setup, PETSC_COMM_WORLD, steps, dt);
+  MPI_Comm alone;
+  MPI_Comm_split(PETSC_COMM_WORLD, world_rank(), 0, &alone);
+  // Every rank computes the 1-rank solution on its own (a rank idling in a collective of the world
+  // communicator while another creates objects on a sub-communicator can stall Open MPI).
+  const std::vector<double> one = run(setup, alone, steps, dt);
+  MPI_Comm_free(&alone);
+  if (world_rank() != 0) return;
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t q = 0; q < two.size(); ++q) {
+    largest = std::max(largest, std::abs(one[q]));
+    difference = std::max(difference, std::abs(one[q] - two[q]));
+  }
+  std::printf("%s: max |1 rank - 2 ranks| = %.2e (fields up to %.2e)\n", name, difference, largest);
+  EXPECT_LT(difference, 1e-10 * largest);
+}
+
+TEST(Ranks, PeriodicFftRunAgreesOnOneAndTwoRanks)
+{
+  const testing::AbcFlow abc;
+  FlowSetup setup = [abc](MPI_Comm comm) {
+    BoxGeometry box;
+    box.cells = {16, 16, 16};
+    FluidSettings settings;
+    settings.mu = abc.mu;
+    auto fluid = std::make_unique<NavierStokes>(comm, box, BoundaryConditions::all_periodic(), settings);
+    fluid->set_initial_condition([abc](const Real3& x, double t) { return abc.velocity(x, t); },
+                                 [abc](const Real3& x, double t) { return abc.pressure(x, t); }, 0.0);
+    return fluid;
+  };
+  expect_same_on_one_and_two_ranks(setup, 8, 0.0625 / 16, "ABC fft 16^3");
+}
+
+/// Flow into a box: a smooth jet through a disk of the x = 0 side, traction (p = 0) at x = 2,
+/// no-slip walls elsewhere; a body force that swirls it.
+std::unique_ptr<NavierStokes> jet_in_a_box(MPI_Comm comm, bool outflow_by_velocity)
+{
+  BoxGeometry box;
+  box.upper = {2.0, 1.0, 1.0};
+  box.cells = {16, 8, 8};
+  box.periodic = {false, false, false};
+  BoundaryConditions bc;
+  for (int d = 1; d < 3; ++d)
+    for (int upper = 0; upper < 2; ++upper) bc.side(d, upper).kind = SideKind::velocity;
+  auto jet = [](const Real3& x, double t) {
+    const double r2 = (x[1] - 0.5) * (x[1] - 0.5) + (x[2] - 0.5) * (x[2] - 0.5);
+    const double profile = r2 < 0.09 ? std::pow(1.0 - r2 / 0.09, 2) : 0.0;
+    return Real3{profile * std::min(1.0, 20.0 * t + 0.2), 0.0, 0.0};
+  };
+  bc.side(0, 0).kind = SideKind::velocity;
+  bc.side(0, 0).velocity = jet;
+  if (outflow_by_velocity) {
+    // A closed box with velocity on every side: out through the whole x = 2 side, uniformly.
+    bc.side(0, 1).kind = SideKind::velocity;
+    bc.side(0, 1).velocity = [](const Real3&, double t) {
+      // The jet's flux (about pi 0.09 / 3) spread over the unit side.
+      return Real3{std::acos(-1.0) * 0.09 / 3.0 * std::min(1.0, 20.0 * t + 0.2), 0.0, 0.0};
+    };
+  } else {
+    bc.side(0, 1).kind = SideKind::traction;
+  }
+  FluidSettings settings;
+  settings.rho = 1.0;
+  settings.mu = 0.02;
+  settings.solver = SolverKind::krylov;
+  settings.rtol = 1e-13;
+  settings.atol = 1e-15;
+  auto fluid = std::make_unique<NavierStokes>(comm, box, bc, settings);
+  fluid->set_initial_condition([](const Real3&, double) { return Real3{0.0, 0.0, 0.0}; }, nullptr, 0.0);
+  fluid->set_body_force([](const Real3& x, double) { return Real3{0.0, -(x[2] - 0.5), (x[1] - 0.5)}; }, 0.0);
+  return fluid;
+}
+
+TEST(Ranks, KrylovRunWithTractionAndWallsAgreesOnOneAndTwoRanks)
+{
+  expect_same_on_one_and_two_ranks([](MPI_Comm comm) { return jet_in_a_box(comm, false); }, 5, 0.02,
+                                   "jet in a box, krylov");
+}
+
+void expect_flux_conserved(bool outflow_by_velocity)
+{
+  auto fluid = jet_in_a_box(PETSC_COMM_WORLD, outflow_by_velocity);
+  for (int s = 0; s < 5; ++s) {
+    fluid->step(0.02);
+    const double in = volume_flux(*fluid, PlaneRegion::rectangle(0, 0.0, {0, 0, 0}, {0, 1, 1}));
+    const double out = volume_flux(*fluid, PlaneRegion::rectangle(0, 2.0, {0, 0, 0}, {0, 1, 1}));
+    const double jet_disk = volume_flux(*fluid, PlaneRegion::disk(0, 0.0, {0, 0.5, 0.5}, 0.3));
+    double walls = 0.0;
+    for (int d = 1; d < 3; ++d)
+      for (int upper = 0; upper < 2; ++upper)
+        walls += std::abs(volume_flux(*fluid, PlaneRegion::rectangle(d, upper, {0, 0, 0}, {2, 1, 1})));
+    EXPECT_GT(in, 0.0);
+    EXPECT_NEAR(out, in, 1e-10 * in) << "step " << s;
+    EXPECT_NEAR(jet_disk, in, 1e-2 * in) << "the jet lies inside its disk (up to the disk's sampled edge)";
+    EXPECT_EQ(walls, 0.0);
+    for (double x : {0.5, 0.8125, 1.37})
+      EXPECT_NEAR(volume_flux(*fluid, PlaneRegion::rectangle(0, x, {0, 0, 0}, {0, 1, 1})), in, 1e-10 * in)
+          << "plane x = " << x;
+    if (world_rank() == 0 && s == 4)
+      std::printf("closed box (%s outflow): in %.12f out %.12f, relative difference %.1e\n",
+                  outflow_by_velocity ? "velocity" : "traction", in, out, std::abs(out - in) / in);
+  }
+}
+
+TEST(Conservation, FluxInEqualsFluxOutWithATractionOutlet)
+{
+  expect_flux_conserved(false);
+}
+TEST(Conservation, FluxInEqualsFluxOutWithVelocityOnEverySide)
+{
+  expect_flux_conserved(true);
+}
+
+} // namespace
+} // namespace ibvalve::fluid
