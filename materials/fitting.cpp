@@ -140,7 +140,10 @@ struct BiaxialResidual {
     const auto s = biaxial_cauchy<T>(setup, p, point.lambda1, point.lambda2);
     r[0] = s[0] - T(point.sigma11);
     r[1] = s[1] - T(point.sigma22);
-    return true;
+    // A trial step may overflow an exponential (C01 or k2 far too large): report it as a failed
+    // evaluation so that Ceres rejects the step and shrinks its trust region.
+    using std::isfinite;
+    return isfinite(r[0]) && isfinite(r[1]);
   }
 };
 
