@@ -118,12 +118,19 @@ double InvariantLaw::energy(const Mat3& F, const FiberFrame& fibers) const
   return W;
 }
 
-Mat3 InvariantLaw::stress(const Mat3& F, const FiberFrame& fibers) const
+Mat3 InvariantLaw::invariant_stress(const Mat3& F, const FiberFrame& fibers) const
 {
   const auto r = invariants(F, fibers);
   // dI1/dF = 2 F, dI4/dF = 2 F f0 (x) f0, dI6/dF = 2 F s0 (x) s0.
-  Mat3 P = 2.0 * r.d1 * F + 2.0 * r.d4 * (F * fibers.f0) * fibers.f0.transpose() +
-           2.0 * r.d6 * (F * fibers.s0) * fibers.s0.transpose();
+  Mat3 P = 2.0 * r.d1 * F;
+  if (r.d4 != 0.0) P.noalias() += (2.0 * r.d4) * (F * fibers.f0) * fibers.f0.transpose();
+  if (r.d6 != 0.0) P.noalias() += (2.0 * r.d6) * (F * fibers.s0) * fibers.s0.transpose();
+  return P;
+}
+
+Mat3 InvariantLaw::stress(const Mat3& F, const FiberFrame& fibers) const
+{
+  Mat3 P = invariant_stress(F, fibers);
   if (reference_d1_ != 0.0) P -= 2.0 * reference_d1_ * F.inverse().transpose();
   return P;
 }
@@ -138,8 +145,12 @@ Tangent InvariantLaw::tangent(const Mat3& F, const FiberFrame& fibers) const
 
 void add_volumetric_tangent(const Mat3& F, double g, double g_prime_J, Tangent& T)
 {
+  add_volumetric_tangent_given_inverse(F.inverse().transpose(), g, g_prime_J, T);
+}
+
+void add_volumetric_tangent_given_inverse(const Mat3& H, double g, double g_prime_J, Tangent& T)
+{
   // P_ab = g(J) H_ab, H = F^{-T}:  dP_ab/dF_cd = J g'(J) H_ab H_cd - g H_ad H_cb.
-  const Mat3 H = F.inverse().transpose();
   for (int d = 0; d < 3; ++d)
     for (int c = 0; c < 3; ++c)
       for (int b = 0; b < 3; ++b)
@@ -148,6 +159,18 @@ void add_volumetric_tangent(const Mat3& F, double g, double g_prime_J, Tangent& 
 }
 
 void InvariantLaw::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
+{
+  invariant_stress_and_tangent(F, fibers, P, T);
+  if (reference_d1_ != 0.0) {
+    // W_ref = -2 d1_ref ln J: g = J U' = -2 d1_ref (constant), J g' = 0.
+    const Mat3 H = F.inverse().transpose();
+    P -= 2.0 * reference_d1_ * H;
+    add_volumetric_tangent_given_inverse(H, -2.0 * reference_d1_, 0.0, T);
+  }
+}
+
+void InvariantLaw::invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P,
+                                                Tangent& T) const
 {
   const auto r = invariants(F, fibers);
   const Mat3 A = fibers.f0 * fibers.f0.transpose();
@@ -172,11 +195,6 @@ void InvariantLaw::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, M
     T.noalias() += r.d66 * g6 * g6.transpose();
     T.noalias() += r.d16 * (g1 * g6.transpose() + g6 * g1.transpose());
     T.noalias() += r.d46 * (g4 * g6.transpose() + g6 * g4.transpose());
-  }
-  if (reference_d1_ != 0.0) {
-    // W_ref = -2 d1_ref ln J: g = J U' = -2 d1_ref (constant), J g' = 0.
-    P -= 2.0 * reference_d1_ * F.inverse().transpose();
-    add_volumetric_tangent(F, -2.0 * reference_d1_, 0.0, T);
   }
 }
 

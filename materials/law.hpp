@@ -79,6 +79,10 @@ class InvariantLaw : public StrainEnergy {
   double reference_d1() const { return reference_d1_; }
   /// Psi and its invariant derivatives at F (without the reference term).
   InvariantResponse<double> invariants(const Mat3& F, const FiberFrame& fibers) const;
+  /// P and dP/dF of Psi alone (without the reference term), for composites that add every
+  /// volumetric term (reference and penalty) in one pass.
+  Mat3 invariant_stress(const Mat3& F, const FiberFrame& fibers) const;
+  void invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const;
 
  private:
   LawKind kind_;
@@ -90,5 +94,7 @@ class InvariantLaw : public StrainEnergy {
 /// The tangent of P = g(J) F^{-T} with g(J) = J U'(J): what every volumetric term adds
 /// (`g_prime_J` = J g'(J) = J^2 U'' + J U').
 void add_volumetric_tangent(const Mat3& F, double g, double g_prime_J, Tangent& T);
+/// The same with H = F^{-T} already computed.
+void add_volumetric_tangent_given_inverse(const Mat3& H, double g, double g_prime_J, Tangent& T);
 
 } // namespace ibvalve::materials

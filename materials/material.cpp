@@ -121,6 +121,7 @@ Material::Material(std::shared_ptr<const StrainEnergy> law, VolumetricPenalty pe
     : law_(std::move(law)), penalty_(penalty)
 {
   if (!law_) throw std::invalid_argument("Material: no law");
+  invariant_law_ = dynamic_cast<const InvariantLaw*>(law_.get());
 }
 
 std::string Material::name() const
@@ -136,7 +137,16 @@ double Material::energy(const Mat3& F, const FiberFrame& fibers) const
 
 Mat3 Material::stress(const Mat3& F, const FiberFrame& fibers) const
 {
-  return law_->stress(F, fibers) + penalty_.stress(F, fibers);
+  if (!invariant_law_) return law_->stress(F, fibers) + penalty_.stress(F, fibers);
+  // Psi's stress, then every volumetric term at once: (J U'(J) - 2 d1_ref) F^{-T}.
+  Mat3 P = invariant_law_->invariant_stress(F, fibers);
+  double g = -2.0 * invariant_law_->reference_d1();
+  if (penalty_.kind() != PenaltyKind::none) {
+    const double J = F.determinant();
+    g += J * penalty_.dU(J);
+  }
+  if (g != 0.0) P += g * F.inverse().transpose();
+  return P;
 }
 
 Tangent Material::tangent(const Mat3& F, const FiberFrame& fibers) const
@@ -149,12 +159,23 @@ Tangent Material::tangent(const Mat3& F, const FiberFrame& fibers) const
 
 void Material::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
 {
-  law_->stress_and_tangent(F, fibers, P, T);
-  if (penalty_.kind() == PenaltyKind::none) return;
-  const double J = F.determinant();
-  const double dU = penalty_.dU(J);
-  P += J * dU * F.inverse().transpose();
-  add_volumetric_tangent(F, J * dU, J * J * penalty_.d2U(J) + J * dU, T);
+  double g = 0.0, g_prime_J = 0.0;
+  if (invariant_law_) {
+    invariant_law_->invariant_stress_and_tangent(F, fibers, P, T);
+    g = -2.0 * invariant_law_->reference_d1(); // the reference term -2 d1_ref ln J (J g' = 0)
+  } else {
+    law_->stress_and_tangent(F, fibers, P, T);
+  }
+  if (penalty_.kind() != PenaltyKind::none) {
+    const double J = F.determinant();
+    const double dU = penalty_.dU(J);
+    g += J * dU;
+    g_prime_J += J * J * penalty_.d2U(J) + J * dU;
+  }
+  if (g == 0.0 && g_prime_J == 0.0) return;
+  const Mat3 H = F.inverse().transpose();
+  P += g * H;
+  add_volumetric_tangent_given_inverse(H, g, g_prime_J, T);
 }
 
 } // namespace ibvalve::materials

@@ -18,6 +18,8 @@
 
 namespace ibvalve::materials {
 
+class InvariantLaw;
+
 enum class PenaltyKind { none, log, quadratic_log, quadratic };
 
 std::optional<PenaltyKind> find_penalty(std::string_view name);
@@ -64,6 +66,8 @@ class Material : public StrainEnergy {
  private:
   std::shared_ptr<const StrainEnergy> law_;
   VolumetricPenalty penalty_;
+  /// The law when it is an InvariantLaw: its reference term and the penalty then share one F^{-T}.
+  const InvariantLaw* invariant_law_ = nullptr;
 };
 
 } // namespace ibvalve::materials
