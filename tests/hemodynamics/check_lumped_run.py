@@ -4,6 +4,9 @@ usage: check_lumped_run.py report RUN_DIR      the run covers full cycles; the m
                                                physiological ranges; report.html exists, references
                                                existing PNGs and shows metrics.json's values
        check_lumped_run.py compare OUT_DIR     comparison files exist, fit error reported missing
+       check_lumped_run.py converged RUN RUN_HALF_DT
+                                               the metrics of the run and of the run at half the
+                                               time step agree to 1e-4 relative (time convergence)
 """
 import csv
 import json
@@ -86,6 +89,26 @@ def check_compare(out):
     print("comparison files written; ranking totals", totals)
 
 
+def check_converged(run, run_half):
+    def metrics(path):
+        with open(os.path.join(path, "report", "metrics.json")) as f:
+            return {k: v["value"] for k, v in json.load(f)["metrics"].items()}
+    a, b = metrics(run), metrics(run_half)
+    worst = 0.0
+    for key in ("forward_volume", "regurgitant_volume", "leakage_volume", "regurgitant_fraction",
+                "transvalvular_pressure_gradient", "effective_orifice_area", "energy_loss",
+                "peak_forward_flow", "opening_duration", "closing_duration"):
+        change = abs(a[key] - b[key]) / abs(b[key])
+        worst = max(worst, change)
+        print(f"{key}: {a[key]:.8g} (dt) vs {b[key]:.8g} (dt/2), relative change {change:.2e}")
+        if change > 1e-4:
+            fail(f"{key} changes by {change:.2e} when the time step is halved")
+    print(f"largest relative change {worst:.2e}")
+
+
 if __name__ == "__main__":
-    mode, target = sys.argv[1], sys.argv[2]
-    {"report": check_report, "compare": check_compare}[mode](target)
+    mode = sys.argv[1]
+    if mode == "converged":
+        check_converged(sys.argv[2], sys.argv[3])
+    else:
+        {"report": check_report, "compare": check_compare}[mode](sys.argv[2])
