@@ -68,6 +68,7 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
+    if (number == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3); // a UTF-8 byte-order mark
     const std::string text = trim(line);
     if (text.empty() || text.front() == '#') continue;
     const auto fields = split(text);

@@ -147,6 +147,11 @@ TEST_F(Csv, ReadsColumnsInAnyOrderWithCommentsAndExtraColumns)
   EXPECT_DOUBLE_EQ(s.points[1].lambda2, 1.04);
   EXPECT_DOUBLE_EQ(s.points[1].sigma11, 7.0);
   EXPECT_DOUBLE_EQ(s.points[1].sigma22, 1.5);
+  // Spreadsheet exports: a byte-order mark and CRLF line ends.
+  const auto bom =
+      write("bom.csv", "\xEF\xBB\xBFlambda1,lambda2,sigma11_kPa,sigma22_kPa\r\n1.01,1.02,3.0,0.5\r\n"
+                       "1.02,1.04,7.0,1.5\r\n1.03,1.06,12.0,2.5\r\n");
+  EXPECT_EQ(read_biaxial_csv(bom).points.size(), 3u);
 }
 
 TEST_F(Csv, BadFilesNameFileAndLine)
