@@ -176,3 +176,22 @@ TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
   EXPECT_TRUE(fs::exists(files.html));
   fs::remove_all(out);
 }
+
+TEST(Report, SettingsComeFromTheRunsConfig)
+{
+  const auto run = scratch("settings");
+  EXPECT_EQ(hd::metric_settings_from_run(run).period, 0.8); // no config.toml: defaults
+  std::ofstream(run / "config.toml") << "model = \"lumped\"\n[report]\nperiod = 1\ncycle = 0\n"
+                                        "closure_rule = \"area\"\nclosed_area_fraction = 0.02\n";
+  const hd::MetricSettings s = hd::metric_settings_from_run(run);
+  EXPECT_EQ(s.period, 1.0);
+  EXPECT_EQ(s.cycle, 0);
+  EXPECT_EQ(s.closure_rule, hd::ClosureRule::area);
+  EXPECT_EQ(s.closed_area_fraction, 0.02);
+  EXPECT_EQ(s.open_area_fraction, 0.9);
+  std::ofstream(run / "config.toml") << "[report]\nperiod = \"long\"\n";
+  EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
+  std::ofstream(run / "config.toml") << "[report]\nclosure_rule = \"guess\"\n";
+  EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
+  fs::remove_all(run);
+}

@@ -184,3 +184,23 @@ TEST(Waveform, TheDefaultLvPressureTableIsPhysiological)
   EXPECT_GT(low, 0.0);
   EXPECT_LT(low, 12.0);
 }
+
+TEST(Waveform, CaseKeysNameTheTableRelativeToTheCaseFile)
+{
+  const auto dir = scratch();
+  std::ofstream(dir / "p.csv") << "# a comment\nseconds,kPa\n0,1\n0.5,2\n1.0,1\n";
+  std::ofstream(dir / "case.toml")
+      << "[drive]\nfile = \"p.csv\"\ntime_column = \"seconds\"\nvalue_column = \"kPa\"\n"
+         "interpolation = \"linear\"\n";
+  ibvalve::io::Schema schema;
+  wk::add_waveform_schema(schema, "drive", "a test waveform");
+  const auto w = wk::waveform_from_config(ibvalve::io::Config::load(dir / "case.toml", schema), "drive",
+                                          ibvalve::units::kPa);
+  EXPECT_NEAR(w.period(), 1.0, 1e-15);
+  EXPECT_NEAR(w(0.25), 1.5 * ibvalve::units::kPa, 1e-9);
+  std::ofstream(dir / "case.toml") << "[drive]\nfile = \"missing.csv\"\n";
+  EXPECT_THROW(ibvalve::io::Config::load(dir / "case.toml", schema), ibvalve::InputError);
+  std::ofstream(dir / "case.toml") << "[drive]\nfile = \"p.csv\"\ninterpolation = \"spline\"\n";
+  EXPECT_THROW(ibvalve::io::Config::load(dir / "case.toml", schema), ibvalve::InputError);
+  std::filesystem::remove_all(dir);
+}
