@@ -5,6 +5,7 @@
 namespace ibvalve::app {
 
 Model lumped_model(); // app/lumped_model.cpp
+Model fluid_model();  // app/fluid_model.cpp
 
 namespace {
 std::vector<std::string> model_names()
@@ -21,6 +22,7 @@ const std::vector<Model>& models()
   static const std::vector<Model> all = [] {
     std::vector<Model> list;
     list.push_back(lumped_model());
+    list.push_back(fluid_model());
     return list;
   }();
   return all;
