@@ -129,7 +129,7 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
     }
 }
 
-std::vector<double> IbfeIntegrator::project_velocity(Vec velocity)
+std::vector<double> IbfeIntegrator::project_velocity(Vec velocity, int guess_slot)
 {
   std::vector<Vec3> values(owned_positions_.size());
   {
@@ -141,13 +141,13 @@ std::vector<double> IbfeIntegrator::project_velocity(Vec velocity)
   points_.add_projection_rhs(owned_points_, values, rhs);
   MPI_Allreduce(MPI_IN_PLACE, rhs.data(), static_cast<int>(rhs.size()), MPI_DOUBLE, MPI_SUM,
                 fluid_.grid().comm());
-  return velocity_mass_.solve(rhs);
+  return velocity_mass_.solve(rhs, guess_slot);
 }
 
 std::vector<double> IbfeIntegrator::nodal_velocity(Vec velocity, std::span<const double> displacement)
 {
   place_points(displacement);
-  return project_velocity(velocity);
+  return project_velocity(velocity, 3);
 }
 
 std::vector<double> IbfeIntegrator::structure_forces(std::span<const double> displacement,
@@ -169,7 +169,7 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
   std::vector<double> density;
   {
     Stopwatch watch(timings_.projection);
-    density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces);
+    density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces, 2);
   }
   Stopwatch watch(timings_.spreading);
   std::vector<Vec3> point_forces(owned_points_.size());
@@ -197,7 +197,7 @@ void IbfeIntegrator::step(double dt)
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.
   place_points(displacement_);
-  const std::vector<double> U_n = project_velocity(fluid_.state());
+  const std::vector<double> U_n = project_velocity(fluid_.state(), 0);
   std::vector<double> u_half(dofs);
   for (std::size_t i = 0; i < dofs; ++i) u_half[i] = displacement_[i] + 0.5 * dt * U_n[i];
   // 2. Forces at chi^{n+1/2}, spread from the points placed there.
@@ -212,7 +212,7 @@ void IbfeIntegrator::step(double dt)
   }
   // 4. U^{n+1/2} from (u^n + u^{n+1})/2 at the same points, and the full position update.
   PETSC_CHECK(VecAXPBYPCZ(velocity_mid_, 0.5, 0.5, 0.0, velocity_old_, fluid_.state()));
-  velocity_ = project_velocity(velocity_mid_);
+  velocity_ = project_velocity(velocity_mid_, 1);
   for (std::size_t i = 0; i < dofs; ++i) {
     displacement_[i] += dt * velocity_[i];
     if (!std::isfinite(displacement_[i]))

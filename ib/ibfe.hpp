@@ -116,7 +116,8 @@ class IbfeIntegrator {
 
  private:
   void place_points(std::span<const double> displacement);
-  std::vector<double> project_velocity(Vec velocity);
+  /// `guess_slot`: which earlier solution the consistent mass solve starts from (ib/nodal_mass.hpp).
+  std::vector<double> project_velocity(Vec velocity, int guess_slot);
   std::vector<double> structure_forces(std::span<const double> displacement,
                                        std::span<const double> velocity);
   void spread_force_density(std::span<const double> nodal_forces);

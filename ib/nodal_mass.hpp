@@ -1,9 +1,11 @@
 #pragma once
 // Solves M v = b for 3-component nodal fields of the replicated structure mesh, with the consistent
-// mass matrix M_ab = int N_a N_b dX (PETSc CG + Jacobi, options prefix "ib_mass_") or the row-sum
-// lumped mass m_a = int N_a dX: the L2 projections of the IB/FE coupling (velocity to nodes, nodal
-// force to force density). Both are exact for a constant field; the consistent one for every field in
-// the finite-element space.
+// mass matrix M_ab = int N_a N_b dX (one PETSc CG + Jacobi solve per component; options prefix
+// "ib_mass_" by default) or the row-sum lumped mass
+// m_a = int N_a dX: the L2 projections of the IB/FE coupling (velocity to nodes, nodal force to
+// force density). Both are exact for a constant field; the consistent one for every field in the
+// finite-element space. Consecutive solves of the same kind of field start from the last solution of
+// that kind (a "guess slot"), which changes little from step to step.
 #include <span>
 #include <string>
 #include <vector>
@@ -26,8 +28,9 @@ class NodalMass {
   fe::MassKind kind() const { return kind_; }
   /// int N_a dX, replicated.
   const std::vector<double>& lumped() const { return lumped_; }
-  /// v with M v = b, both replicated and interlaced (3 per node). Collective.
-  std::vector<double> solve(std::span<const double> b) const;
+  /// v with M v = b, both replicated and interlaced (3 per node). A consistent solve starts from the
+  /// last solution stored in `guess_slot` (0, 1, 2, ...) and stores its own there. Collective.
+  std::vector<double> solve(std::span<const double> b, int guess_slot = 0) const;
   /// Krylov iterations of the last consistent solve (summed over the components).
   PetscInt last_iterations() const { return iterations_; }
 
@@ -39,7 +42,8 @@ class NodalMass {
   std::vector<double> lumped_;
   Mat mass_ = nullptr;
   KSP ksp_ = nullptr;
-  Vec x_ = nullptr, b_ = nullptr;
+  Vec b_ = nullptr;
+  mutable std::vector<Vec> guesses_;
   mutable PetscInt iterations_ = 0;
 };
 
