@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <numbers>
 
+#include <gmsh.h>
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -108,4 +109,44 @@ TEST(MeshInput, SubmeshKeepsItsGroups)
   EXPECT_FALSE(part.has_group("xmax"));
   EXPECT_NEAR(surface_area(part, "ymin"), 1.0, 1e-14);
   for (std::size_t n = 0; n < part.num_nodes(); ++n) EXPECT_EQ(part.nodes()[n], mesh.nodes()[map[n]]);
+}
+
+TEST(MeshInput, ReadsAMeshGmshGeneratedFromGeometry)
+{
+  // A mesh as users make them: an OpenCASCADE box meshed by gmsh into tetrahedra, with physical
+  // groups on the volume, a face and a corner (nodes classified on points, curves and surfaces).
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const std::filesystem::path path = "gmsh_box_" + std::to_string(rank) + ".msh";
+  Vec3 corner_position;
+  {
+    GmshSession session;
+    gmsh::clear();
+    gmsh::model::add("box");
+    gmsh::model::occ::addBox(0, 0, 0, 2, 1, 0.5);
+    gmsh::model::occ::synchronize();
+    gmsh::option::setNumber("Mesh.MeshSizeMax", 0.25);
+    const int body = gmsh::model::addPhysicalGroup(3, {1});
+    gmsh::model::setPhysicalName(3, body, "body");
+    // Face x = 0 of an OCC box is surface 1; point 1 is one of the box's corners.
+    const int face = gmsh::model::addPhysicalGroup(2, {1});
+    gmsh::model::setPhysicalName(2, face, "xmin");
+    const int corner = gmsh::model::addPhysicalGroup(0, {1});
+    gmsh::model::setPhysicalName(0, corner, "origin");
+    double x0, y0, z0, x1, y1, z1;
+    gmsh::model::getBoundingBox(0, 1, x0, y0, z0, x1, y1, z1);
+    corner_position = Vec3(x0, y0, z0);
+    gmsh::model::mesh::generate(3);
+    gmsh::write(path.string());
+    gmsh::clear();
+  }
+  const Mesh mesh = read_msh(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(mesh.shape(), CellShape::tetrahedron);
+  EXPECT_NEAR(mesh.volume(), 1.0, 1e-12);
+  EXPECT_EQ(mesh.group("body").elements.size(), mesh.num_elements());
+  EXPECT_NEAR(surface_area(mesh, "xmin"), 0.5, 1e-12);
+  for (int n : mesh.group("xmin").nodes) EXPECT_NEAR(mesh.nodes()[n][0], 0.0, 1e-12);
+  ASSERT_EQ(mesh.group("origin").nodes.size(), 1u);
+  EXPECT_NEAR((mesh.nodes()[mesh.group("origin").nodes[0]] - corner_position).norm(), 0.0, 1e-12);
 }
