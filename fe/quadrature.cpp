@@ -22,7 +22,6 @@ void gauss_legendre(int n, std::vector<double>& nodes, std::vector<double>& weig
         p0 = p1;
         p1 = p2;
       }
-      if (n == 1) p0 = 1.0;
       derivative = n * (x * p1 - p0) / (x * x - 1.0);
       const double step = p1 / derivative;
       x -= step;

@@ -13,6 +13,7 @@
 
 #include "fe/loads.hpp"
 #include "fe/quasi_static.hpp"
+#include "io/errors.hpp"
 #include "io/logger.hpp"
 #include "tests/fe/neo_hookean_fixture.hpp"
 
@@ -83,6 +84,31 @@ TEST_P(SolidVerification, UniaxialTensionOfANeoHookeanBarGivesTheAnalyticStretch
   std::ostringstream message;
   message << "uniaxial: stretch " << l << ", lateral " << t << ", max nodal error " << error << " cm";
   ibvalve::io::Logger::global().info(message.str());
+}
+
+TEST(SolidFailures, NewtonThatCannotConvergeIsARunErrorNamingTheStep)
+{
+  const Mesh mesh = box_mesh(CellShape::hexahedron, Vec3(0, 0, 0), Vec3(3, 1, 1), {3, 1, 1});
+  const SolidModel solid(mesh, one_part(mesh), 2, PETSC_COMM_WORLD);
+  const std::vector<double> load = surface_traction_load(
+      mesh, "xmax", [](const Vec3&) { return Vec3(2 * mu, 0, 0); }, 2, PETSC_COMM_WORLD);
+  QuasiStaticOptions options;
+  options.max_iterations = 1; // one Newton step cannot reach 1e-10 from a large load
+  QuasiStaticSolver solver(solid, {dirichlet_on_group(mesh, "xmin")}, load, options);
+  try {
+    solver.solve();
+    FAIL() << "expected a RunError";
+  } catch (const ibvalve::RunError& error) {
+    EXPECT_NE(std::string(error.what()).find("load step 1 of 1"), std::string::npos) << error.what();
+  }
+}
+
+TEST(SolidFailures, InvertedElementIsAnInputError)
+{
+  Mesh mesh = box_mesh(CellShape::tetrahedron, Vec3(0, 0, 0), Vec3(1, 1, 1), {1, 1, 1});
+  // Push the far corner through the opposite faces: some tetrahedra turn inside out.
+  mesh.nodes()[mesh.group("corner_hi").nodes[0]] = Vec3(-1, -1, -1);
+  EXPECT_THROW(QuadratureData(mesh, 2), ibvalve::InputError);
 }
 
 namespace {
