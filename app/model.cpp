@@ -5,6 +5,7 @@
 namespace ibvalve::app {
 
 Model lumped_model(); // app/lumped_model.cpp
+Model ibfe_model();   // app/ibfe_model.cpp
 Model fluid_model();  // app/fluid_model.cpp
 
 namespace {
@@ -22,6 +23,7 @@ const std::vector<Model>& models()
   static const std::vector<Model> all = [] {
     std::vector<Model> list;
     list.push_back(lumped_model());
+    list.push_back(ibfe_model());
     list.push_back(fluid_model());
     return list;
   }();

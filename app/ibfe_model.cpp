@@ -1,0 +1,378 @@
+// `model = "ibfe"`: an elastic structure (a finite-element mesh) immersed in viscous incompressible
+// fluid on a staggered grid, coupled by the IB/FE method (ib/ibfe.hpp; docs/ib.md). The structure is
+// read from a Gmsh file or generated (a box of hexahedra, a thick spherical shell), may start from a
+// stretched or inflated configuration, and may be tethered. Output: fields/*.h5 + fields.xdmf with
+// the grid's velocity, vorticity and pressure and the mesh's displacement, velocity, J, fiber strain
+// and fiber stress side by side (one ParaView state opens both), and timeseries.csv.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include <mpi.h>
+
+#include "app/model.hpp"
+#include "fe/gmsh_io.hpp"
+#include "fe/mesh.hpp"
+#include "fe/solid.hpp"
+#include "fluid/navier_stokes.hpp"
+#include "fluid/queries.hpp"
+#include "ib/ibfe.hpp"
+#include "ib/shapes.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+#include "io/hdf5.hpp"
+#include "io/logger.hpp"
+#include "io/xdmf.hpp"
+#include "materials/settings.hpp"
+
+namespace ibvalve::app {
+
+namespace {
+
+void add_ibfe_schema(io::Schema& s)
+{
+  s.add_real("time.end", "simulated time").unit("s").defaults(0.05).positive();
+  s.add_real("time.step", "time step of the coupled scheme (see the stability estimate in the log)")
+      .unit("s")
+      .defaults(1e-3)
+      .positive();
+  s.add_integer("output.every", "write fields every this many steps (and the first and last)")
+      .defaults(std::int64_t{10})
+      .at_least(1);
+  s.add_real("fluid.density", "fluid density").unit("g/mL").defaults(1.0).positive();
+  s.add_real("fluid.viscosity", "dynamic viscosity").unit("cP").defaults(4.0).non_negative();
+  s.add_integer_list("fluid.cells", "grid cells in x, y, z")
+      .size(3)
+      .defaults(std::vector<std::int64_t>{32, 32, 32});
+  s.add_real_list("fluid.lower", "lower corner of the box")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  s.add_real_list("fluid.upper", "upper corner of the box")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{1, 1, 1});
+  s.add_string("fluid.boundary", "periodic box (FFT solver) or no-slip walls on every side (Krylov solver)")
+      .choices({"periodic", "walls"})
+      .defaults(std::string("periodic"));
+
+  s.add_string("structure.shape",
+               "where the mesh comes from: a Gmsh file, a generated box or spherical shell")
+      .choices({"file", "box", "spherical-shell"})
+      .defaults(std::string("box"));
+  s.add_string("structure.mesh", "Gmsh mesh (.msh) of hexahedra or tetrahedra, when shape = \"file\"")
+      .file(true);
+  s.add_real_list("structure.box.lower", "box shape: lower corner")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.35, 0.4, 0.4});
+  s.add_real_list("structure.box.upper", "box shape: upper corner")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.65, 0.6, 0.6});
+  s.add_integer_list("structure.box.cells", "box shape: hexahedra per direction")
+      .size(3)
+      .defaults(std::vector<std::int64_t>{6, 4, 4});
+  s.add_real_list("structure.shell.center", "shell shape: centre")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.5, 0.5, 0.5});
+  s.add_real("structure.shell.inner_radius", "shell shape: inner radius").unit("cm").defaults(0.2).positive();
+  s.add_real("structure.shell.outer_radius", "shell shape: outer radius").unit("cm").defaults(0.3).positive();
+  s.add_integer("structure.shell.patches", "shell shape: cells along each cube-face patch side")
+      .defaults(std::int64_t{8})
+      .at_least(1);
+  s.add_integer("structure.shell.layers", "shell shape: cells through the thickness")
+      .defaults(std::int64_t{3})
+      .at_least(1);
+  s.add_real_list("structure.initial.stretch",
+                  "initial stretch of the structure about its centroid (x, y, z)")
+      .size(3)
+      .defaults(std::vector<double>{1, 1, 1});
+  s.add_real(
+       "structure.initial.inflated_inner_radius",
+       "shell shape: start inflated isochorically (r^3 = R^3 + a) to this inner radius; 0 = not inflated")
+      .unit("cm")
+      .defaults(0.0)
+      .non_negative();
+  s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
+      .defaults(std::int64_t{2})
+      .at_least(1);
+  s.merge(materials::material_schema("structure.material"));
+
+  s.add_string("ib.kernel", "regularized delta function")
+      .choices({"piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3"})
+      .defaults(ib::kernel_name(ib::default_kernel));
+  s.add_string("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes")
+      .choices({"consistent", "lumped"})
+      .defaults(std::string("consistent"));
+  s.add_string("ib.force_projection", "L2 projection of the nodal forces to a force density")
+      .choices({"consistent", "lumped"})
+      .defaults(std::string("consistent"));
+  s.add_real("ib.point_spacing", "largest spacing of the coupling points, in grid cells")
+      .defaults(0.5)
+      .positive();
+  io::Schema tether;
+  tether.add_string("group", "a physical group of the mesh (surface, volume or points)").required();
+  tether
+      .add_real("stiffness", "spring stiffness per area (surface), volume (volume) or per node (points), CGS")
+      .defaults(0.0)
+      .non_negative();
+  tether.add_real("damping", "dashpot coefficient, the same per unit velocity, CGS")
+      .defaults(0.0)
+      .non_negative();
+  s.add_table_list("ib.tether", tether, "tethers pulling groups of nodes back to their reference positions");
+}
+
+fe::MassKind mass_kind(const std::string& name)
+{
+  return name == "lumped" ? fe::MassKind::lumped : fe::MassKind::consistent;
+}
+
+class IbfeRun : public PreparedRun {
+ public:
+  explicit IbfeRun(const io::Config& config) : config_(config)
+  {
+    for (int d = 0; d < 3; ++d) {
+      box_.cells[d] = static_cast<PetscInt>(config.integers("fluid.cells")[d]);
+      box_.lower[d] = config.reals("fluid.lower")[d];
+      box_.upper[d] = config.reals("fluid.upper")[d];
+      if (box_.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
+      if (!(box_.upper[d] > box_.lower[d]))
+        config.fail("fluid.upper", "must lie above fluid.lower in every direction");
+      box_.periodic[d] = config.string("fluid.boundary") == "periodic";
+    }
+    fluid_settings_.rho = config.real("fluid.density");
+    fluid_settings_.mu = config.real("fluid.viscosity");
+    fluid_settings_.solver = box_.periodic[0] ? fluid::SolverKind::fft : fluid::SolverKind::krylov;
+
+    const std::string shape = config.string("structure.shape");
+    if (shape == "file") {
+      if (!config.has("structure.mesh")) config.fail("structure.shape", "\"file\" needs structure.mesh");
+      mesh_ = fe::read_msh(config.path("structure.mesh"));
+    } else if (shape == "box") {
+      const auto lo = config.reals("structure.box.lower"), hi = config.reals("structure.box.upper");
+      const auto n = config.integers("structure.box.cells");
+      for (int d = 0; d < 3; ++d) {
+        if (!(hi[d] > lo[d])) config.fail("structure.box.upper", "must lie above structure.box.lower");
+        if (n[d] < 1) config.fail("structure.box.cells", "must be at least 1");
+      }
+      mesh_ = fe::box_mesh(fe::CellShape::hexahedron, fe::Vec3(lo[0], lo[1], lo[2]),
+                           fe::Vec3(hi[0], hi[1], hi[2]),
+                           {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])});
+    } else {
+      const auto c = config.reals("structure.shell.center");
+      const double ri = config.real("structure.shell.inner_radius"),
+                   ro = config.real("structure.shell.outer_radius");
+      if (!(ro > ri)) config.fail("structure.shell.outer_radius", "must exceed structure.shell.inner_radius");
+      center_ = fe::Vec3(c[0], c[1], c[2]);
+      inner_radius_ = ri;
+      mesh_ = ib::spherical_shell_mesh(center_, ri, ro,
+                                       static_cast<int>(config.integer("structure.shell.patches")),
+                                       static_cast<int>(config.integer("structure.shell.layers")));
+    }
+    inflated_ = config.real("structure.initial.inflated_inner_radius");
+    if (inflated_ > 0.0 && shape != "spherical-shell")
+      config.fail("structure.initial.inflated_inner_radius", "applies to the spherical-shell shape only");
+    if (inflated_ > 0.0 && inflated_ < inner_radius_)
+      config.fail("structure.initial.inflated_inner_radius",
+                  "must not be below structure.shell.inner_radius");
+    material_ = materials::read_material(config, "structure.material").build();
+
+    settings_.kernel = *ib::find_kernel(config.string("ib.kernel"));
+    settings_.velocity_projection = mass_kind(config.string("ib.velocity_projection"));
+    settings_.force_projection = mass_kind(config.string("ib.force_projection"));
+    settings_.points.spacing = config.real("ib.point_spacing");
+    if (config.has("ib.tether"))
+      for (const io::Config& t : config.tables("ib.tether")) {
+        const std::string group = t.string("group");
+        if (!mesh_.has_group(group)) t.fail("group", "the mesh has no physical group '" + group + "'");
+        settings_.tethers.push_back({group, t.real("stiffness"), t.real("damping")});
+      }
+
+    initial_ = initial_displacement(config);
+    for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) {
+        const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
+        if (!box_.periodic[d] && !(x > box_.lower[d] && x < box_.upper[d]))
+          config.fail("structure.shape", "the structure must lie inside the walled box");
+      }
+    end_ = config.real("time.end");
+    dt_ = config.real("time.step");
+    every_ = config.integer("output.every");
+  }
+
+  RunSummary run(const RunContext& context) override
+  {
+    auto& log = io::Logger::global();
+    fluid::BoundaryConditions bc;
+    if (!box_.periodic[0])
+      for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
+    fluid::NavierStokes fluid(context.comm, box_, bc, fluid_settings_);
+    fluid.set_initial_condition(
+        [](const fluid::Real3&, double) {
+          return fluid::Real3{0.0, 0.0, 0.0};
+        },
+        nullptr, 0.0);
+    fe::BodyPart part{"structure", {}, {material_}};
+    for (std::size_t e = 0; e < mesh_.num_elements(); ++e) part.elements.push_back(static_cast<int>(e));
+    fe::SolidModel solid(mesh_, {part}, static_cast<int>(config_.integer("structure.quadrature_degree")),
+                         context.comm);
+    ib::IbfeIntegrator ibfe(fluid, solid, settings_);
+    ibfe.set_displacement(initial_);
+    log.info("structure: " + std::to_string(mesh_.num_elements()) + " elements, " +
+             std::to_string(mesh_.num_nodes()) + " nodes, volume " + std::to_string(mesh_.volume()) +
+             " cm^3; " + material_->name());
+
+    const std::filesystem::path directory = context.run_directory;
+    int rank = 0;
+    MPI_Comm_rank(context.comm, &rank);
+    if (rank == 0) std::filesystem::create_directories(directory / "fields");
+    MPI_Barrier(context.comm);
+    io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
+    io::CsvWriter csv;
+    if (rank == 0)
+      csv = io::CsvWriter(directory / "timeseries.csv", {"t", "volume", "volume_change", "max_node_speed",
+                                                         "max_displacement", "kinetic_energy"});
+    const double V0 = mesh_.volume();
+    const long steps = std::max(1L, std::lround(end_ / dt_));
+    auto record = [&](long step) {
+      double speed = 0.0, displacement = 0.0;
+      for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
+        speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
+        displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
+      }
+      const double volume = ibfe.volume(), energy = fluid::kinetic_energy(fluid);
+      if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+      if (step % every_ == 0 || step == steps)
+        write_fields(context.comm, directory, series, fluid, ibfe, step);
+    };
+    log.start_clock();
+    record(0);
+    for (long step = 1; step <= steps; ++step) {
+      ibfe.step(dt_);
+      record(step);
+      log.progress({step, ibfe.time(), steps * dt_});
+    }
+    log.finish_progress();
+    const ib::IbfeTimings& t = ibfe.timings();
+    std::ostringstream timing;
+    timing.precision(3);
+    timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
+           << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
+           << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")";
+    RunSummary summary;
+    summary.lines.push_back(timing.str());
+    summary.lines.push_back("structure volume change " + std::to_string(100.0 * (ibfe.volume() / V0 - 1.0)) +
+                            " %");
+    summary.lines.push_back("fields: " + (directory / "fields.xdmf").string() + " (" +
+                            std::to_string(series.steps()) +
+                            " outputs), time series: " + (directory / "timeseries.csv").string());
+    return summary;
+  }
+
+ private:
+  std::vector<double> initial_displacement(const io::Config& config) const
+  {
+    std::vector<double> u(3 * mesh_.num_nodes(), 0.0);
+    fe::Vec3 centroid = fe::Vec3::Zero();
+    for (const fe::Vec3& X : mesh_.nodes()) centroid += X;
+    centroid /= static_cast<double>(mesh_.num_nodes());
+    const auto stretch = config.reals("structure.initial.stretch");
+    for (int d = 0; d < 3; ++d)
+      if (!(stretch[d] > 0.0)) config.fail("structure.initial.stretch", "stretches must be positive");
+    const double a = inflated_ > 0.0 ? std::pow(inflated_, 3) - std::pow(inner_radius_, 3) : 0.0;
+    for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
+      fe::Vec3 x = mesh_.nodes()[n];
+      if (a > 0.0) {
+        const fe::Vec3 R = x - center_;
+        x = center_ + std::cbrt(std::pow(R.norm(), 3) + a) / R.norm() * R;
+      }
+      for (int d = 0; d < 3; ++d) x[d] = centroid[d] + stretch[d] * (x[d] - centroid[d]);
+      for (int d = 0; d < 3; ++d) u[3 * n + d] = x[d] - mesh_.nodes()[n][d];
+    }
+    return u;
+  }
+
+  void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+                    const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe, long step) const
+  {
+    char name[64];
+    std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
+    const std::string file = name;
+    io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
+    // The grid: cell-centred velocity, vorticity (3 each) and pressure, each rank its block.
+    const fluid::CellFields cells = fluid::cell_fields(fluid);
+    const std::array<std::size_t, 3> n{static_cast<std::size_t>(box_.cells[0]),
+                                       static_cast<std::size_t>(box_.cells[1]),
+                                       static_cast<std::size_t>(box_.cells[2])};
+    const std::vector<hsize_t> scalar_dims{n[2], n[1], n[0]}, vector_dims{n[2], n[1], n[0], 3};
+    const std::vector<hsize_t> offset{static_cast<hsize_t>(cells.begin[2]),
+                                      static_cast<hsize_t>(cells.begin[1]),
+                                      static_cast<hsize_t>(cells.begin[0]), 0};
+    const std::vector<hsize_t> count{static_cast<hsize_t>(cells.count[2]),
+                                     static_cast<hsize_t>(cells.count[1]),
+                                     static_cast<hsize_t>(cells.count[0]), 3};
+    h5.write_block("fluid/velocity", cells.velocity, vector_dims, offset, count);
+    h5.write_block("fluid/vorticity", cells.vorticity, vector_dims, offset, count);
+    h5.write_block("fluid/pressure", cells.pressure, scalar_dims, std::span(offset).first(3),
+                   std::span(count).first(3));
+    // The mesh (replicated): current coordinates, nodal and element fields.
+    const std::size_t nodes = mesh_.num_nodes(), elements = mesh_.num_elements();
+    const std::size_t per_element = static_cast<std::size_t>(mesh_.nodes_per_element());
+    std::vector<std::int64_t> connectivity(mesh_.connectivity().begin(), mesh_.connectivity().end());
+    std::vector<double> coordinates(3 * nodes);
+    const auto x = ibfe.positions();
+    for (std::size_t i = 0; i < nodes; ++i)
+      for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
+    const fe::ElementFields ef = ibfe.solid().element_fields(ibfe.displacement());
+    const std::vector<hsize_t> node_vector{nodes, 3}, cell_scalar{elements},
+        cell_nodes{elements, per_element};
+    h5.write_root("mesh/connectivity", connectivity, cell_nodes);
+    h5.write_root("mesh/coordinates", coordinates, node_vector);
+    h5.write_root("mesh/displacement", ibfe.displacement(), node_vector);
+    h5.write_root("mesh/velocity", ibfe.velocity(), node_vector);
+    h5.write_root("mesh/J", ef.J, cell_scalar);
+    h5.write_root("mesh/fiber_strain", ef.fiber_strain, cell_scalar);
+    h5.write_root("mesh/fiber_stress", ef.fiber_stress, cell_scalar);
+
+    auto grid = io::XdmfGrid::regular("fluid", n, {box_.lower[0], box_.lower[1], box_.lower[2]},
+                                      {fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
+    grid.add_field("velocity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/velocity")
+        .add_field("vorticity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/vorticity")
+        .add_field("pressure", io::Center::cell, {n[2], n[1], n[0]}, file + ":/fluid/pressure");
+    auto mesh = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh_.shape()), elements, per_element,
+                                   file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
+    mesh.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
+        .add_field("velocity", io::Center::node, {nodes, 3}, file + ":/mesh/velocity")
+        .add_field("J", io::Center::cell, {elements}, file + ":/mesh/J")
+        .add_field("fiber_strain", io::Center::cell, {elements}, file + ":/mesh/fiber_strain")
+        .add_field("fiber_stress", io::Center::cell, {elements}, file + ":/mesh/fiber_stress");
+    series.add_step(ibfe.time(), {grid, mesh});
+  }
+
+  io::Config config_;
+  fluid::BoxGeometry box_;
+  fluid::FluidSettings fluid_settings_;
+  fe::Mesh mesh_;
+  std::shared_ptr<const materials::StrainEnergy> material_;
+  ib::IbfeSettings settings_;
+  std::vector<double> initial_;
+  fe::Vec3 center_ = fe::Vec3::Zero();
+  double inner_radius_ = 0.0, inflated_ = 0.0, end_ = 0.0, dt_ = 0.0;
+  long every_ = 1;
+};
+
+} // namespace
+
+Model ibfe_model()
+{
+  return {"ibfe",
+          "an elastic structure (FE mesh) immersed in fluid on a staggered grid, coupled by the IB/FE method",
+          add_ibfe_schema, [](const io::Config& config) { return std::make_unique<IbfeRun>(config); }};
+}
+
+} // namespace ibvalve::app
