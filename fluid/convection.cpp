@@ -1,5 +1,7 @@
 #include "fluid/convection.hpp"
 
+#include <vector>
+
 namespace ibvalve::fluid {
 
 namespace {
@@ -33,40 +35,49 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
   const WallValues wall{grid, bc, t};
   StagArray u(grid, u_local, true);
   StagArray out(grid, out_local);
+  std::vector<double> flux;
   for (int d = 0; d < 3; ++d) {
     const PetscInt sd = grid.face_slot(d);
-    for (PetscInt k = grid.begin(2); k < grid.face_end(d, 2); ++k)
-      for (PetscInt j = grid.begin(1); j < grid.face_end(d, 1); ++j)
-        for (PetscInt i = grid.begin(0); i < grid.face_end(d, 0); ++i) {
-          double total = 0.0;
-          for (int e = 0; e < 3; ++e) {
-            const PetscInt se = grid.face_slot(e);
-            const PetscInt oi = e == 0, oj = e == 1, ok = e == 2; // unit step along e
-            const PetscInt di = d == 0, dj = d == 1, dk = d == 2; // unit step along d
+    const Index3 lo{grid.begin(0), grid.begin(1), grid.begin(2)};
+    const Index3 hi{grid.face_end(d, 0), grid.face_end(d, 1), grid.face_end(d, 2)};
+    for (PetscInt k = lo[2]; k < hi[2]; ++k)
+      for (PetscInt j = lo[1]; j < hi[1]; ++j)
+        for (PetscInt i = lo[0]; i < hi[0]; ++i) out(i, j, k, sd) = 0.0;
+    const PetscInt di = d == 0, dj = d == 1, dk = d == 2; // unit step along d
+    for (int e = 0; e < 3; ++e) {
+      const PetscInt se = grid.face_slot(e);
+      const PetscInt oi = e == 0, oj = e == 1, ok = e == 2; // unit step along e
+      // The flux through the lower side (along e) of every momentum cell, and of the one past the
+      // last, each computed once: F(idx) = a q, the advecting velocity a times the upwind-biased
+      // advected value q. For e == d the side is the cell centre between faces idx - e and idx; for
+      // e != d it is the edge between u_d at idx - e and idx.
+      const PetscInt nx = hi[0] - lo[0] + oi, ny = hi[1] - lo[1] + oj, nz = hi[2] - lo[2] + ok;
+      flux.resize(static_cast<std::size_t>(nx * ny * nz));
+      auto at = [&](PetscInt i, PetscInt j, PetscInt k) -> double& {
+        return flux[static_cast<std::size_t>(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]))];
+      };
+      const bool walled = e != d && !grid.periodic(e);
+      for (PetscInt k = lo[2]; k < lo[2] + nz; ++k)
+        for (PetscInt j = lo[1]; j < lo[1] + ny; ++j)
+          for (PetscInt i = lo[0]; i < lo[0] + nx; ++i) {
             auto ud = [&](PetscInt s) { return u(i + s * oi, j + s * oj, k + s * ok, sd); };
-            // Advecting velocity on the upper (+) and lower (-) sides of the control volume along e.
-            double a_plus, a_minus;
-            if (e == d) {
-              a_plus = 0.5 * (ud(0) + ud(1));
-              a_minus = 0.5 * (ud(-1) + ud(0));
-            } else {
-              a_plus = 0.5 * (u(i + oi, j + oj, k + ok, se) + u(i + oi - di, j + oj - dj, k + ok - dk, se));
-              a_minus = 0.5 * (u(i, j, k, se) + u(i - di, j - dj, k - dk, se));
-            }
-            // For e == d the sides are cell centres between faces s and s+1; for e != d they are the
-            // edges between u_d at s and s+1 along e. Either way the same four values enter.
-            double f_plus = upwind_flux(a_plus, ud(-1), ud(0), ud(1), ud(2), scheme);
-            double f_minus = upwind_flux(a_minus, ud(-2), ud(-1), ud(0), ud(1), scheme);
-            if (e != d && !grid.periodic(e)) {
-              // An edge on a wall carries the wall's tangential velocity, known exactly.
+            const double a =
+                e == d ? 0.5 * (ud(-1) + ud(0)) : 0.5 * (u(i, j, k, se) + u(i - di, j - dj, k - dk, se));
+            double f = upwind_flux(a, ud(-2), ud(-1), ud(0), ud(1), scheme);
+            if (walled) {
+              // A side on a wall carries the wall's tangential velocity, known exactly.
               const Index3 idx{i, j, k};
-              if (idx[e] == 0) f_minus = a_minus * wall.tangential(e, 0, d, idx);
-              if (idx[e] == grid.cells(e) - 1) f_plus = a_plus * wall.tangential(e, 1, d, idx);
+              if (idx[e] == 0) f = a * wall.tangential(e, 0, d, idx);
+              if (idx[e] == grid.cells(e)) f = a * wall.tangential(e, 1, d, idx);
             }
-            total += (f_plus - f_minus) / grid.h(e);
+            at(i, j, k) = f;
           }
-          out(i, j, k, sd) = total;
-        }
+      const double inv_h = 1.0 / grid.h(e);
+      for (PetscInt k = lo[2]; k < hi[2]; ++k)
+        for (PetscInt j = lo[1]; j < hi[1]; ++j)
+          for (PetscInt i = lo[0]; i < hi[0]; ++i)
+            out(i, j, k, sd) += (at(i + oi, j + oj, k + ok) - at(i, j, k)) * inv_h;
+    }
   }
 }
 

@@ -63,12 +63,12 @@ void expect_second_order(const Exact& exact, const char* name, double final_time
 
 TEST(PeriodicConvergence, AdvectedTaylorGreenIsSecondOrder)
 {
-  expect_second_order(testing::AdvectedTaylorGreen{}, "Taylor-Green", 0.125, 0.0625, SolverKind::fft);
+  expect_second_order(testing::AdvectedTaylorGreen{}, "Taylor-Green", 0.0625, 0.0625, SolverKind::fft);
 }
 
 TEST(PeriodicConvergence, AbcFlowIsSecondOrder)
 {
-  expect_second_order(testing::AbcFlow{}, "ABC", 0.125, 0.0625, SolverKind::fft);
+  expect_second_order(testing::AbcFlow{}, "ABC", 0.0625, 0.0625, SolverKind::fft);
 }
 
 } // namespace
