@@ -51,7 +51,8 @@ void MeshOutput::write(double time, const std::vector<MeshField>& fields)
   series_.add_step(time, {write_mesh_fields(comm_, mesh_, h5, directory_, name_, fields)});
 }
 
-std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const double> u)
+std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const double> u,
+                                    const L2Projection* projection)
 {
   const Mesh& mesh = solid.mesh();
   const ElementFields element = solid.element_fields(u);
@@ -70,6 +71,14 @@ std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const dou
   }
   fields.push_back(std::move(current));
   fields.push_back(std::move(reference));
+  if (projection) {
+    const PointFields points = solid.point_fields(u);
+    fields.push_back({"J_nodal", io::Center::node, 1, projection->project(points.J, 1)});
+    fields.push_back(
+        {"fiber_strain_nodal", io::Center::node, 1, projection->project(points.fiber_strain, 1)});
+    fields.push_back(
+        {"fiber_stress_nodal", io::Center::node, 1, projection->project(points.fiber_stress, 1)});
+  }
   return fields;
 }
 

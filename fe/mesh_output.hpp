@@ -10,6 +10,7 @@
 
 #include <mpi.h>
 
+#include "fe/mass.hpp"
 #include "fe/solid.hpp"
 #include "io/xdmf.hpp"
 
@@ -47,6 +48,9 @@ class MeshOutput {
 
 /// The solid's fields at displacement u (REFERENCE.md): nodal displacement; per element J, fiber
 /// strain f0.(E f0), fiber stress f.(sigma f) (dyn/cm^2), current fiber direction f and reference f0.
-std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const double> u);
+/// With a projection (built on solid.quadrature()), also the nodal L2 projections of J, fiber strain
+/// and fiber stress ("J_nodal", "fiber_strain_nodal", "fiber_stress_nodal") for smooth pictures.
+std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const double> u,
+                                    const L2Projection* projection = nullptr);
 
 } // namespace ibvalve::fe

@@ -162,4 +162,31 @@ ElementFields SolidModel::element_fields(std::span<const double> u) const
   return fields;
 }
 
+PointFields SolidModel::point_fields(std::span<const double> u) const
+{
+  const int points = quadrature_.points_per_element();
+  const std::size_t count = mesh_.num_elements() * points;
+  std::vector<double> packed(3 * count, 0.0);
+  for (const auto& [p, e] : local_items_)
+    for (int q = 0; q < points; ++q) {
+      const std::size_t k = e * points + q;
+      const Mat3 F = deformation_gradient(u, e, q);
+      const double J = F.determinant();
+      packed[k] = J;
+      const Vec3& f0 = fibers(e, q).f0;
+      if (f0.squaredNorm() == 0.0) continue;
+      Mat3 P = Mat3::Zero();
+      for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
+      const Vec3 f = (F * f0).normalized();
+      packed[count + k] = 0.5 * ((F * f0).squaredNorm() - f0.squaredNorm()); // f0 . E f0
+      packed[2 * count + k] = f.dot(P * F.transpose() * f) / J;              // f . sigma f
+    }
+  sum_over_ranks(packed, comm_);
+  PointFields fields;
+  fields.J.assign(packed.begin(), packed.begin() + count);
+  fields.fiber_strain.assign(packed.begin() + count, packed.begin() + 2 * count);
+  fields.fiber_stress.assign(packed.begin() + 2 * count, packed.end());
+  return fields;
+}
+
 } // namespace ibvalve::fe

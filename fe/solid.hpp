@@ -44,6 +44,14 @@ struct ElementFields {
   std::vector<Vec3> fiber_direction; ///< current f (unit)
 };
 
+/// The same quantities at every quadrature point (index e * points_per_element + q), for L2
+/// projection to nodes.
+struct PointFields {
+  std::vector<double> J;
+  std::vector<double> fiber_strain;
+  std::vector<double> fiber_stress;
+};
+
 class SolidModel {
  public:
   SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadrature_degree, MPI_Comm comm);
@@ -71,6 +79,8 @@ class SolidModel {
   void add_stiffness(std::span<const double> u, const NodalSystem& system, Mat K) const;
   /// The fields of ElementFields (replicated).
   ElementFields element_fields(std::span<const double> u) const;
+  /// J, fiber strain and fiber stress at every quadrature point (replicated).
+  PointFields point_fields(std::span<const double> u) const;
 
   /// The (part, element) pairs this rank works on.
   std::span<const std::pair<int, int>> local_items() const { return local_items_; }

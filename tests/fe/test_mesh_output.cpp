@@ -1,6 +1,7 @@
 // Mesh fields go to HDF5 + XDMF: the datasets read back equal what was written (coordinates,
 // connectivity, nodal displacement, per-element J and fiber strain), and the XDMF names the topology
 // and every field with its centring, on 1 and 2 ranks.
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -35,8 +36,9 @@ TEST(MeshOutput, SolidFieldsRoundTripThroughHdf5AndXdmf)
   MPI_Barrier(PETSC_COMM_WORLD);
   {
     MeshOutput output(PETSC_COMM_WORLD, mesh, directory, "solid");
+    const L2Projection projection(mesh, solid.quadrature(), MassKind::consistent, PETSC_COMM_WORLD);
     output.write(0.0, solid_fields(solid, std::vector<double>(u.size(), 0.0)));
-    output.write(0.5, solid_fields(solid, u));
+    output.write(0.5, solid_fields(solid, u, &projection));
   }
   MPI_Barrier(PETSC_COMM_WORLD);
   io::Hdf5File file(PETSC_COMM_WORLD, directory / "solid_000001.h5", io::Hdf5File::Mode::read);
@@ -48,6 +50,18 @@ TEST(MeshOutput, SolidFieldsRoundTripThroughHdf5AndXdmf)
     EXPECT_NEAR(strain[e], 0.105, 1e-14);
   }
   EXPECT_EQ(displacement, u);
+  // Homogeneous fields project to the same constants at the nodes.
+  const std::vector<double> J_nodal = file.read("J_nodal"), strain_nodal = file.read("fiber_strain_nodal"),
+                            stress_nodal = file.read("fiber_stress_nodal"),
+                            stress = file.read("fiber_stress");
+  ASSERT_EQ(J_nodal.size(), mesh.num_nodes());
+  for (std::size_t n = 0; n < mesh.num_nodes(); ++n) {
+    EXPECT_NEAR(J_nodal[n], 1.1, 1e-10);
+    EXPECT_NEAR(strain_nodal[n], 0.105, 1e-10);
+    EXPECT_NEAR(stress_nodal[n], stress[0], 1e-10 * std::abs(stress[0]));
+  }
+  // f . sigma f of the neo-Hookean fixture for F = diag(1.1, 1, 1): (mu (1.21 - 1) + lambda ln 1.1) / 1.1.
+  EXPECT_NEAR(stress[0], (1e4 * 0.21 + 4e4 * std::log(1.1)) / 1.1, 1e-9);
   const std::vector<std::int64_t> connectivity = file.read_integers("connectivity");
   EXPECT_TRUE(std::equal(connectivity.begin(), connectivity.end(), mesh.connectivity().begin()));
   const std::string xdmf = io::read_text_file(directory / "solid.xdmf");
