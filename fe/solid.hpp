@@ -54,6 +54,7 @@ struct PointFields {
 
 class SolidModel {
  public:
+  /// Keeps a reference to `mesh`, which must outlive the model.
   SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadrature_degree, MPI_Comm comm);
 
   const Mesh& mesh() const { return mesh_; }
