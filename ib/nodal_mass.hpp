@@ -1,11 +1,15 @@
 #pragma once
 // Solves M v = b for 3-component nodal fields of the replicated structure mesh, with the consistent
-// mass matrix M_ab = int N_a N_b dX (one PETSc CG + Jacobi solve per component; options prefix
-// "ib_mass_" by default) or the row-sum lumped mass
-// m_a = int N_a dX: the L2 projections of the IB/FE coupling (velocity to nodes, nodal force to
-// force density). Both are exact for a constant field; the consistent one for every field in the
-// finite-element space. Consecutive solves of the same kind of field start from the last solution of
-// that kind (a "guess slot"), which changes little from step to step.
+// mass matrix M_ab = int N_a N_b dX or the row-sum lumped mass m_a = int N_a dX: the L2 projections
+// of the IB/FE coupling (velocity to nodes, nodal force to force density). Both are exact for a
+// constant field; the consistent one for every field in the finite-element space.
+//
+// The mesh is replicated and the right-hand sides are summed over the ranks before a solve, so each
+// rank solves the same small system by itself (PETSC_COMM_SELF): by default a sparse Cholesky
+// factorization (nested-dissection ordering) made once, then two triangular solves per component,
+// with no communication. The options prefix (e.g. -ib_velocity_mass_ksp_type cg
+// -ib_velocity_mass_pc_type jacobi) selects an iterative solve instead, which then starts from the
+// last solution of the same field (its "guess slot"), since that changes little from step to step.
 #include <span>
 #include <string>
 #include <vector>
