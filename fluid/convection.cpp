@@ -43,7 +43,6 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
     for (PetscInt k = lo[2]; k < hi[2]; ++k)
       for (PetscInt j = lo[1]; j < hi[1]; ++j)
         for (PetscInt i = lo[0]; i < hi[0]; ++i) out(i, j, k, sd) = 0.0;
-    const PetscInt di = d == 0, dj = d == 1, dk = d == 2; // unit step along d
     for (int e = 0; e < 3; ++e) {
       const PetscInt se = grid.face_slot(e);
       const PetscInt oi = e == 0, oj = e == 1, ok = e == 2; // unit step along e
@@ -57,21 +56,25 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
         return flux[static_cast<std::size_t>(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]))];
       };
       const bool walled = e != d && !grid.periodic(e);
+      const PetscInt step_e = u.stride(e), step_d = u.stride(d), step_x = u.stride(0);
       for (PetscInt k = lo[2]; k < lo[2] + nz; ++k)
-        for (PetscInt j = lo[1]; j < lo[1] + ny; ++j)
-          for (PetscInt i = lo[0]; i < lo[0] + nx; ++i) {
-            auto ud = [&](PetscInt s) { return u(i + s * oi, j + s * oj, k + s * ok, sd); };
-            const double a =
-                e == d ? 0.5 * (ud(-1) + ud(0)) : 0.5 * (u(i, j, k, se) + u(i - di, j - dj, k - dk, se));
-            double f = upwind_flux(a, ud(-2), ud(-1), ud(0), ud(1), scheme);
+        for (PetscInt j = lo[1]; j < lo[1] + ny; ++j) {
+          // Walk x with a pointer at u_d of face (i, j, k); neighbours along e are step_e apart, and
+          // the advecting component e of the same element is (se - sd) away.
+          const PetscScalar* p = &u(lo[0], j, k, sd);
+          double* target = &at(lo[0], j, k);
+          for (PetscInt i = lo[0]; i < lo[0] + nx; ++i, p += step_x, ++target) {
+            const double a = e == d ? 0.5 * (p[-step_e] + p[0]) : 0.5 * (p[se - sd] + p[se - sd - step_d]);
+            double f = upwind_flux(a, p[-2 * step_e], p[-step_e], p[0], p[step_e], scheme);
             if (walled) {
               // A side on a wall carries the wall's tangential velocity, known exactly.
               const Index3 idx{i, j, k};
               if (idx[e] == 0) f = a * wall.tangential(e, 0, d, idx);
               if (idx[e] == grid.cells(e)) f = a * wall.tangential(e, 1, d, idx);
             }
-            at(i, j, k) = f;
+            *target = f;
           }
+        }
       const double inv_h = 1.0 / grid.h(e);
       for (PetscInt k = lo[2]; k < hi[2]; ++k)
         for (PetscInt j = lo[1]; j < hi[1]; ++j)

@@ -77,21 +77,30 @@ void StaggeredGrid::global_to_local(Vec global, Vec local) const
   PETSC_CHECK(DMGlobalToLocalEnd(dm_, global, INSERT_VALUES, local));
 }
 
-StagArray::StagArray(const StaggeredGrid& grid, Vec v, bool read_only)
-    : dm_(grid.dm()), v_(v), read_only_(read_only)
+StagArray::StagArray(const StaggeredGrid& grid, Vec local, bool read_only) : v_(local), read_only_(read_only)
 {
+  for (int d = 0; d < 3; ++d) {
+    g_[d] = grid.ghost_begin(d);
+    n_[d] = grid.ghost_end(d) - grid.ghost_begin(d);
+  }
+  PETSC_CHECK(DMStagGetEntriesPerElement(grid.dm(), &dof_));
+  stride_y_ = dof_ * n_[0];
+  PetscInt size = 0;
+  PETSC_CHECK(VecGetLocalSize(local, &size));
+  if (size != dof_ * n_[0] * n_[1] * n_[2])
+    throw std::invalid_argument("fluid: StagArray needs a local (ghosted) vector of the grid");
   if (read_only)
-    PETSC_CHECK(DMStagVecGetArrayRead(dm_, v_, &a_));
+    PETSC_CHECK(VecGetArrayRead(local, const_cast<const PetscScalar**>(&data_)));
   else
-    PETSC_CHECK(DMStagVecGetArray(dm_, v_, &a_));
+    PETSC_CHECK(VecGetArray(local, &data_));
 }
 
 StagArray::~StagArray()
 {
   if (read_only_)
-    DMStagVecRestoreArrayRead(dm_, v_, &a_);
+    VecRestoreArrayRead(v_, const_cast<const PetscScalar**>(&data_));
   else
-    DMStagVecRestoreArray(dm_, v_, &a_);
+    VecRestoreArray(v_, &data_);
 }
 
 } // namespace ibvalve::fluid

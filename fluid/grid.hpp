@@ -110,23 +110,27 @@ class StaggeredGrid {
   PetscInt pressure_slot_ = 0;
 };
 
-/// Read-write access to a local or global DMStag vector as a[k][j][i][slot] (RAII).
+/// Read-write access to a local (ghosted) DMStag vector as a(i, j, k, slot) with global indices (RAII).
+/// A local vector stores every ghosted element with all its dofs, element-major, x fastest.
 class StagArray {
  public:
-  StagArray(const StaggeredGrid& grid, Vec v, bool read_only = false);
+  StagArray(const StaggeredGrid& grid, Vec local, bool read_only = false);
   ~StagArray();
   StagArray(const StagArray&) = delete;
   StagArray& operator=(const StagArray&) = delete;
   PetscScalar& operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt slot) const
   {
-    return a_[k][j][i][slot];
+    return data_[((k - g_[2]) * n_[1] + (j - g_[1])) * stride_y_ + (i - g_[0]) * dof_ + slot];
   }
+  /// Distance in entries between neighbours along x, y, z.
+  PetscInt stride(int d) const { return d == 0 ? dof_ : d == 1 ? stride_y_ : stride_y_ * n_[1]; }
 
  private:
-  DM dm_;
   Vec v_;
   bool read_only_;
-  PetscScalar**** a_ = nullptr;
+  PetscScalar* data_ = nullptr;
+  Index3 g_{}, n_{};
+  PetscInt dof_ = 4, stride_y_ = 0;
 };
 
 } // namespace ibvalve::fluid
