@@ -11,6 +11,9 @@
 
 namespace ibvalve::fe {
 
+// gradients(e, q) is read as a 3 x n column-major matrix (Eigen::Map) by the assembly loops.
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+
 class QuadratureData {
  public:
   /// A rule exact for polynomials of degree `degree` on the reference cell. InputError when an

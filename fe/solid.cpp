@@ -60,19 +60,25 @@ void SolidModel::forces(std::span<const double> u, std::span<double> forces) con
 {
   std::fill(forces.begin(), forces.end(), 0.0);
   const int points = quadrature_.points_per_element();
+  const int n = mesh_.nodes_per_element();
+  // Per element: gather the nodal displacements once (3 x n), then per point F = I + U G^T and
+  // f_e -= P G w det J with G the 3 x n matrix of grad_X N_a (stored contiguously), scatter once.
+  Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, n), element_forces(3, n);
   for (const auto& [p, e] : local_items_) {
     const auto element = mesh_.element(e);
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i) U(i, a) = u[3 * element[a] + i];
+    element_forces.setZero();
     for (int q = 0; q < points; ++q) {
-      const Mat3 F = deformation_gradient(u, e, q);
+      const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> G(
+          quadrature_.gradients(e, q).data()->data(), 3, n);
+      const Mat3 F = Mat3::Identity() + U * G.transpose();
       Mat3 P = Mat3::Zero();
       for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
-      P *= quadrature_.JxW(e, q);
-      const auto gradients = quadrature_.gradients(e, q);
-      for (std::size_t a = 0; a < element.size(); ++a) {
-        const Vec3 f = P * gradients[a];
-        for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] -= f[i];
-      }
+      element_forces.noalias() -= (quadrature_.JxW(e, q) * P) * G;
     }
+    for (int a = 0; a < n; ++a)
+      for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] += element_forces(i, a);
   }
   sum_over_ranks(forces, comm_);
 }
