@@ -50,6 +50,7 @@ GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind ke
   PETSC_CHECK(DMSetUp(dm_));
   const DMStagStencilLocation faces[3] = {DMSTAG_LEFT, DMSTAG_DOWN, DMSTAG_BACK};
   for (int d = 0; d < 3; ++d) PETSC_CHECK(DMStagGetLocationSlot(dm_, faces[d], 0, &slot_[d]));
+  PETSC_CHECK(DMStagGetEntriesPerElement(dm_, &stride_));
   PETSC_CHECK(DMCreateGlobalVector(dm_, &global_));
   PETSC_CHECK(DMCreateLocalVector(dm_, &local_));
   for (int d = 0; d < 3; ++d)
@@ -150,11 +151,14 @@ void GridInteraction::interpolate(Vec velocity, std::span<const Vec3> points, st
       const auto [a0, b0] = valid_range(d, 0, f0);
       const auto [a1, b1] = valid_range(d, 1, f1);
       const auto [a2, b2] = valid_range(d, 2, f2);
+      if (a0 >= b0) continue; // the whole stencil lies outside a walled box (the point is on a wall)
       double sum = 0.0;
       for (int c = a2; c < b2; ++c)
         for (int b = a1; b < b1; ++b) {
           double row = 0.0;
-          for (int m = a0; m < b0; ++m) row += w0[m] * a(f0 + m, f1 + b, f2 + c, slot_[d]);
+          // Along x the entries of one (j, k) row are contiguous, `stride_` apart.
+          const PetscScalar* entry = &a(f0 + a0, f1 + b, f2 + c, slot_[d]);
+          for (int m = a0; m < b0; ++m, entry += stride_) row += w0[m] * *entry;
           sum += w2[c] * w1[b] * row;
         }
       values[p][d] = sum;
@@ -183,10 +187,12 @@ void GridInteraction::spread(std::span<const Vec3> points, std::span<const Vec3>
         const auto [a0, b0] = valid_range(d, 0, f0);
         const auto [a1, b1] = valid_range(d, 1, f1);
         const auto [a2, b2] = valid_range(d, 2, f2);
+        if (a0 >= b0) continue;
         for (int c = a2; c < b2; ++c)
           for (int b = a1; b < b1; ++b) {
             const double wbc = F * w2[c] * w1[b];
-            for (int m = a0; m < b0; ++m) a(f0 + m, f1 + b, f2 + c, slot_[d]) += wbc * w0[m];
+            PetscScalar* entry = &a(f0 + a0, f1 + b, f2 + c, slot_[d]);
+            for (int m = a0; m < b0; ++m, entry += stride_) *entry += wbc * w0[m];
           }
       }
     }

@@ -74,6 +74,7 @@ class GridInteraction {
   DM dm_ = nullptr;
   Vec global_ = nullptr, local_ = nullptr;
   std::array<PetscInt, 3> slot_{};
+  PetscInt stride_ = 3; // entries per element in a local array
 };
 
 } // namespace ibvalve::ib
