@@ -121,6 +121,8 @@ Mesh leaflet_mesh(const ValveMeshParameters& p, int k)
   block.add_boundary_group("tau2",
                            [&](const Vec3& c) { return (c[1] < tol && c[0] > 0.5) || c[0] > 1 - tol; });
   block.add_boundary_group("free_edge", [&](const Vec3& c) { return c[1] > 1 - tol; });
+  block.add_boundary_group("commissure1", [&](const Vec3& c) { return c[0] < tol; });
+  block.add_boundary_group("commissure2", [&](const Vec3& c) { return c[0] > 1 - tol; });
   std::vector<int> end1, end2;
   for (std::size_t n = 0; n < block.num_nodes(); ++n) {
     const Vec3& x = block.nodes()[n];
@@ -234,7 +236,8 @@ Mesh aortic_valve_mesh(const ValveMeshParameters& p)
     const std::string name = "leaflet" + std::to_string(k + 1);
     append(mesh, leaflet_mesh(p, k), [&](const std::string& g) {
       if (g == "body") return name;
-      if (g == "attachment" || g == "tau1" || g == "tau2" || g == "free_edge" || g == "n1" || g == "n2")
+      if (g == "attachment" || g == "tau1" || g == "tau2" || g == "free_edge" || g == "n1" || g == "n2" ||
+          g == "commissure1" || g == "commissure2")
         return name + "_" + g;
       return std::string{};
     });

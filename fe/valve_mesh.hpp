@@ -26,7 +26,9 @@
 // - Physical groups: "leaflet1".."leaflet3" (volumes); per leaflet "leafletK_attachment" (the faces
 //   on the wall, tethered or held), "leafletK_tau1" / "leafletK_tau2" (the two halves of the attachment,
 //   u < 0 and u > 0: FD2's Dirichlet surfaces), "leafletK_n1" / "leafletK_n2" (the nodes at the free
-//   edge's ends, u = -1 and u = +1: FD1's Dirichlet points), "leafletK_free_edge"; "tube" (volume),
+//   edge's ends, u = -1 and u = +1: FD1's Dirichlet points), "leafletK_free_edge",
+//   "leafletK_commissure1" / "leafletK_commissure2" (the strips up the wall at u = -1 and u = +1: Dirichlet
+//   surfaces that make FD2-type fibers circumferential, docs/fibers.md); "tube" (volume),
 //   "tube_outer" (the tethered outer surface), "tube_inner", "tube_inlet", "tube_outlet".
 #include <array>
 #include <string>
