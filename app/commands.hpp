@@ -23,6 +23,8 @@ using CommandAction = std::function<int(const PetscArguments&)>;
 void add_run_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve fit --law W1 DATA.csv ...` (planar biaxial fitting, materials/fitting.hpp).
 void add_fit_command(CLI::App& app, CommandAction& action);
+/// Registers `ibvalve mesh aortic-valve ... -o valve.msh` (fe/valve_mesh.hpp).
+void add_mesh_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve fibers MESH.msh --rule FD1|FD2 -o OUT` (fibers/rules.hpp).
 void add_fibers_command(CLI::App& app, CommandAction& action);
 

@@ -58,6 +58,7 @@ int main(int argc, char** argv)
   app::CommandAction action;
   app::add_run_command(cli, action);
   app::add_fit_command(cli, action);
+  app::add_mesh_command(cli, action);
   app::add_report_command(cli, action);
   app::add_compare_command(cli, action);
   app::add_fibers_command(cli, action);
