@@ -49,13 +49,17 @@ FftStokesSolver::FftStokesSolver(const StaggeredGrid& grid) : grid_(grid)
   const ptrdiff_t nx = grid.cells(0), ny = grid.cells(1), nz = grid.cells(2);
   half_ = nx / 2 + 1;
   padded_ = 2 * half_;
-  alloc_ = fftw_mpi_local_size_3d(nz, ny, half_, grid.comm(), &local_n0_, &local_0_start_);
+  // Transposed spectra (y distributed, z whole) save one global transpose per transform each way.
+  alloc_ = fftw_mpi_local_size_3d_transposed(nz, ny, half_, grid.comm(), &local_n0_, &local_0_start_,
+                                             &local_n1_, &local_1_start_);
   if (local_0_start_ != grid.begin(2) || local_n0_ != grid.count(2))
     throw std::invalid_argument("fluid fft solver: the grid is not in FFTW's slab decomposition");
   real_ = fftw_alloc_real(static_cast<std::size_t>(2 * alloc_));
   for (auto& s : spectra_) s = fftw_alloc_complex(static_cast<std::size_t>(alloc_));
-  forward_[0] = fftw_mpi_plan_dft_r2c_3d(nz, ny, nx, real_, spectra_[0], grid.comm(), FFTW_MEASURE);
-  backward_[0] = fftw_mpi_plan_dft_c2r_3d(nz, ny, nx, spectra_[0], real_, grid.comm(), FFTW_MEASURE);
+  forward_[0] = fftw_mpi_plan_dft_r2c_3d(nz, ny, nx, real_, spectra_[0], grid.comm(),
+                                         FFTW_MEASURE | FFTW_MPI_TRANSPOSED_OUT);
+  backward_[0] = fftw_mpi_plan_dft_c2r_3d(nz, ny, nx, spectra_[0], real_, grid.comm(),
+                                          FFTW_MEASURE | FFTW_MPI_TRANSPOSED_IN);
   if (!forward_[0] || !backward_[0]) throw std::runtime_error("fluid fft solver: FFTW could not plan");
   for (int d = 0; d < 3; ++d) {
     const PetscInt n = grid.cells(d);
@@ -116,14 +120,15 @@ SolveStatistics FftStokesSolver::solve(Vec rhs, Vec solution)
   C* s[4];
   for (int d = 0; d < 4; ++d) s[d] = reinterpret_cast<C*>(spectra_[d]);
   const double rho_dt = parameters_.rho / parameters_.dt, half_mu = 0.5 * parameters_.mu;
-  const ptrdiff_t ny = grid_.cells(1);
-  for (ptrdiff_t kz = 0; kz < local_n0_; ++kz) {
-    const auto z = static_cast<std::size_t>(kz + local_0_start_);
-    for (ptrdiff_t ky = 0; ky < ny; ++ky) {
-      const auto y = static_cast<std::size_t>(ky);
+  // Spectra in FFTW's transposed layout: [ky local][kz][kx].
+  const ptrdiff_t nz = grid_.cells(2);
+  for (ptrdiff_t ky = 0; ky < local_n1_; ++ky) {
+    const auto y = static_cast<std::size_t>(ky + local_1_start_);
+    for (ptrdiff_t kz = 0; kz < nz; ++kz) {
+      const auto z = static_cast<std::size_t>(kz);
       for (ptrdiff_t kx = 0; kx < half_; ++kx) {
         const auto x = static_cast<std::size_t>(kx);
-        const std::size_t m = static_cast<std::size_t>((kz * ny + ky) * half_ + kx);
+        const std::size_t m = static_cast<std::size_t>((ky * nz + kz) * half_ + kx);
         const double lambda = laplacian_[0][x] + laplacian_[1][y] + laplacian_[2][z];
         const double helmholtz = rho_dt - half_mu * lambda;
         const C fd[3] = {forward_difference_[0][x], forward_difference_[1][y], forward_difference_[2][z]};

@@ -30,7 +30,8 @@ class FftStokesSolver : public StokesSolver {
 
   const StaggeredGrid& grid_;
   StokesParameters parameters_;
-  ptrdiff_t local_n0_ = 0, local_0_start_ = 0, alloc_ = 0, padded_ = 0, half_ = 0;
+  ptrdiff_t local_n0_ = 0, local_0_start_ = 0, local_n1_ = 0, local_1_start_ = 0, alloc_ = 0, padded_ = 0,
+            half_ = 0;
   double* real_ = nullptr;
   fftw_complex* spectra_[4] = {nullptr, nullptr, nullptr, nullptr};
   fftw_plan forward_[3] = {nullptr, nullptr, nullptr};
