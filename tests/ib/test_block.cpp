@@ -10,6 +10,7 @@
 
 #include "fe/mesh.hpp"
 #include "ibfe_cases.hpp"
+#include "io/errors.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;
@@ -179,6 +180,37 @@ TEST(Tethers, PullATranslatedBlockBackWhileAnUntetheredOneStays)
       EXPECT_LT(speed, 1e-12);
     } else {
       EXPECT_LT(mean, 0.025);
+    }
+  }
+}
+
+TEST(Stability, TheEstimateSeparatesStableFromBlowingUpSteps)
+{
+  // The logged estimate is a safe step: at 1/2 and 1 times it the block relaxes quietly. It is
+  // conservative (the kernel smooths the stiffest modes away; on this case the scheme holds up to
+  // between 4 and 8 times the estimate), but not wildly so: at 16 times it the run blows up and
+  // stops with a RunError (a non-finite structure position) instead of carrying NaNs on.
+  for (double factor : {0.5, 1.0, 16.0}) {
+    BlockRun run(PETSC_COMM_WORLD, 16, fe::MassKind::consistent);
+    const double dt = factor * run.ibfe->stability_estimate().dt;
+    bool failed = false;
+    double largest = 0.0;
+    try {
+      for (int s = 0; s < 100; ++s) {
+        run.ibfe->step(dt);
+        for (double u : run.ibfe->displacement()) largest = std::max(largest, std::abs(u));
+        if (largest > 10.0) break; // far outside anything physical: count it as blown up
+      }
+    } catch (const RunError&) {
+      failed = true;
+    }
+    std::printf("dt = %.2f x estimate: %s (largest displacement %.3g)\n", factor,
+                failed ? "RunError" : "completed", largest);
+    if (factor <= 1.0) {
+      EXPECT_FALSE(failed);
+      EXPECT_LT(largest, 0.05);
+    } else {
+      EXPECT_TRUE(failed || largest > 10.0);
     }
   }
 }
