@@ -3,7 +3,7 @@
 //
 // Unknowns (Harlow & Welch 1965): the velocity component d lives on the faces normal to d, the
 // pressure at cell centres. One DMStag with one dof per face and one per element holds both, so the
-// coupled Stokes system is one PETSc vector. In a local (ghosted) array `a[k][j][i][slot]`, slot
+// coupled Stokes system is one PETSc vector. In a local (ghosted) array a(i, j, k, slot) (StagArray), slot
 // face_slot(d) of element (i,j,k) is the face at its low side in direction d: the x-face at
 // (x0 + i hx, y0 + (j+1/2) hy, z0 + (k+1/2) hz), and so on; slot pressure_slot() is the cell centre.
 // Indices are global. A non-periodic direction has N+1 faces (0..N); the last rank in that direction

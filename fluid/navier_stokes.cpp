@@ -22,25 +22,6 @@ class Stopwatch {
 };
 } // namespace
 
-void velocity_laplacian(const StaggeredGrid& grid, Vec u_local, Vec out_local)
-{
-  StagArray u(grid, u_local, true);
-  StagArray out(grid, out_local);
-  double inv_h2[3];
-  for (int e = 0; e < 3; ++e) inv_h2[e] = 1.0 / (grid.h(e) * grid.h(e));
-  for (int d = 0; d < 3; ++d) {
-    const PetscInt s = grid.face_slot(d);
-    for (PetscInt k = grid.begin(2); k < grid.face_end(d, 2); ++k)
-      for (PetscInt j = grid.begin(1); j < grid.face_end(d, 1); ++j)
-        for (PetscInt i = grid.begin(0); i < grid.face_end(d, 0); ++i) {
-          const double c = 2.0 * u(i, j, k, s);
-          out(i, j, k, s) = (u(i + 1, j, k, s) - c + u(i - 1, j, k, s)) * inv_h2[0] +
-                            (u(i, j + 1, k, s) - c + u(i, j - 1, k, s)) * inv_h2[1] +
-                            (u(i, j, k + 1, s) - c + u(i, j, k - 1, s)) * inv_h2[2];
-        }
-  }
-}
-
 NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc,
                            const FluidSettings& settings)
     : comm_(comm), bc_(std::move(bc)), settings_(settings)

@@ -35,7 +35,7 @@ struct FluidSettings {
 /// Wall-clock seconds spent in the parts of the steps so far.
 struct StepTimings {
   double convection = 0.0;
-  double viscous = 0.0;  // explicit viscous term + Helmholtz part of the solve
+  double viscous = 0.0;  // explicit right side (viscous term, forces) + Helmholtz part of the solve
   double pressure = 0.0; // Poisson part of the solve (and the Krylov solver's other work)
   double halo = 0.0;     // ghost exchange and boundary ghosts
   double total = 0.0;
@@ -96,8 +96,5 @@ class NavierStokes {
   StepTimings timings_;
   SolveStatistics last_solve_;
 };
-
-/// out = L u (the MAC Laplacian of each velocity component) on owned faces, from a ghost-filled local u.
-void velocity_laplacian(const StaggeredGrid& grid, Vec u, Vec out);
 
 } // namespace ibvalve::fluid

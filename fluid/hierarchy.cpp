@@ -1,0 +1,361 @@
+#include "fluid/hierarchy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "io/config.hpp"
+#include "io/errors.hpp"
+
+namespace ibvalve::fluid {
+
+namespace {
+
+PetscInt floor_div(PetscInt a, PetscInt b)
+{
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+PetscInt ceil_div(PetscInt a, PetscInt b)
+{
+  return -floor_div(-a, b);
+}
+
+std::string describe(const IndexBox& b)
+{
+  std::ostringstream s;
+  s << "cells [" << b.lower[0] << "," << b.upper[0] << ")x[" << b.lower[1] << "," << b.upper[1] << ")x["
+    << b.lower[2] << "," << b.upper[2] << ")";
+  return s.str();
+}
+
+} // namespace
+
+PetscInt IndexBox::size() const
+{
+  return empty() ? 0 : cells(0) * cells(1) * cells(2);
+}
+
+bool IndexBox::contains(const Index3& c) const
+{
+  for (int d = 0; d < 3; ++d)
+    if (c[d] < lower[d] || c[d] >= upper[d]) return false;
+  return true;
+}
+
+bool IndexBox::contains(const IndexBox& o) const
+{
+  for (int d = 0; d < 3; ++d)
+    if (o.lower[d] < lower[d] || o.upper[d] > upper[d]) return false;
+  return true;
+}
+
+IndexBox IndexBox::grown(PetscInt n) const
+{
+  IndexBox b = *this;
+  for (int d = 0; d < 3; ++d) {
+    b.lower[d] -= n;
+    b.upper[d] += n;
+  }
+  return b;
+}
+
+IndexBox IndexBox::intersection(const IndexBox& o) const
+{
+  IndexBox b;
+  for (int d = 0; d < 3; ++d) {
+    b.lower[d] = std::max(lower[d], o.lower[d]);
+    b.upper[d] = std::max(b.lower[d], std::min(upper[d], o.upper[d]));
+  }
+  return b;
+}
+
+IndexBox IndexBox::refined(PetscInt r) const
+{
+  IndexBox b;
+  for (int d = 0; d < 3; ++d) {
+    b.lower[d] = lower[d] * r;
+    b.upper[d] = upper[d] * r;
+  }
+  return b;
+}
+
+IndexBox IndexBox::coarsened(PetscInt r) const
+{
+  IndexBox b;
+  for (int d = 0; d < 3; ++d) {
+    b.lower[d] = floor_div(lower[d], r);
+    b.upper[d] = ceil_div(upper[d], r);
+  }
+  return b;
+}
+
+GridHierarchy::GridHierarchy(const BoxGeometry& domain, std::vector<FinerLevel> finer_levels)
+    : domain_(domain)
+{
+  Level base;
+  base.ratio = 1;
+  for (int d = 0; d < 3; ++d) base.h[d] = domain.spacing(d);
+  base.domain_cells = domain.cells;
+  base.boxes = {IndexBox{{0, 0, 0}, domain.cells}};
+  levels_.push_back(base);
+
+  for (std::size_t n = 0; n < finer_levels.size(); ++n) {
+    const int l = static_cast<int>(n) + 1;
+    const FinerLevel& spec = finer_levels[n];
+    if (spec.ratio != 2 && spec.ratio != 4)
+      throw HierarchyError(l, -1, "refinement ratio must be 2 or 4, got " + std::to_string(spec.ratio));
+    if (spec.boxes.empty()) throw HierarchyError(l, -1, "level " + std::to_string(l) + " has no boxes");
+    Level level;
+    level.ratio = spec.ratio;
+    for (int d = 0; d < 3; ++d) {
+      level.h[d] = levels_.back().h[d] / static_cast<double>(spec.ratio);
+      level.domain_cells[d] = levels_.back().domain_cells[d] * spec.ratio;
+    }
+    level.boxes = spec.boxes;
+    const IndexBox whole{{0, 0, 0}, level.domain_cells};
+    for (std::size_t b = 0; b < spec.boxes.size(); ++b) {
+      const IndexBox& box = spec.boxes[b];
+      const int bi = static_cast<int>(b);
+      if (box.empty()) throw HierarchyError(l, bi, "the box is empty (" + describe(box) + ")");
+      if (!whole.contains(box))
+        throw HierarchyError(l, bi,
+                             "the box " + describe(box) + " of level " + std::to_string(l) +
+                                 " reaches outside the domain");
+      if (box.aligned_outward(spec.ratio) != box)
+        throw HierarchyError(l, bi,
+                             "the box " + describe(box) + " of level " + std::to_string(l) +
+                                 " does not start and end on cells of level " + std::to_string(l - 1));
+      for (std::size_t o = 0; o < b; ++o)
+        if (!box.intersection(spec.boxes[o]).empty())
+          throw HierarchyError(
+              l, bi, "the box overlaps box " + std::to_string(o) + " of level " + std::to_string(l));
+    }
+    levels_.push_back(std::move(level));
+    // Proper nesting: one coarser cell all around each box (inside the domain) belongs to the coarser level.
+    const Level& coarser = levels_[l - 1];
+    const IndexBox coarse_whole{{0, 0, 0}, coarser.domain_cells};
+    for (std::size_t b = 0; b < spec.boxes.size(); ++b) {
+      const IndexBox halo = spec.boxes[b].coarsened(spec.ratio).grown(1).intersection(coarse_whole);
+      if (!covers(l - 1, halo))
+        throw HierarchyError(l, static_cast<int>(b),
+                             "the box " + describe(spec.boxes[b]) + " of level " + std::to_string(l) +
+                                 " is not properly nested: level " + std::to_string(l - 1) +
+                                 " must cover it with one cell to spare on every side");
+    }
+  }
+}
+
+int GridHierarchy::box_containing(int level, const Index3& cell) const
+{
+  const auto& boxes = levels_[level].boxes;
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    if (boxes[b].contains(cell)) return static_cast<int>(b);
+  return -1;
+}
+
+bool GridHierarchy::covered(int level, const Index3& cell) const
+{
+  if (level + 1 >= levels()) return false;
+  const PetscInt r = ratio(level + 1);
+  return box_containing(level + 1, {cell[0] * r, cell[1] * r, cell[2] * r}) >= 0;
+}
+
+PetscInt GridHierarchy::uncovered_cells(int level) const
+{
+  PetscInt n = 0;
+  for (const IndexBox& box : boxes(level)) n += box.size();
+  if (level + 1 < levels())
+    for (const IndexBox& fine : boxes(level + 1)) n -= fine.coarsened(ratio(level + 1)).size();
+  return n;
+}
+
+Real3 GridHierarchy::cell_center(int level, const Index3& c) const
+{
+  Real3 x;
+  for (int d = 0; d < 3; ++d) x[d] = domain_.lower[d] + (static_cast<double>(c[d]) + 0.5) * h(level, d);
+  return x;
+}
+
+IndexBox GridHierarchy::cells_overlapping(int level, const Real3& lower, const Real3& upper) const
+{
+  IndexBox b;
+  for (int d = 0; d < 3; ++d) {
+    b.lower[d] = static_cast<PetscInt>(std::floor((lower[d] - domain_.lower[d]) / h(level, d)));
+    b.upper[d] = static_cast<PetscInt>(std::ceil((upper[d] - domain_.lower[d]) / h(level, d)));
+    if (b.upper[d] == b.lower[d]) ++b.upper[d]; // a flat box still touches one layer of cells
+  }
+  return b.intersection(domain_box(level));
+}
+
+bool GridHierarchy::covers(int level, const IndexBox& region) const
+{
+  // The boxes of a level are disjoint, so the region is covered when the overlaps add up to its size.
+  PetscInt inside = 0;
+  for (const IndexBox& box : boxes(level)) inside += box.intersection(region).size();
+  return inside == region.size();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Case-file keys.
+
+io::Schema nested_schema()
+{
+  io::Schema s;
+  s.add_integer_list("nested.ratios", "refinement ratio of each finer level to the one below it (2 or 4); "
+                                      "[] = a single uniform level")
+      .defaults(std::vector<std::int64_t>{})
+      .sizes(0, 4)
+      .at_least(2)
+      .at_most(4);
+  s.add_integer_list(
+       "nested.margins",
+       "automatic placement: cells of each finer level between the structure's bounding box (or "
+       "the next finer level) and the level's edge; one value for every level or one per level")
+      .defaults(std::vector<std::int64_t>{4})
+      .sizes(1, 4)
+      .at_least(1);
+  io::Schema box;
+  box.add_integer("level", "the finer level (1 = first refined level) this box belongs to")
+      .required()
+      .at_least(1);
+  box.add_real_list("lower", "lower corner; on a corner of the next coarser level's cells")
+      .unit("cm")
+      .required()
+      .size(3);
+  box.add_real_list("upper", "upper corner; on a corner of the next coarser level's cells")
+      .unit("cm")
+      .required()
+      .size(3);
+  s.add_table_list("nested.box", box,
+                   "explicit boxes of the finer levels (a level without boxes is placed "
+                   "automatically around the structure)");
+  return s;
+}
+
+GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain,
+                             const std::optional<PhysicalBox>& structure, const std::string& structure_key,
+                             PetscInt support_cells)
+{
+  const auto ratios = config.integers("nested.ratios");
+  for (const auto r : ratios)
+    if (r != 2 && r != 4) config.fail("nested.ratios", "each ratio must be 2 or 4, got " + std::to_string(r));
+  const int finer = static_cast<int>(ratios.size());
+  const auto margins = config.integers("nested.margins");
+  if (margins.size() != 1 && static_cast<int>(margins.size()) != finer)
+    config.fail("nested.margins", "give one margin or one per finer level (" + std::to_string(finer) +
+                                      "), got " + std::to_string(margins.size()));
+  const auto margin = [&](int level) {
+    return static_cast<PetscInt>(margins.size() == 1 ? margins[0] : margins[level - 1]);
+  };
+
+  // Spacing and whole-domain cells of every level, for converting corners.
+  std::vector<Real3> h(finer + 1);
+  std::vector<Index3> whole(finer + 1);
+  for (int d = 0; d < 3; ++d) {
+    h[0][d] = domain.spacing(d);
+    whole[0][d] = domain.cells[d];
+  }
+  for (int l = 1; l <= finer; ++l)
+    for (int d = 0; d < 3; ++d) {
+      h[l][d] = h[l - 1][d] / static_cast<double>(ratios[l - 1]);
+      whole[l][d] = whole[l - 1][d] * ratios[l - 1];
+    }
+
+  std::vector<FinerLevel> levels(finer);
+  std::vector<std::vector<std::size_t>> entry_of(finer); // the [[nested.box]] index of each box
+  const auto entries = config.tables("nested.box");
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const io::Config& entry = entries[e];
+    const auto level = entry.integer("level");
+    if (level > finer)
+      entry.fail("level", "there are " + std::to_string(finer) + " finer levels (nested.ratios), not " +
+                              std::to_string(level));
+    const int l = static_cast<int>(level);
+    IndexBox box;
+    for (const char* corner : {"lower", "upper"}) {
+      const auto x = entry.reals(corner);
+      for (int d = 0; d < 3; ++d) {
+        // Corners lie on the coarser level's cell corners: (x - x0) / h_{l-1} is a whole number.
+        const double q = (x[d] - domain.lower[d]) / h[l - 1][d];
+        const double n = std::round(q);
+        if (std::abs(q - n) > 1e-8 * std::max(1.0, std::abs(q)))
+          entry.fail(corner, "not on a corner of the level-" + std::to_string(l - 1) + " cells (spacing " +
+                                 std::to_string(h[l - 1][d]) + " cm in direction " + "xyz"[d] + ")");
+        if (n < 0 || n > static_cast<double>(whole[l - 1][d]))
+          entry.fail(corner, std::string("outside the domain in direction ") + "xyz"[d]);
+        (std::string(corner) == "lower" ? box.lower : box.upper)[d] =
+            static_cast<PetscInt>(n) * ratios[l - 1];
+      }
+    }
+    for (int d = 0; d < 3; ++d)
+      if (box.upper[d] <= box.lower[d])
+        entry.fail("upper", std::string("must lie above lower in direction ") + "xyz"[d]);
+    levels[l - 1].boxes.push_back(box);
+    entry_of[l - 1].push_back(e);
+  }
+
+  // Automatic placement, finest first: around the structure and the next finer level's boxes.
+  std::vector<bool> automatic(finer, false);
+  for (int l = finer; l >= 1; --l) {
+    FinerLevel& level = levels[l - 1];
+    level.ratio = ratios[l - 1];
+    if (!level.boxes.empty()) continue;
+    automatic[l - 1] = true;
+    std::optional<IndexBox> hull;
+    const auto add = [&](const IndexBox& b) {
+      if (!hull) {
+        hull = b;
+        return;
+      }
+      for (int d = 0; d < 3; ++d) {
+        hull->lower[d] = std::min(hull->lower[d], b.lower[d]);
+        hull->upper[d] = std::max(hull->upper[d], b.upper[d]);
+      }
+    };
+    if (structure) {
+      IndexBox s;
+      for (int d = 0; d < 3; ++d) {
+        s.lower[d] = static_cast<PetscInt>(std::floor((structure->lower[d] - domain.lower[d]) / h[l][d]));
+        s.upper[d] = static_cast<PetscInt>(std::ceil((structure->upper[d] - domain.lower[d]) / h[l][d]));
+      }
+      add(s.grown(margin(l)));
+    }
+    if (l < finer)
+      for (const IndexBox& b : levels[l].boxes) add(b.coarsened(levels[l].ratio).grown(margin(l)));
+    if (!hull)
+      config.fail("nested.box", "level " + std::to_string(l) +
+                                    " has no [[nested.box]] and there is no structure to place it around");
+    level.boxes = {hull->aligned_outward(level.ratio).intersection(IndexBox{{0, 0, 0}, whole[l]})};
+  }
+
+  const auto key_of = [&](int level, int box) -> std::pair<const io::Config*, std::string> {
+    if (level < 1 || automatic[level - 1] || box < 0) return {&config, "nested.margins"};
+    return {&entries[entry_of[level - 1][box]], "lower"};
+  };
+  std::optional<GridHierarchy> hierarchy;
+  try {
+    hierarchy.emplace(domain, levels);
+  } catch (const HierarchyError& e) {
+    const auto [where, key] = key_of(e.level(), e.box());
+    where->fail(key, e.what());
+  }
+
+  if (structure && finer > 0) {
+    const int f = hierarchy->finest();
+    const IndexBox reach = hierarchy->cells_overlapping(f, structure->lower, structure->upper)
+                               .grown(support_cells)
+                               .intersection(hierarchy->domain_box(f));
+    if (!hierarchy->covers(f, reach)) {
+      const std::string message = "the structure (bounding box with " + std::to_string(support_cells) +
+                                  " cells of kernel reach, " + describe(reach) + " of level " +
+                                  std::to_string(f) + ") is not inside the finest level";
+      if (automatic[f - 1])
+        config.fail("nested.margins", message + "; raise the margin");
+      else
+        config.fail(structure_key, message + " (see [[nested.box]] with level = " + std::to_string(f) + ")");
+    }
+  }
+  return std::move(*hierarchy);
+}
+
+} // namespace ibvalve::fluid
