@@ -1,6 +1,8 @@
 #pragma once
 // The `ibvalve` subcommands. Each adds itself to the CLI11 application and, once parsed, runs with
 // MPI and PETSc initialised; its return value is the process exit code.
+#include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -21,6 +23,21 @@ using CommandAction = std::function<int(const PetscArguments&)>;
 
 /// Registers `ibvalve run CASE.toml`; sets `action` when the subcommand is chosen.
 void add_run_command(CLI::App& app, CommandAction& action);
+/// What `ibvalve run` is told on its command line.
+struct RunOptions {
+  std::filesystem::path case_file;
+  std::filesystem::path output;
+  std::vector<std::string> overrides; // --set key=value
+  std::filesystem::path restart;      // --restart RUN_DIR (then case_file stays empty)
+  std::int64_t stop_after_steps = 0;  // --stop-after-steps N
+  bool overwrite = false;
+  bool verbose = false;
+  bool quiet = false;
+};
+/// Validates and runs one case (what `ibvalve run` does; `ibvalve study` calls it once per case).
+int run_case(RunOptions options, const PetscArguments& petsc);
+/// Registers `ibvalve study STUDY.toml` (app/study_command.cpp).
+void add_study_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve fit --law W1 DATA.csv ...` (planar biaxial fitting, materials/fitting.hpp).
 void add_fit_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve mesh aortic-valve ... -o valve.msh` (fe/valve_mesh.hpp).
@@ -32,6 +49,8 @@ void add_fibers_command(CLI::App& app, CommandAction& action);
 void add_report_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve compare RUN_DIR...` (hemodynamics/compare.hpp).
 void add_compare_command(CLI::App& app, CommandAction& action);
+/// What `ibvalve compare RUNS... -o OUTPUT` does (also the last step of `ibvalve study`).
+int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output);
 /// Runs `work` on rank 0 of `comm` only and rethrows its InputError/RunError/other error on every rank.
 void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work);
 

@@ -61,6 +61,7 @@ int main(int argc, char** argv)
   app::add_mesh_command(cli, action);
   app::add_report_command(cli, action);
   app::add_compare_command(cli, action);
+  app::add_study_command(cli, action);
   app::add_fibers_command(cli, action);
 
   int code = 0;
