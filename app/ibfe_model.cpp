@@ -102,6 +102,19 @@ void add_ibfe_schema(io::Schema& s)
       .defaults(std::int64_t{2})
       .at_least(1);
   s.merge(materials::material_schema("structure.material"));
+  s.add_real_list("structure.fiber_direction",
+                  "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none")
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  io::Schema part;
+  part.add_string("group", "a volume group of the mesh").required();
+  part.add_real_list("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none")
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  part.merge(materials::material_schema("material"));
+  s.add_table_list("structure.part", part,
+                   "body parts, each a volume group with its own material and fibers (instead of "
+                   "[structure.material] for the whole mesh); every element in exactly one part");
 
   s.add_string("ib.kernel", "regularized delta function")
       .choices({"piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3"})
@@ -180,7 +193,7 @@ class IbfeRun : public PreparedRun {
     if (inflated_ > 0.0 && inflated_ < inner_radius_)
       config.fail("structure.initial.inflated_inner_radius",
                   "must not be below structure.shell.inner_radius");
-    material_ = materials::read_material(config, "structure.material").build();
+    read_parts(config);
 
     settings_.kernel = *ib::find_kernel(config.string("ib.kernel"));
     settings_.velocity_projection = mass_kind(config.string("ib.velocity_projection"));
@@ -217,15 +230,17 @@ class IbfeRun : public PreparedRun {
           return fluid::Real3{0.0, 0.0, 0.0};
         },
         nullptr, 0.0);
-    fe::BodyPart part{"structure", {}, {material_}};
-    for (std::size_t e = 0; e < mesh_.num_elements(); ++e) part.elements.push_back(static_cast<int>(e));
-    fe::SolidModel solid(mesh_, {part}, static_cast<int>(config_.integer("structure.quadrature_degree")),
+    fe::SolidModel solid(mesh_, parts_, static_cast<int>(config_.integer("structure.quadrature_degree")),
                          context.comm);
+    solid.set_fibers(fibers_);
     ib::IbfeIntegrator ibfe(fluid, solid, settings_);
     ibfe.set_displacement(initial_);
     log.info("structure: " + std::to_string(mesh_.num_elements()) + " elements, " +
              std::to_string(mesh_.num_nodes()) + " nodes, volume " + std::to_string(mesh_.volume()) +
-             " cm^3; " + material_->name());
+             " cm^3");
+    for (const fe::BodyPart& p : parts_)
+      log.info("  part " + p.name + ": " + std::to_string(p.elements.size()) + " elements, " +
+               p.laws.front()->name());
 
     const std::filesystem::path directory = context.run_directory;
     int rank = 0;
@@ -275,6 +290,45 @@ class IbfeRun : public PreparedRun {
   }
 
  private:
+  static materials::FiberFrame fiber_frame(const io::Config& config, const std::string& key)
+  {
+    const auto f = config.reals(key);
+    materials::FiberFrame frame;
+    const materials::Vec3 f0(f[0], f[1], f[2]);
+    if (f0.norm() > 0.0) frame.f0 = f0.normalized();
+    return frame;
+  }
+
+  // One part per [[structure.part]] (a volume group, its material, its fiber direction), or the whole
+  // mesh with [structure.material].
+  void read_parts(const io::Config& config)
+  {
+    fibers_.assign(mesh_.num_elements(), fiber_frame(config, "structure.fiber_direction"));
+    if (!config.has("structure.part")) {
+      fe::BodyPart part{"structure", {}, {materials::read_material(config, "structure.material").build()}};
+      for (std::size_t e = 0; e < mesh_.num_elements(); ++e) part.elements.push_back(static_cast<int>(e));
+      parts_.push_back(std::move(part));
+      return;
+    }
+    std::vector<int> owner(mesh_.num_elements(), -1);
+    for (const io::Config& p : config.tables("structure.part")) {
+      const std::string group = p.string("group");
+      if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
+        p.fail("group", "the mesh has no volume group '" + group + "'");
+      fe::BodyPart part{
+          group, mesh_.group(group).elements, {materials::read_material(p, "material").build()}};
+      const materials::FiberFrame frame = fiber_frame(p, "fiber_direction");
+      for (int e : part.elements) {
+        if (owner[e] >= 0) p.fail("group", "element " + std::to_string(e) + " is already in another part");
+        owner[e] = static_cast<int>(parts_.size());
+        fibers_[e] = frame;
+      }
+      parts_.push_back(std::move(part));
+    }
+    if (std::find(owner.begin(), owner.end(), -1) != owner.end())
+      config.fail("structure.part", "some elements of the mesh are in no part");
+  }
+
   std::vector<double> initial_displacement(const io::Config& config) const
   {
     std::vector<double> u(3 * mesh_.num_nodes(), 0.0);
@@ -358,7 +412,8 @@ class IbfeRun : public PreparedRun {
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_settings_;
   fe::Mesh mesh_;
-  std::shared_ptr<const materials::StrainEnergy> material_;
+  std::vector<fe::BodyPart> parts_;
+  std::vector<materials::FiberFrame> fibers_;
   ib::IbfeSettings settings_;
   std::vector<double> initial_;
   fe::Vec3 center_ = fe::Vec3::Zero();
