@@ -3,6 +3,7 @@
 // whole side or a disk of it, zero elsewhere). Writes timeseries.csv (t, norms, fluxes through the
 // sides, the centre pressure; errors against the exact solution for the Taylor–Green and ABC
 // initial conditions) and fields/*.h5 + fields.xdmf (velocity, vorticity, pressure).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -241,6 +242,18 @@ class FluidRun : public PreparedRun {
       if (!std::isfinite(umax))
         throw RunError("fluid: the velocity is not finite at t = " + std::to_string(fluid->time()) +
                        " s (time step too large?)");
+      // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
+      // above, the run is diverging: stop with the figure rather than run on to overflow.
+      const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
+      const double courant = umax * dt_ / h;
+      if (courant > 2.0) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "fluid: Courant number %.2f at t = %.4g s (max |u| %.3g cm/s): the run is unstable; "
+                      "use a time.step below %.3g s",
+                      courant, fluid->time(), umax, 0.5 * h / umax);
+        throw RunError(text);
+      }
       if (step % series_every_ == 0 || step == steps) {
         last_divergence = fluid::max_divergence(*fluid);
         std::vector<double> row{fluid->time(),
