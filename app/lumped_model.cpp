@@ -24,6 +24,7 @@
 #include "app/version.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
+#include "io/checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -142,6 +143,7 @@ void add_lumped_schema(io::Schema& s)
       .defaults(0.0);
   s.add_real("fluid.density", "blood density").unit("g/mL").defaults(1.0).positive();
   hemodynamics::add_report_schema(s, "report");
+  io::add_checkpoint_schema(s);
 }
 
 class LumpedRun : public PreparedRun {
@@ -174,6 +176,7 @@ class LumpedRun : public PreparedRun {
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
     every_ = config.integer("output.every");
     plots_ = config.boolean("report.plots");
+    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -186,7 +189,7 @@ class LumpedRun : public PreparedRun {
     RunSummary summary;
     if (rank == 0) {
       try {
-        summary = simulate(context.run_directory);
+        summary = simulate(context);
       } catch (const InputError& e) {
         kind = 2;
         error = e.what();
@@ -206,18 +209,43 @@ class LumpedRun : public PreparedRun {
   }
 
  private:
-  RunSummary simulate(const std::filesystem::path& directory)
+  RunSummary simulate(const RunContext& context)
   {
+    const std::filesystem::path& directory = context.run_directory;
     auto& log = io::Logger::global();
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
     const long steps = cycles_ * steps_per_cycle_;
     const double end_time = static_cast<double>(cycles_) * period_;
     std::vector<std::string> columns = hemodynamics::standard_columns();
     columns.push_back("valve_state");
-    io::CsvWriter csv(directory / "timeseries.csv", columns);
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
+    // Rank 0 alone holds the state, so the checkpoints are its own (MPI_COMM_SELF).
+    const io::Checkpoints checkpoints(MPI_COMM_SELF, directory, checkpoint_settings_);
+    long first_step = 0;
+    std::int64_t rows = 0;
+    if (context.restart) {
+      const auto file = checkpoints.latest();
+      if (!file) throw InputError(directory.string() + ": no checkpoint to restart from (checkpoint.every)");
+      const io::CheckpointHeader header = checkpoints.read(*file, [&](const io::Hdf5File& h5) {
+        const std::vector<double> saved = h5.read("lumped/state");
+        if (saved.size() != y.size()) throw InputError(file->string() + ": lumped/state has the wrong size");
+        std::copy(saved.begin(), saved.end(), y.begin());
+      });
+      first_step = static_cast<long>(header.step);
+      rows = header.timeseries_rows;
+      io::truncate_csv_rows(directory / "timeseries.csv", rows);
+      log.info("restarting from " + file->string() + " (step " + std::to_string(first_step) + ", t = " +
+               std::to_string(header.time) + " s)");
+    }
+    io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart);
+    auto save = [&](long step) {
+      const std::array<hsize_t, 1> dims{y.size()};
+      return checkpoints.write({step, static_cast<double>(step) * dt, rows},
+                               [&](io::Hdf5File& h5) { h5.write_root("lumped/state", y, dims); });
+    };
     auto write = [&](double t) {
+      ++rows;
       const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
       const double q = y[0];
       csv.write_row({t, q / units::mL, q / units::mL, p_lv / units::mmHg, p_ao / units::mmHg,
@@ -225,8 +253,11 @@ class LumpedRun : public PreparedRun {
     };
     log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
              std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
-    write(0.0);
-    for (long n = 0; n < steps; ++n) {
+    if (!context.restart) write(0.0);
+    const long last_step = context.stop_after_steps > 0
+                               ? std::min<long>(steps, first_step + static_cast<long>(context.stop_after_steps))
+                               : steps;
+    for (long n = first_step; n < last_step; ++n) {
       const double t = static_cast<double>(n) * dt;
       y = system.step(t, y, dt);
       if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
@@ -234,10 +265,18 @@ class LumpedRun : public PreparedRun {
                        " s (try a smaller time.step)");
       if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
       if ((n + 1) % 1000 == 0) log.progress({n + 1, static_cast<double>(n + 1) * dt, end_time});
+      if (checkpoints.due(n + 1) && n + 1 < steps) save(n + 1);
     }
     log.finish_progress();
 
     RunSummary summary;
+    if (last_step < steps) {
+      const auto file = save(last_step);
+      summary.lines.push_back("stopped after step " + std::to_string(last_step) + " of " + std::to_string(steps) +
+                              " (checkpoint " + file.string() + "); continue with: ibvalve run --restart " +
+                              directory.string());
+      return summary;
+    }
     hemodynamics::ReportOptions options;
     options.settings = settings_;
     options.python = python_executable;
@@ -265,6 +304,7 @@ class LumpedRun : public PreparedRun {
   double period_ = 0.8;
   long cycles_ = 1, steps_per_cycle_ = 1, every_ = 1;
   bool plots_ = true;
+  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace

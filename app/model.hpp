@@ -5,6 +5,7 @@
 // checks everything a schema cannot (files, consistent grids, ...), throwing InputError before any
 // output exists. Only then is the run folder created and `run` called, so bad input never leaves a
 // half-written run behind.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -20,7 +21,10 @@ namespace ibvalve::app {
 struct RunContext {
   MPI_Comm comm = MPI_COMM_WORLD;
   std::filesystem::path run_directory;
-  bool restart = false; // continue from the run folder's last checkpoint
+  bool restart = false; // continue from the run folder's last checkpoint (io/checkpoint.hpp)
+  /// Stop after this many steps of this invocation, with a checkpoint (0 = run to the end); lets a run
+  /// fit a batch job's wall-time limit and tests stop a run midway.
+  std::int64_t stop_after_steps = 0;
 };
 
 /// What a finished run tells the user: where its output and its report went.

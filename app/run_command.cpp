@@ -23,17 +23,9 @@ std::string PetscArguments::joined() const
 
 namespace {
 
-struct RunOptions {
-  std::filesystem::path case_file;
-  std::filesystem::path output;
-  std::vector<std::string> overrides;
-  bool overwrite = false;
-  bool verbose = false;
-  bool quiet = false;
-};
-
 io::Config load_case(const RunOptions& options)
 {
+
   toml::table table = io::parse_toml_file(options.case_file);
   io::apply_overrides(table, options.overrides);
   const toml::node* model_node = table.get("model");
@@ -55,6 +47,7 @@ io::Config load_case(const RunOptions& options)
 
 std::filesystem::path run_directory(const RunOptions& options, const io::Config& config)
 {
+  if (!options.restart.empty()) return options.restart;
   if (!options.output.empty()) return options.output;
   if (config.has("output.directory")) return config.string("output.directory");
   std::string name = config.string("name");
@@ -62,8 +55,20 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
   return std::filesystem::path("runs") / name;
 }
 
-int run(const RunOptions& options, const PetscArguments& petsc)
+} // namespace
+
+int run_case(RunOptions options, const PetscArguments& petsc)
 {
+  if (!options.restart.empty() && !options.case_file.empty())
+    throw InputError("command line: give either a case file or --restart RUN_DIR, not both");
+  if (options.restart.empty() && options.case_file.empty())
+    throw InputError("command line: a case file is required (or --restart RUN_DIR)");
+  // A restart reads the case as the run folder recorded it (every default written out).
+  if (!options.restart.empty()) {
+    if (!std::filesystem::is_regular_file(options.restart / "config.toml"))
+      throw InputError(options.restart.string() + ": not a run folder (no config.toml to restart from)");
+    options.case_file = options.restart / "config.toml";
+  }
   auto& log = io::Logger::global();
   log.start_clock();
   if (options.quiet) log.set_level(io::LogLevel::quiet);
@@ -89,7 +94,10 @@ int run(const RunOptions& options, const PetscArguments& petsc)
   int ok = 1;
   std::string problem;
   if (rank == 0) {
-    if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !options.overwrite) {
+    if (!options.restart.empty()) {
+      // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case.
+      io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+    } else if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !options.overwrite) {
       ok = 0;
       problem = directory.string() + ": run folder exists and is not empty (give --overwrite, or -o another folder)";
     } else {
@@ -100,18 +108,16 @@ int run(const RunOptions& options, const PetscArguments& petsc)
   MPI_Bcast(&ok, 1, MPI_INT, 0, PETSC_COMM_WORLD);
   if (!ok) throw InputError(problem);
   log.open_file(directory / "log.txt");
-  log.info(std::string("ibvalve ") + version_string + ": " + model.name + " run of " + options.case_file.string() +
-           " on " + std::to_string(size) + (size == 1 ? " rank" : " ranks"));
+  log.info(std::string("ibvalve ") + version_string + ": " + model.name + (options.restart.empty() ? " run of " : " restart of ") +
+           options.case_file.string() + " on " + std::to_string(size) + (size == 1 ? " rank" : " ranks"));
   log.info("run folder: " + directory.string());
 
-  RunContext context{PETSC_COMM_WORLD, directory, false};
+  RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps};
   const RunSummary summary = prepared->run(context);
   for (const auto& line : summary.lines) log.info(line);
   log.info("finished in " + io::format_duration(log.wall_seconds()) + "; output in " + directory.string());
   return 0;
 }
-
-} // namespace
 
 void add_run_command(CLI::App& app, CommandAction& action)
 {
@@ -119,13 +125,17 @@ void add_run_command(CLI::App& app, CommandAction& action)
   std::string model_list;
   for (const Model& m : models()) model_list += "\n  " + m.name + ": " + m.description;
   CLI::App* sub = app.add_subcommand("run", "Run a case file (TOML). Models:" + model_list);
-  sub->add_option("case", options->case_file, "the case file (TOML)")->required();
+  sub->add_option("case", options->case_file, "the case file (TOML)");
+  sub->add_option("--restart", options->restart,
+                  "continue the run in this folder from its last checkpoint (its config.toml is the case)");
+  sub->add_option("--stop-after-steps", options->stop_after_steps,
+                  "stop after this many steps, writing a checkpoint (continue with --restart)");
   sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
   sub->add_option("--set", options->overrides, "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
   sub->add_flag("--overwrite", options->overwrite, "replace an existing run folder's contents");
   sub->add_flag("-v,--verbose", options->verbose, "print more");
   sub->add_flag("-q,--quiet", options->quiet, "print only errors");
-  sub->callback([options, &action] { action = [options](const PetscArguments& petsc) { return run(*options, petsc); }; });
+  sub->callback([options, &action] { action = [options](const PetscArguments& petsc) { return run_case(*options, petsc); }; });
 }
 
 } // namespace ibvalve::app

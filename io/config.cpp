@@ -618,9 +618,22 @@ std::string format_node(const toml::node& node)
   return os.str();
 }
 
+/// A value as written, except that a relative file path becomes absolute (resolved against `folder`, the
+/// case file's), so that a run folder's config.toml still names the same files (`ibvalve run --restart`).
+std::string format_value(const toml::node& node, const KeySpec& spec, const std::filesystem::path& folder)
+{
+  if (spec.is_path && node.is_string()) {
+    const std::filesystem::path path(*node.value<std::string>());
+    if (path.is_relative() && !path.empty())
+      return format_node(toml::value<std::string>(std::filesystem::absolute(folder / path).lexically_normal().string()));
+  }
+  return format_node(node);
+}
+
 /// Writes the keys of `schema` found in `table`: plain keys as dotted keys under a [section] per first
 /// component, table lists as [[...]] blocks. Units and meanings go into comments.
-void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema, std::string_view header_prefix)
+void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema, std::string_view header_prefix,
+                 const std::filesystem::path& folder)
 {
   auto comment = [](const KeySpec& spec) {
     std::string c = spec.unit.empty() ? "" : "[" + spec.unit + "] ";
@@ -632,7 +645,8 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
     if (spec->kind == ValueKind::table_list) continue;
     const auto dot = spec->key.find('.');
     if (dot == std::string::npos) {
-      if (const toml::node* n = table.get(spec->key)) os << spec->key << " = " << format_node(*n) << comment(*spec) << "\n";
+      if (const toml::node* n = table.get(spec->key))
+        os << spec->key << " = " << format_value(*n, *spec, folder) << comment(*spec) << "\n";
     } else if (std::find(sections.begin(), sections.end(), spec->key.substr(0, dot)) == sections.end()) {
       sections.push_back(spec->key.substr(0, dot));
     }
@@ -643,7 +657,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       if (spec->kind == ValueKind::table_list || !spec->key.starts_with(section + ".")) continue;
       const std::string rest = spec->key.substr(section.size() + 1);
       if (const toml::node* n = table.at_path(spec->key).node())
-        os << rest << " = " << format_node(*n) << comment(*spec) << "\n";
+        os << rest << " = " << format_value(*n, *spec, folder) << comment(*spec) << "\n";
       else
         os << "# " << rest << " = (not set)" << comment(*spec) << "\n";
     }
@@ -656,7 +670,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       const std::string name = join_key(header_prefix, spec->key);
       os << "\n[[" << name << "]]  # " << spec->doc << "\n";
       std::ostringstream inner;
-      write_table(inner, *element.as_table(), *spec->element, name);
+      write_table(inner, *element.as_table(), *spec->element, name, folder);
       os << inner.str();
     }
   }
@@ -668,7 +682,7 @@ std::string Config::resolved_toml() const
 {
   std::ostringstream os;
   os << "# Resolved configuration: every key, defaults written out. Read from " << state_->file.string() << "\n";
-  write_table(os, *table_, *schema_, "");
+  write_table(os, *table_, *schema_, "", state_->file.parent_path());
   return os.str();
 }
 

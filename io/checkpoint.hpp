@@ -1,0 +1,73 @@
+#pragma once
+// Checkpoints of a run, so that `ibvalve run --restart RUN_DIR` continues it.
+//
+// A checkpoint is one HDF5 file <run>/checkpoints/step_<n>.h5 holding the model's state (datasets it
+// writes itself) and a header (step, time, rows of timeseries.csv so far). It is written under a
+// temporary name and renamed into place once closed, so a run killed while writing leaves the previous
+// checkpoint as the last good one. On restart the model reads the newest complete checkpoint, cuts
+// timeseries.csv back to the rows it had then, and continues; with the same rank count the arithmetic
+// is the same as an uninterrupted run's, so the series agree to the last bit.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include <mpi.h>
+
+#include "io/config.hpp"
+#include "io/hdf5.hpp"
+
+namespace ibvalve::io {
+
+struct CheckpointSettings {
+  std::int64_t every = 0; // steps between checkpoints; 0 = only when a run is stopped early
+  std::int64_t keep = 2;  // newest checkpoints kept; older ones are deleted
+};
+
+/// Adds `<prefix>.every` and `<prefix>.keep` to a model's schema.
+void add_checkpoint_schema(Schema& schema, const std::string& prefix = "checkpoint");
+CheckpointSettings checkpoint_settings_from_config(const Config& config,
+                                                   const std::string& prefix = "checkpoint");
+
+/// What every checkpoint records besides the model's own state.
+struct CheckpointHeader {
+  std::int64_t step = 0;            // steps completed
+  double time = 0.0;                // simulated time reached, s
+  std::int64_t timeseries_rows = 0; // data rows of timeseries.csv written so far
+};
+
+class Checkpoints {
+ public:
+  /// Every call is collective over `comm` (the ranks that hold the model's state).
+  Checkpoints(MPI_Comm comm, std::filesystem::path run_directory, CheckpointSettings settings);
+
+  /// Whether step `step` (steps completed) is one to checkpoint at.
+  bool due(std::int64_t step) const { return settings_.every > 0 && step % settings_.every == 0; }
+
+  /// Writes a checkpoint: `save` writes the model's datasets into the open file, the header goes in
+  /// last, then the file is renamed into place and checkpoints beyond `keep` are deleted.
+  std::filesystem::path write(const CheckpointHeader& header,
+                              const std::function<void(Hdf5File&)>& save) const;
+
+  /// The newest checkpoint that opens and carries a complete header; nullopt when there is none.
+  std::optional<std::filesystem::path> latest() const;
+
+  /// Opens a checkpoint, hands it to `restore`, and returns its header.
+  CheckpointHeader read(const std::filesystem::path& file,
+                        const std::function<void(const Hdf5File&)>& restore) const;
+
+  const std::filesystem::path& directory() const { return directory_; }
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0;
+  std::filesystem::path directory_;
+  CheckpointSettings settings_;
+};
+
+/// Cuts a CSV time series back to its header line and its first `rows` data rows (on restart, the rows
+/// written after the checkpoint are written again).
+void truncate_csv_rows(const std::filesystem::path& path, std::int64_t rows);
+
+} // namespace ibvalve::io

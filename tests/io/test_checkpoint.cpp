@@ -1,0 +1,112 @@
+// Checkpoints (io/checkpoint.hpp): a distributed state written by every rank reads back bit for bit;
+// the newest complete checkpoint is found and a torn file or an unfinished temporary is passed over;
+// only the newest `keep` survive; a time series is cut back to the rows a checkpoint recorded.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include "io/checkpoint.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+
+namespace ibvalve::io {
+namespace {
+
+/// A fresh run folder every rank agrees on (rank 0's process id names it).
+std::filesystem::path shared_run_directory(const std::string& name)
+{
+  int pid = static_cast<int>(::getpid());
+  MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("ibvalve_ckpt_" + name + "_" + std::to_string(pid));
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  return dir;
+}
+
+/// Each rank's block of a global state: values that are not short binary fractions, so a lossy
+/// round trip would show.
+std::vector<double> block_of(int rank, std::size_t n, double seed)
+{
+  std::vector<double> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = std::sin(seed + 0.1 * static_cast<double>(rank * n + i)) / 3.0;
+  return v;
+}
+
+void save_block(Hdf5File& h5, int rank, int size, const std::vector<double>& block)
+{
+  const std::vector<hsize_t> global{block.size() * static_cast<hsize_t>(size)};
+  const std::vector<hsize_t> offset{block.size() * static_cast<hsize_t>(rank)}, count{block.size()};
+  h5.write_block("state/u", block, global, offset, count);
+}
+
+TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto dir = shared_run_directory("roundtrip");
+  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2});
+  EXPECT_FALSE(checkpoints.latest().has_value());
+  EXPECT_TRUE(checkpoints.due(20));
+  EXPECT_FALSE(checkpoints.due(25));
+
+  const std::size_t n = 7;
+  for (std::int64_t step : {10, 20, 30}) {
+    const auto block = block_of(rank, n, static_cast<double>(step));
+    const auto file = checkpoints.write({step, 1e-3 * static_cast<double>(step), step / 2},
+                                        [&](Hdf5File& h5) { save_block(h5, rank, size, block); });
+    EXPECT_EQ(file.filename().string(), "step_0000000" + std::to_string(step) + ".h5");
+  }
+  // keep = 2: step 10 is gone.
+  EXPECT_FALSE(std::filesystem::exists(dir / "checkpoints" / "step_000000010.h5"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "checkpoints" / "step_000000020.h5"));
+
+  // A newer file torn by a crash, and a temporary never renamed, are passed over.
+  if (rank == 0) {
+    std::ofstream(dir / "checkpoints" / "step_000000040.h5") << "torn";
+    std::ofstream(dir / "checkpoints" / "step_000000050.h5.partial") << "unfinished";
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto latest = checkpoints.latest();
+  ASSERT_TRUE(latest.has_value());
+  EXPECT_EQ(latest->filename().string(), "step_000000030.h5");
+
+  std::vector<double> restored;
+  const CheckpointHeader header = checkpoints.read(*latest, [&](const Hdf5File& h5) {
+    const std::vector<hsize_t> offset{n * static_cast<hsize_t>(rank)}, count{n};
+    restored = h5.read_block("state/u", offset, count);
+  });
+  EXPECT_EQ(header.step, 30);
+  EXPECT_EQ(header.time, 1e-3 * 30.0);
+  EXPECT_EQ(header.timeseries_rows, 15);
+  EXPECT_EQ(restored, block_of(rank, n, 30.0)); // bit for bit
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(dir);
+}
+
+TEST(Checkpoints, TimeSeriesIsCutBackToTheRecordedRows)
+{
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank != 0) return; // a file operation of one rank
+  const auto path =
+      std::filesystem::temp_directory_path() / ("ibvalve_ckpt_rows_" + std::to_string(::getpid()) + ".csv");
+  write_file_atomically(path, "t,q\n0,1\n# a comment\n1,2\n2,3\n3,4\n");
+  truncate_csv_rows(path, 2);
+  EXPECT_EQ(read_text_file(path), "t,q\n0,1\n# a comment\n1,2\n");
+  EXPECT_THROW(truncate_csv_rows(path, 5), InputError);
+  std::filesystem::remove(path);
+}
+
+} // namespace
+} // namespace ibvalve::io
