@@ -20,8 +20,11 @@ struct CompareOptions {
   std::filesystem::path output = "comparison";
 };
 
-int compare(const CompareOptions& options)
+} // namespace
+
+int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output)
 {
+  const CompareOptions options{runs, output};
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     std::vector<hemodynamics::CaseResult> cases;
     for (const auto& run : options.runs) cases.push_back(hemodynamics::load_case(run));
@@ -47,8 +50,6 @@ int compare(const CompareOptions& options)
   return 0;
 }
 
-} // namespace
-
 void add_compare_command(CLI::App& app, CommandAction& action)
 {
   auto options = std::make_shared<CompareOptions>();
@@ -58,7 +59,7 @@ void add_compare_command(CLI::App& app, CommandAction& action)
   sub->add_option("-o,--output", options->output,
                   "folder for comparison.{md,html}, metrics.csv, ranking.csv");
   sub->callback(
-      [options, &action] { action = [options](const PetscArguments&) { return compare(*options); }; });
+      [options, &action] { action = [options](const PetscArguments&) { return compare_runs(options->runs, options->output); }; });
 }
 
 } // namespace ibvalve::app
