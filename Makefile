@@ -11,7 +11,7 @@ RUN_DIR ?= runs/default
 export OMPI_ALLOW_RUN_AS_ROOT = 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = 1
 
-.PHONY: run test nightly bench build deps configure format clean
+.PHONY: run test nightly bench build deps configure format clean regression-reference
 
 run: build
 	mpiexec --oversubscribe -n 1 $(BUILD_DIR)/app/ibvalve run $(RUN_CASE) -o $(RUN_DIR) --overwrite
@@ -22,6 +22,10 @@ test: build
 
 nightly: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -L nightly
+
+# Rewrite the regression suite's stored results from this build (tests/regression/README.md says when).
+regression-reference: build
+	scripts/refresh-regression-reference $(BUILD_DIR)
 
 bench: build
 	cmake --build $(BUILD_DIR) --target all -j $(JOBS)
