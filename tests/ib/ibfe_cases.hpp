@@ -15,6 +15,14 @@
 
 namespace ibvalve::ib::testing {
 
+/// True on rank 0 of the world (tests print their measurements once).
+inline bool is_root()
+{
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  return rank == 0;
+}
+
 inline std::unique_ptr<fluid::NavierStokes> periodic_fluid(MPI_Comm comm, int cells, double rho, double mu)
 {
   fluid::BoxGeometry box;

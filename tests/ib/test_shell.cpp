@@ -43,11 +43,13 @@ ShellResult run_shell(int cells, int n, int layers, int steps, double dt, ib::Ke
   result.analytic = shell_pressure_jump(mu_solid, R_i, R_o, a);
   for (double v : ibfe.velocity()) result.max_velocity = std::max(result.max_velocity, std::abs(v));
   const ib::IbfeTimings& t = ibfe.timings();
-  std::printf("%zu coupling points; per step: total %.3g s, fluid %.3g, interpolation %.3g, projection %.3g, "
-              "force %.3g, "
-              "spreading %.3g, points %.3g\n",
-              ibfe.coupling_point_count(), t.total / t.steps, t.fluid / t.steps, t.interpolation / t.steps,
-              t.projection / t.steps, t.force / t.steps, t.spreading / t.steps, t.points / t.steps);
+  if (is_root())
+    std::printf(
+        "%zu coupling points; per step: total %.3g s, fluid %.3g, interpolation %.3g, projection %.3g, "
+        "force %.3g, "
+        "spreading %.3g, points %.3g\n",
+        ibfe.coupling_point_count(), t.total / t.steps, t.fluid / t.steps, t.interpolation / t.steps,
+        t.projection / t.steps, t.force / t.steps, t.spreading / t.steps, t.points / t.steps);
   return result;
 }
 
@@ -57,8 +59,9 @@ TEST(PressurizedShell, HoldsTheThickWalledPressureJumpWithinFivePercent)
 {
   const ShellResult r = run_shell(32, 8, 3, 20, 1e-3, ib::default_kernel);
   const double error = std::abs(r.measured - r.analytic) / r.analytic;
-  std::printf("shell 32^3: measured %.4f, analytic %.4f dyn/cm^2, relative error %.4f, max |U| %.3g cm/s\n",
-              r.measured, r.analytic, error, r.max_velocity);
+  if (is_root())
+    std::printf("shell 32^3: measured %.4f, analytic %.4f dyn/cm^2, relative error %.4f, max |U| %.3g cm/s\n",
+                r.measured, r.analytic, error, r.max_velocity);
   EXPECT_LT(error, 0.05);
 }
 
@@ -68,6 +71,6 @@ TEST(PressurizedShellNightly, IsCloserOnAFinerGrid)
   const ShellResult fine = run_shell(48, 12, 5, 30, 2.0 / 3.0 * 1e-3, ib::default_kernel);
   const double e_coarse = std::abs(coarse.measured - coarse.analytic) / coarse.analytic;
   const double e_fine = std::abs(fine.measured - fine.analytic) / fine.analytic;
-  std::printf("shell: relative error %.4f on 32^3, %.4f on 48^3\n", e_coarse, e_fine);
+  if (is_root()) std::printf("shell: relative error %.4f on 32^3, %.4f on 48^3\n", e_coarse, e_fine);
   EXPECT_LT(e_fine, e_coarse);
 }
