@@ -118,7 +118,14 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
   std::vector<Vec3> x(X.size());
   for (std::size_t n = 0; n < X.size(); ++n)
     x[n] = X[n] + Vec3(displacement[3 * n], displacement[3 * n + 1], displacement[3 * n + 2]);
-  points_.update(x, h_min_);
+  const std::size_t capped = points_.update(x, h_min_);
+  if (capped > 0 && !warned_capped_) {
+    warned_capped_ = true;
+    io::Logger::global().warn("ib: " + std::to_string(capped) + " elements are stretched so far that " +
+                              std::to_string(settings_.points.max_points) +
+                              " coupling points per direction leave gaps wider than ib.point_spacing grid "
+                              "cells; the fluid may leak through them (shown once)");
+  }
   owned_points_.clear();
   owned_positions_.clear();
   const auto p = points_.positions();

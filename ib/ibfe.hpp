@@ -136,6 +136,7 @@ class IbfeIntegrator {
   Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
   IbfeTimings timings_;
   double h_min_ = 0.0;
+  bool warned_capped_ = false;
 };
 
 } // namespace ibvalve::ib
