@@ -1,0 +1,300 @@
+#include "fluid/composite_poisson.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "io/errors.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+
+CompositeCells::CompositeCells(const GridHierarchy& hierarchy) : hierarchy_(&hierarchy)
+{
+  map_.resize(hierarchy.levels());
+  for (int l = 0; l < hierarchy.levels(); ++l) {
+    for (const IndexBox& box : hierarchy.boxes(l)) {
+      std::vector<PetscInt> map(box.size(), -1);
+      for (PetscInt k = box.lower[2]; k < box.upper[2]; ++k)
+        for (PetscInt j = box.lower[1]; j < box.upper[1]; ++j)
+          for (PetscInt i = box.lower[0]; i < box.upper[0]; ++i)
+            if (!hierarchy.covered(l, {i, j, k})) map[box.offset({i, j, k})] = size_++;
+      map_[l].push_back(std::move(map));
+    }
+  }
+}
+
+PetscInt CompositeCells::index(int level, const Index3& cell) const
+{
+  if (level < 0 || level >= hierarchy_->levels()) return -1;
+  const int b = hierarchy_->box_containing(level, cell);
+  if (b < 0) return -1;
+  return map_[level][b][hierarchy_->boxes(level)[b].offset(cell)];
+}
+
+void CompositeCells::for_each(PetscInt begin, PetscInt end,
+                              const std::function<void(PetscInt, const Cell&)>& visit) const
+{
+  for (int l = 0; l < hierarchy_->levels(); ++l) {
+    const auto boxes = hierarchy_->boxes(l);
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      const IndexBox& box = boxes[b];
+      const auto& map = map_[l][b];
+      // Indices grow along each box, so a box whose range misses [begin, end) is skipped whole.
+      PetscInt first = -1, last = -1;
+      for (const PetscInt n : map)
+        if (n >= 0) {
+          if (first < 0) first = n;
+          last = n;
+        }
+      if (first < 0 || last < begin || first >= end) continue;
+      for (PetscInt k = box.lower[2]; k < box.upper[2]; ++k)
+        for (PetscInt j = box.lower[1]; j < box.upper[1]; ++j)
+          for (PetscInt i = box.lower[0]; i < box.upper[0]; ++i) {
+            const PetscInt n = map[box.offset({i, j, k})];
+            if (n >= begin && n < end) visit(n, Cell{l, {i, j, k}});
+          }
+    }
+  }
+}
+
+namespace {
+
+/// One row of G: columns and coefficients, plus the boundary data part.
+struct FaceRow {
+  CompositeFace face;
+  std::vector<PetscInt> columns;
+  std::vector<PetscScalar> values;
+  double weight = 0.0;
+  double constant = 0.0;
+  void add(PetscInt column, double value)
+  {
+    columns.push_back(column);
+    values.push_back(value);
+  }
+};
+
+} // namespace
+
+CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy,
+                                       CoarseFineStencil stencil, CompositeBoundary boundary,
+                                       std::function<double(const Real3&)> dirichlet_value)
+    : comm_(comm), hierarchy_(&hierarchy), cells_(hierarchy)
+{
+  const PetscInt total = cells_.size();
+  PetscInt owned = PETSC_DECIDE, global = total;
+  PETSC_CHECK(PetscSplitOwnership(comm, &owned, &global));
+  PetscInt end = 0;
+  MPI_Scan(&owned, &end, 1, MPIU_INT, MPI_SUM, comm);
+  const PetscInt begin = end - owned;
+
+  std::vector<FaceRow> rows;
+  std::vector<double> volumes(owned);
+  cells_.for_each(begin, end, [&](PetscInt n, const CompositeCells::Cell& cell) {
+    const int l = cell.level;
+    volumes[n - begin] = hierarchy.cell_volume(l);
+    const Real3 x = hierarchy.cell_center(l, cell.index);
+    for (int d = 0; d < 3; ++d) {
+      const int t1 = (d + 1) % 3, t2 = (d + 2) % 3;
+      const double h = hierarchy.h(l, d), area = hierarchy.h(l, t1) * hierarchy.h(l, t2);
+      for (const int side : {-1, 1}) {
+        Index3 next = cell.index;
+        next[d] += side;
+        FaceRow row;
+        row.face.normal = d;
+        row.face.level = l;
+        row.face.area = area;
+        row.face.center = x;
+        row.face.center[d] += 0.5 * side * h;
+        if (!hierarchy.domain_box(l).contains(next)) {
+          if (boundary == CompositeBoundary::neumann) continue;
+          // (u - g)/(h/2) on the lower side, (g - u)/(h/2) on the upper side.
+          row.face.on_boundary = true;
+          row.face.outward = side;
+          row.add(n, -side * 2.0 / h);
+          row.constant = side * 2.0 / h * dirichlet_value(row.face.center);
+          row.weight = area * 0.5 * h;
+        } else if (hierarchy.box_containing(l, next) >= 0) {
+          if (side > 0 || hierarchy.covered(l, next)) continue; // counted by its upper cell / the finer cells
+          row.add(n, 1.0 / h);
+          row.add(cells_.index(l, next), -1.0 / h);
+          row.weight = area * h;
+        } else {
+          // A coarse-fine face: the coarse cell holding `next` on level l-1.
+          const PetscInt r = hierarchy.ratio(l);
+          Index3 coarse;
+          for (int e = 0; e < 3; ++e) coarse[e] = next[e] >= 0 ? next[e] / r : -((-next[e] + r - 1) / r);
+          const PetscInt c = cells_.index(l - 1, coarse);
+          if (c < 0)
+            throw std::logic_error("composite grid: a coarse-fine face without an uncovered coarse cell");
+          const double H = hierarchy.h(l - 1, d);
+          const double distance = 0.5 * (h + H);
+          row.face.coarse_fine = true;
+          row.face.outward = side;
+          // G along +d: side * (U* - u_f) / distance.
+          row.add(n, -side / distance);
+          row.add(c, side / distance);
+          if (stencil == CoarseFineStencil::tangential_linear) {
+            const Real3 X = hierarchy.cell_center(l - 1, coarse);
+            for (const int t : {t1, t2}) {
+              const double delta = row.face.center[t] - X[t];
+              const double Ht = hierarchy.h(l - 1, t);
+              Index3 up = coarse, down = coarse;
+              ++up[t];
+              --down[t];
+              const PetscInt cu = cells_.index(l - 1, up), cd = cells_.index(l - 1, down);
+              const double s = side / distance * delta;
+              if (cu >= 0 && cd >= 0) {
+                row.add(cu, s / (2.0 * Ht));
+                row.add(cd, -s / (2.0 * Ht));
+              } else if (cu >= 0) {
+                row.add(cu, s / Ht);
+                row.add(c, -s / Ht);
+              } else if (cd >= 0) {
+                row.add(c, s / Ht);
+                row.add(cd, -s / Ht);
+              }
+            }
+          }
+          row.weight = area * distance;
+        }
+        rows.push_back(std::move(row));
+      }
+    }
+  });
+
+  const PetscInt local_faces = static_cast<PetscInt>(rows.size());
+  PetscInt face_end = 0;
+  MPI_Scan(&local_faces, &face_end, 1, MPIU_INT, MPI_SUM, comm);
+  const PetscInt face_begin = face_end - local_faces;
+
+  PETSC_CHECK(
+      MatCreateAIJ(comm, local_faces, owned, PETSC_DETERMINE, total, 8, nullptr, 8, nullptr, &gradient_));
+  PETSC_CHECK(MatSetOption(gradient_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  PETSC_CHECK(VecCreateMPI(comm, local_faces, PETSC_DETERMINE, &weights_));
+  PETSC_CHECK(VecDuplicate(weights_, &boundary_part_));
+  PETSC_CHECK(VecCreateMPI(comm, owned, total, &volumes_));
+  for (PetscInt f = 0; f < local_faces; ++f) {
+    const FaceRow& row = rows[f];
+    const PetscInt global_row = face_begin + f;
+    PETSC_CHECK(MatSetValues(gradient_, 1, &global_row, static_cast<PetscInt>(row.columns.size()),
+                             row.columns.data(), row.values.data(), ADD_VALUES));
+    PETSC_CHECK(VecSetValue(weights_, global_row, row.weight, INSERT_VALUES));
+    PETSC_CHECK(VecSetValue(boundary_part_, global_row, row.constant, INSERT_VALUES));
+    faces_.push_back(row.face);
+  }
+  for (PetscInt n = 0; n < owned; ++n)
+    PETSC_CHECK(VecSetValue(volumes_, begin + n, volumes[n], INSERT_VALUES));
+  PETSC_CHECK(MatAssemblyBegin(gradient_, MAT_FINAL_ASSEMBLY));
+  PETSC_CHECK(MatAssemblyEnd(gradient_, MAT_FINAL_ASSEMBLY));
+  for (Vec v : {weights_, boundary_part_, volumes_}) {
+    PETSC_CHECK(VecAssemblyBegin(v));
+    PETSC_CHECK(VecAssemblyEnd(v));
+  }
+
+  // A = G^T (W G): symmetric by construction.
+  Mat weighted = nullptr;
+  PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, &weighted));
+  PETSC_CHECK(MatDiagonalScale(weighted, weights_, nullptr));
+  PETSC_CHECK(MatTransposeMatMult(gradient_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &laplacian_));
+  PETSC_CHECK(MatDestroy(&weighted));
+}
+
+CompositeOperators::~CompositeOperators()
+{
+  MatDestroy(&gradient_);
+  MatDestroy(&laplacian_);
+  VecDestroy(&weights_);
+  VecDestroy(&boundary_part_);
+  VecDestroy(&volumes_);
+}
+
+Vec CompositeOperators::create_cell_vector() const
+{
+  Vec v = nullptr;
+  PETSC_CHECK(VecDuplicate(volumes_, &v));
+  PETSC_CHECK(VecSet(v, 0.0));
+  return v;
+}
+
+Vec CompositeOperators::create_face_vector() const
+{
+  Vec v = nullptr;
+  PETSC_CHECK(VecDuplicate(weights_, &v));
+  PETSC_CHECK(VecSet(v, 0.0));
+  return v;
+}
+
+void CompositeOperators::divergence(Vec g, Vec out) const
+{
+  Vec weighted = create_face_vector();
+  PETSC_CHECK(VecPointwiseMult(weighted, weights_, g));
+  PETSC_CHECK(MatMultTranspose(gradient_, weighted, out));
+  PETSC_CHECK(VecPointwiseDivide(out, out, volumes_));
+  PETSC_CHECK(VecScale(out, -1.0));
+  PETSC_CHECK(VecDestroy(&weighted));
+}
+
+void CompositeOperators::sample(const std::function<double(const Real3&)>& u, Vec out) const
+{
+  PetscInt begin = 0, end = 0;
+  PETSC_CHECK(VecGetOwnershipRange(out, &begin, &end));
+  PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArray(out, &a));
+  cells_.for_each(begin, end, [&](PetscInt n, const CompositeCells::Cell& cell) {
+    a[n - begin] = u(hierarchy_->cell_center(cell.level, cell.index));
+  });
+  PETSC_CHECK(VecRestoreArray(out, &a));
+}
+
+void CompositeOperators::right_side(const std::function<double(const Real3&)>& f, Vec out) const
+{
+  sample(f, out);
+  PETSC_CHECK(VecPointwiseMult(out, out, volumes_));
+  Vec wc = create_face_vector(), gtwc = create_cell_vector();
+  PETSC_CHECK(VecPointwiseMult(wc, weights_, boundary_part_));
+  PETSC_CHECK(MatMultTranspose(gradient_, wc, gtwc));
+  PETSC_CHECK(VecAXPY(out, -1.0, gtwc));
+  PETSC_CHECK(VecDestroy(&wc));
+  PETSC_CHECK(VecDestroy(&gtwc));
+}
+
+CompositePoissonSolver::CompositePoissonSolver(const CompositeOperators& operators, bool singular,
+                                               const std::string& prefix, double rtol)
+{
+  PETSC_CHECK(KSPCreate(operators.comm(), &ksp_));
+  PETSC_CHECK(KSPSetOperators(ksp_, operators.laplacian(), operators.laplacian()));
+  PETSC_CHECK(KSPSetType(ksp_, KSPCG));
+  PC pc = nullptr;
+  PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  PETSC_CHECK(PCSetType(pc, PCHYPRE));
+  PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+  PETSC_CHECK(KSPSetTolerances(ksp_, rtol, 1e-50, PETSC_DEFAULT, 1000));
+  if (singular) {
+    PETSC_CHECK(MatNullSpaceCreate(operators.comm(), PETSC_TRUE, 0, nullptr, &null_space_));
+    PETSC_CHECK(MatSetNullSpace(operators.laplacian(), null_space_));
+  }
+  PETSC_CHECK(KSPSetOptionsPrefix(ksp_, prefix.c_str()));
+  PETSC_CHECK(KSPSetFromOptions(ksp_));
+}
+
+CompositePoissonSolver::~CompositePoissonSolver()
+{
+  KSPDestroy(&ksp_);
+  MatNullSpaceDestroy(&null_space_);
+}
+
+PetscInt CompositePoissonSolver::solve(Vec b, Vec x) const
+{
+  if (null_space_) PETSC_CHECK(MatNullSpaceRemove(null_space_, b));
+  PETSC_CHECK(KSPSolve(ksp_, b, x));
+  KSPConvergedReason reason;
+  PETSC_CHECK(KSPGetConvergedReason(ksp_, &reason));
+  PetscInt iterations = 0;
+  PETSC_CHECK(KSPGetIterationNumber(ksp_, &iterations));
+  if (reason < 0)
+    throw RunError("composite Poisson solver diverged (" + std::string(KSPConvergedReasons[reason]) +
+                   ") after " + std::to_string(iterations) + " iterations");
+  return iterations;
+}
+
+} // namespace ibvalve::fluid
