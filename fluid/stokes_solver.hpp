@@ -7,8 +7,10 @@
 // with the boundary conditions built into L, G and D (fluid/boundary.hpp). Two solvers:
 // - FftStokesSolver: periodic boxes. On a uniform periodic MAC grid L, G and D are circulant and
 //   commute (D G = L on cells, G D = L on curl-free parts), so the projection method is exact:
-//   u* = H^-1 w, phi = L^-1 (D u* + g), u = u* - G phi, p = rho/dt phi - mu/2 (D u* + g).
+//   u* = H^-1 w, phi = L^-1 (D u*), u = u* - G phi, p = rho/dt phi - mu/2 D u*.
 //   Every step is a scalar multiplication per Fourier mode (FFTW-MPI, slab decomposition in z).
+//   It takes g = 0 (the cell slots of the right side are not read): on a periodic box the
+//   Navier–Stokes step always has a divergence-free target.
 // - KrylovStokesSolver: any boundary conditions. The coupled system is assembled (PETSc AIJ) and
 //   solved by FGMRES preconditioned by the same projection method with inexact sub-solves
 //   (hypre BoomerAMG V-cycles on the Helmholtz block H and on the pressure Poisson operator D G),
