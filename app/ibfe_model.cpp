@@ -221,6 +221,12 @@ class IbfeRun : public PreparedRun {
   RunSummary run(const RunContext& context) override
   {
     auto& log = io::Logger::global();
+    // A coupled restart needs the fluid's state (velocity, pressure, convection history) in the
+    // checkpoint, which fluid::NavierStokes cannot save yet; refuse rather than start over silently.
+    if (context.restart)
+      throw InputError(
+          context.run_directory.string() +
+          ": ibfe runs cannot be restarted yet (the fluid state is not checkpointed); run the case again");
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
@@ -271,6 +277,12 @@ class IbfeRun : public PreparedRun {
       ibfe.step(dt_);
       record(step);
       log.progress({step, ibfe.time(), steps * dt_});
+      if (context.stop_after_steps > 0 && step >= context.stop_after_steps && step < steps) {
+        log.finish_progress();
+        log.warn("stopped after " + std::to_string(step) +
+                 " steps as asked (no checkpoint: ibfe runs cannot restart yet)");
+        break;
+      }
     }
     log.finish_progress();
     const ib::IbfeTimings& t = ibfe.timings();
