@@ -74,3 +74,16 @@ TEST(PressurizedShellNightly, IsCloserOnAFinerGrid)
   if (is_root()) std::printf("shell: relative error %.4f on 32^3, %.4f on 48^3\n", e_coarse, e_fine);
   EXPECT_LT(e_fine, e_coarse);
 }
+
+TEST(PressurizedShellNightly, EveryKernelHoldsThePressureJump)
+{
+  for (ib::KernelKind kind : {ib::KernelKind::piecewise_linear, ib::KernelKind::ib_3, ib::KernelKind::ib_4,
+                              ib::KernelKind::ib_6, ib::KernelKind::bspline_3}) {
+    const ShellResult r = run_shell(32, 8, 3, 20, 1e-3, kind);
+    const double error = std::abs(r.measured - r.analytic) / r.analytic;
+    if (is_root())
+      std::printf("shell 32^3, %s kernel: measured %.4f vs %.4f dyn/cm^2, relative error %.4f\n",
+                  ib::kernel_name(kind).c_str(), r.measured, r.analytic, error);
+    EXPECT_LT(error, 0.05) << ib::kernel_name(kind);
+  }
+}
