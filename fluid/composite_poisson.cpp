@@ -246,6 +246,14 @@ void CompositeOperators::sample(const std::function<double(const Real3&)>& u, Ve
   PETSC_CHECK(VecRestoreArray(out, &a));
 }
 
+void CompositeOperators::sample_normal(const std::function<Real3(const Real3&)>& v, Vec out) const
+{
+  PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArray(out, &a));
+  for (std::size_t f = 0; f < faces_.size(); ++f) a[f] = v(faces_[f].center)[faces_[f].normal];
+  PETSC_CHECK(VecRestoreArray(out, &a));
+}
+
 void CompositeOperators::right_side(const std::function<double(const Real3&)>& f, Vec out) const
 {
   sample(f, out);
@@ -268,6 +276,8 @@ CompositePoissonSolver::CompositePoissonSolver(const CompositeOperators& operato
   PETSC_CHECK(KSPGetPC(ksp_, &pc));
   PETSC_CHECK(PCSetType(pc, PCHYPRE));
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+  // The true residual is what bounds the divergence left after a projection (D u = -V^{-1} r).
+  PETSC_CHECK(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED));
   PETSC_CHECK(KSPSetTolerances(ksp_, rtol, 1e-50, PETSC_DEFAULT, 1000));
   if (singular) {
     PETSC_CHECK(MatNullSpaceCreate(operators.comm(), PETSC_TRUE, 0, nullptr, &null_space_));

@@ -98,6 +98,8 @@ class CompositeOperators {
   void right_side(const std::function<double(const Real3&)>& f, Vec out) const;
   /// Cell-centre values of `u(x)` into a cell vector.
   void sample(const std::function<double(const Real3&)>& u, Vec out) const;
+  /// The normal component of the vector field `v(x)` at each composite face centre into a face vector.
+  void sample_normal(const std::function<Real3(const Real3&)>& v, Vec out) const;
 
  private:
   MPI_Comm comm_;
@@ -109,7 +111,8 @@ class CompositeOperators {
 };
 
 /// Conjugate gradients preconditioned by hypre BoomerAMG on the assembled composite matrix. Options
-/// prefix `prefix` (default settings: -<prefix>ksp_type cg -<prefix>pc_type hypre, rtol 1e-10).
+/// prefix `prefix` (default settings: -<prefix>ksp_type cg -<prefix>pc_type hypre, rtol 1e-10 on the
+/// unpreconditioned residual).
 /// With Neumann boundaries the constant null space is removed.
 class CompositePoissonSolver {
  public:
