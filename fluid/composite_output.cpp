@@ -1,0 +1,98 @@
+#include "fluid/composite_output.hpp"
+
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+
+std::vector<std::vector<std::vector<double>>> level_arrays(const CompositeCells& cells, Vec composite)
+{
+  // Gathered on rank 0: the composite vector of a study grid is small next to the fluid's state
+  // (interim until the levels get distributed storage, docs/nested.md plan).
+  VecScatter scatter = nullptr;
+  Vec whole = nullptr;
+  PETSC_CHECK(VecScatterCreateToZero(composite, &scatter, &whole));
+  PETSC_CHECK(VecScatterBegin(scatter, composite, whole, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(scatter, composite, whole, INSERT_VALUES, SCATTER_FORWARD));
+  PetscMPIInt rank = 0;
+  MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(composite)), &rank);
+  std::vector<std::vector<std::vector<double>>> out;
+  if (rank == 0) {
+    const GridHierarchy& h = cells.hierarchy();
+    const PetscScalar* a = nullptr;
+    PETSC_CHECK(VecGetArrayRead(whole, &a));
+    out.resize(h.levels());
+    for (int l = 0; l < h.levels(); ++l)
+      for (const IndexBox& box : h.boxes(l)) out[l].emplace_back(box.size(), 0.0);
+    cells.for_each(0, cells.size(), [&](PetscInt n, const CompositeCells::Cell& c) {
+      const int b = h.box_containing(c.level, c.index);
+      out[c.level][b][h.boxes(c.level)[b].offset(c.index)] = a[n];
+    });
+    PETSC_CHECK(VecRestoreArrayRead(whole, &a));
+    // Restriction, finest first: each fine cell adds its share 1/r^3 to the coarse cell it lies in.
+    for (int l = h.finest(); l >= 1; --l) {
+      const PetscInt r = h.ratio(l);
+      const double share = 1.0 / static_cast<double>(r * r * r);
+      const auto boxes = h.boxes(l);
+      for (std::size_t b = 0; b < boxes.size(); ++b) {
+        const IndexBox& box = boxes[b];
+        for (PetscInt k = box.lower[2]; k < box.upper[2]; ++k)
+          for (PetscInt j = box.lower[1]; j < box.upper[1]; ++j)
+            for (PetscInt i = box.lower[0]; i < box.upper[0]; ++i) {
+              const Index3 coarse{i / r, j / r, k / r};
+              const int cb = h.box_containing(l - 1, coarse);
+              out[l - 1][cb][h.boxes(l - 1)[cb].offset(coarse)] += share * out[l][b][box.offset({i, j, k})];
+            }
+      }
+    }
+  }
+  PETSC_CHECK(VecScatterDestroy(&scatter));
+  PETSC_CHECK(VecDestroy(&whole));
+  return out;
+}
+
+std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const CompositeCells& cells,
+                                                 const std::vector<std::pair<std::string, Vec>>& fields,
+                                                 const std::string& group, const std::string& file_reference,
+                                                 const std::string& grid_prefix)
+{
+  const GridHierarchy& h = cells.hierarchy();
+  std::vector<io::XdmfGrid> grids;
+  for (int l = 0; l < h.levels(); ++l) {
+    const auto boxes = h.boxes(l);
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      const IndexBox& box = boxes[b];
+      const std::array<std::size_t, 3> n{static_cast<std::size_t>(box.cells(0)),
+                                         static_cast<std::size_t>(box.cells(1)),
+                                         static_cast<std::size_t>(box.cells(2))};
+      std::array<double, 3> origin{};
+      for (int d = 0; d < 3; ++d)
+        origin[d] = h.domain().lower[d] + static_cast<double>(box.lower[d]) * h.h(l, d);
+      grids.push_back(
+          io::XdmfGrid::regular(grid_prefix + "level" + std::to_string(l) + "_box" + std::to_string(b), n,
+                                origin, {h.h(l, 0), h.h(l, 1), h.h(l, 2)}));
+    }
+  }
+  for (const auto& [name, vec] : fields) {
+    const auto arrays = level_arrays(cells, vec);
+    std::size_t g = 0;
+    for (int l = 0; l < h.levels(); ++l) {
+      const auto boxes = h.boxes(l);
+      for (std::size_t b = 0; b < boxes.size(); ++b, ++g) {
+        const IndexBox& box = boxes[b];
+        const std::vector<hsize_t> dims{static_cast<hsize_t>(box.cells(2)),
+                                        static_cast<hsize_t>(box.cells(1)),
+                                        static_cast<hsize_t>(box.cells(0))};
+        const std::string dataset =
+            group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
+        file.write_root(dataset,
+                        arrays.empty() ? std::span<const double>{} : std::span<const double>(arrays[l][b]),
+                        dims);
+        grids[g].add_field(name, io::Center::cell, {dims[0], dims[1], dims[2]},
+                           file_reference + ":/" + dataset);
+      }
+    }
+  }
+  return grids;
+}
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,95 @@
+// Composite cell fields written per level box (fluid/composite_output.hpp), read back on every rank:
+// uncovered cells hold the composite values, covered cells the volume average of the finer cells (exact for
+// a linear field; X^2 + (H/4)^2 for x^2 under one ratio-2 level), and the XDMF names one grid per level box.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "fluid/composite_output.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+namespace {
+
+double linear(const Real3& x)
+{
+  return 1.0 + x[0] + 2.0 * x[1] - 3.0 * x[2];
+}
+double square(const Real3& x)
+{
+  return x[0] * x[0];
+}
+
+TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
+{
+  BoxGeometry box;
+  box.cells = {8, 8, 8};
+  box.periodic = {false, false, false};
+  // Level 1: cells [2,6)^3 of level 0 refined by 2 (two boxes side by side); level 2 inside, ratio 2.
+  const GridHierarchy h(box,
+                        {FinerLevel{2, {IndexBox{{4, 4, 4}, {8, 12, 12}}, IndexBox{{8, 4, 4}, {12, 12, 12}}}},
+                         FinerLevel{2, {IndexBox{{12, 12, 12}, {20, 20, 20}}}}});
+  const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::tangential_linear,
+                               CompositeBoundary::neumann);
+  Vec a = ops.create_cell_vector(), b = ops.create_cell_vector();
+  ops.sample(linear, a);
+  ops.sample(square, b);
+  const std::string name = "composite_output_test";
+  std::vector<io::XdmfGrid> grids;
+  {
+    io::Hdf5File file(PETSC_COMM_WORLD, name + ".h5", io::Hdf5File::Mode::create);
+    grids = write_composite_fields(file, ops.cells(), {{"linear", a}, {"square", b}}, "t0", name + ".h5");
+  }
+  io::XdmfTimeSeries series(PETSC_COMM_WORLD, name + ".xdmf");
+  series.add_step(0.0, grids);
+  ASSERT_EQ(grids.size(), 4u);
+
+  io::Hdf5File file(PETSC_COMM_WORLD, name + ".h5", io::Hdf5File::Mode::read);
+  double worst_linear = 0.0;
+  for (int l = 0; l < h.levels(); ++l)
+    for (std::size_t bi = 0; bi < h.boxes(l).size(); ++bi) {
+      const IndexBox& ib = h.boxes(l)[bi];
+      const std::string group = "t0/level" + std::to_string(l) + "_box" + std::to_string(bi) + "/";
+      const auto dims = file.dims(group + "linear");
+      ASSERT_EQ(dims.size(), 3u);
+      EXPECT_EQ(dims[0], static_cast<hsize_t>(ib.cells(2)));
+      EXPECT_EQ(dims[2], static_cast<hsize_t>(ib.cells(0)));
+      const auto lin = file.read(group + "linear");
+      const auto sq = file.read(group + "square");
+      for (PetscInt k = ib.lower[2]; k < ib.upper[2]; ++k)
+        for (PetscInt j = ib.lower[1]; j < ib.upper[1]; ++j)
+          for (PetscInt i = ib.lower[0]; i < ib.upper[0]; ++i) {
+            const Real3 x = h.cell_center(l, {i, j, k});
+            const PetscInt o = ib.offset({i, j, k});
+            worst_linear = std::max(worst_linear, std::abs(lin[o] - linear(x)));
+            // Under level 1 only (not level 2): the average of 8 fine centres at X +- H/4.
+            if (l == 0 && h.covered(0, {i, j, k}) && !h.covered(1, {2 * i, 2 * j, 2 * k})) {
+              const double H = h.h(0, 0);
+              EXPECT_NEAR(sq[o], x[0] * x[0] + H * H / 16.0, 1e-14) << i << " " << j << " " << k;
+            }
+            if (!h.covered(l, {i, j, k})) {
+              EXPECT_NEAR(sq[o], square(x), 1e-15);
+            }
+          }
+    }
+  EXPECT_LE(worst_linear, 1e-13);
+
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) {
+    std::ifstream in(name + ".xdmf");
+    std::stringstream text;
+    text << in.rdbuf();
+    for (const char* grid : {"level0_box0", "level1_box0", "level1_box1", "level2_box0"})
+      EXPECT_NE(text.str().find(grid), std::string::npos) << grid;
+    EXPECT_NE(text.str().find(name + ".h5:/t0/level2_box0/square"), std::string::npos);
+  }
+  PETSC_CHECK(VecDestroy(&a));
+  PETSC_CHECK(VecDestroy(&b));
+}
+
+} // namespace
+} // namespace ibvalve::fluid
