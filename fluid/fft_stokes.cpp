@@ -8,8 +8,7 @@
 
 namespace ibvalve::fluid {
 
-namespace {
-void ensure_fftw_mpi()
+void initialise_fftw_mpi()
 {
   static bool initialised = false;
   if (!initialised) {
@@ -17,11 +16,10 @@ void ensure_fftw_mpi()
     initialised = true;
   }
 }
-} // namespace
 
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells)
 {
-  ensure_fftw_mpi();
+  initialise_fftw_mpi();
   ptrdiff_t local_n0 = 0, local_0_start = 0;
   fftw_mpi_local_size_3d(cells[2], cells[1], cells[0] / 2 + 1, comm, &local_n0, &local_0_start);
   int size = 1;
@@ -45,7 +43,7 @@ FftStokesSolver::FftStokesSolver(const StaggeredGrid& grid) : grid_(grid)
   for (int d = 0; d < 3; ++d)
     if (!grid.periodic(d))
       throw std::invalid_argument("fluid fft solver: the box must be periodic in x, y and z");
-  ensure_fftw_mpi();
+  initialise_fftw_mpi();
   const ptrdiff_t nx = grid.cells(0), ny = grid.cells(1), nz = grid.cells(2);
   half_ = nx / 2 + 1;
   padded_ = 2 * half_;

@@ -9,6 +9,9 @@
 
 namespace ibvalve::fluid {
 
+/// fftw_mpi_init() once per process (every FFTW-MPI user in fluid/ calls this first).
+void initialise_fftw_mpi();
+
 /// The z-slab decomposition FFTW-MPI uses for a box of `cells`, to build the grid with.
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells);
 

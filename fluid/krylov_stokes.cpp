@@ -236,20 +236,31 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
     PETSC_CHECK(MatNullSpaceDestroy(&k_space));
   }
 
-  auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix) {
+  const bool transforms = settings_.subsolver == SubsolverKind::fft;
+  if (transforms && !transforms_)
+    transforms_ = std::make_unique<TransformSubsolvers>(grid_, bc_, is_u_, is_p_);
+  using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
+  auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix, ShellApply transform) {
     PETSC_CHECK(KSPCreate(comm, &ksp));
     PETSC_CHECK(KSPSetOperators(ksp, op, op));
     PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
     PC pc;
     PETSC_CHECK(KSPGetPC(ksp, &pc));
-    PETSC_CHECK(PCSetType(pc, PCHYPRE));
-    PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+    if (transforms) {
+      PETSC_CHECK(PCSetType(pc, PCSHELL));
+      PETSC_CHECK(PCShellSetContext(pc, this));
+      PETSC_CHECK(PCShellSetApply(pc, transform));
+      PETSC_CHECK(PCShellSetName(pc, "FFTW real-to-real transform solve"));
+    } else {
+      PETSC_CHECK(PCSetType(pc, PCHYPRE));
+      PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+    }
     PETSC_CHECK(KSPSetOptionsPrefix(ksp, prefix));
     PETSC_CHECK(KSPSetFromOptions(ksp));
     PETSC_CHECK(KSPSetUp(ksp));
   };
-  make_sub_ksp(ksp_h_, H_, "fluid_helmholtz_");
-  make_sub_ksp(ksp_k_, K_, "fluid_poisson_");
+  make_sub_ksp(ksp_h_, H_, "fluid_helmholtz_", &KrylovStokesSolver::apply_helmholtz_transform);
+  make_sub_ksp(ksp_k_, K_, "fluid_poisson_", &KrylovStokesSolver::apply_poisson_transform);
 
   PETSC_CHECK(KSPCreate(comm, &ksp_));
   PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
@@ -305,6 +316,35 @@ PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
   PetscCall(VecRestoreSubVector(x, self->is_p_, &x_p));
   PetscCall(VecRestoreSubVector(y, self->is_u_, &y_u));
   PetscCall(VecRestoreSubVector(y, self->is_p_, &y_p));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KrylovStokesSolver::apply_helmholtz_transform(PC pc, Vec x, Vec y)
+{
+  PetscFunctionBeginUser;
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  auto* self = static_cast<KrylovStokesSolver*>(context);
+  const StokesParameters& q = self->parameters_;
+  try {
+    self->transforms_->solve_helmholtz(self->H_, q.rho / q.dt, 0.5 * q.mu, x, y);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KrylovStokesSolver::apply_poisson_transform(PC pc, Vec x, Vec y)
+{
+  PetscFunctionBeginUser;
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  auto* self = static_cast<KrylovStokesSolver*>(context);
+  try {
+    self->transforms_->solve_poisson(x, y);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
   PetscFunctionReturn(0);
 }
 

@@ -11,12 +11,16 @@
 // on a traction side the boundary normal velocity is an unknown whose momentum equation uses the
 // even ghost (du_n/dn = 0) and the one-sided pressure gradient (p_in - p_b)/(h/2), and tangential
 // components the same ghost with g = 0 (no slip). Options prefixes: fluid_stokes_ (FGMRES), fluid_helmholtz_
-// and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each).
+// and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each; with settings.subsolver = fft the
+// FFTW transform solves of fluid/transform_subsolvers.hpp, exact for K, a spectrally equivalent
+// preconditioner for H when a velocity component has a tangential wall).
+#include <memory>
 #include <vector>
 
 #include <petscksp.h>
 
 #include "fluid/navier_stokes.hpp"
+#include "fluid/transform_subsolvers.hpp"
 
 namespace ibvalve::fluid {
 
@@ -33,8 +37,17 @@ class KrylovStokesSolver : public StokesSolver {
   void add_boundary_terms(Vec rhs, double t_new, double t_half) override;
   std::string name() const override { return "krylov"; }
 
-  /// The assembled operator (for tests).
+  /// The assembled operator, its velocity block H and the pressure Poisson operator K = -D G, and
+  /// the sub-solvers applied to them in the preconditioner (for tests; valid after set_parameters).
   Mat matrix() const { return A_; }
+  Mat helmholtz_matrix() const { return H_; }
+  Mat poisson_matrix() const { return K_; }
+  KSP helmholtz_ksp() const { return ksp_h_; }
+  KSP poisson_ksp() const { return ksp_k_; }
+  IS velocity_set() const { return is_u_; }
+  IS pressure_set() const { return is_p_; }
+  /// The transform sub-solvers (null unless settings.subsolver is fft).
+  const TransformSubsolvers* transforms() const { return transforms_.get(); }
 
  private:
   struct Entry {
@@ -49,6 +62,8 @@ class KrylovStokesSolver : public StokesSolver {
   void assemble(Mat matrix) const;
   void destroy();
   static PetscErrorCode apply_projection(PC pc, Vec x, Vec y);
+  static PetscErrorCode apply_helmholtz_transform(PC pc, Vec x, Vec y);
+  static PetscErrorCode apply_poisson_transform(PC pc, Vec x, Vec y);
 
   const StaggeredGrid& grid_;
   const BoundaryConditions& bc_;
@@ -60,6 +75,8 @@ class KrylovStokesSolver : public StokesSolver {
   KSP ksp_ = nullptr, ksp_h_ = nullptr, ksp_k_ = nullptr;
   Vec x_ = nullptr, b_ = nullptr, r_p_ = nullptr, phi_ = nullptr, gphi_ = nullptr;
   double helmholtz_seconds_ = 0.0, poisson_seconds_ = 0.0;
+  // Built once (FFTW plans, scatters): they depend on the grid and the side kinds, not on dt.
+  std::unique_ptr<TransformSubsolvers> transforms_;
 };
 
 } // namespace ibvalve::fluid

@@ -21,6 +21,9 @@
 namespace ibvalve::fluid {
 
 enum class SolverKind { fft, krylov };
+/// The sub-solves of the Krylov solver's projection preconditioner: one hypre BoomerAMG V-cycle each,
+/// or the FFTW real-to-real transform solves (fluid/transform_subsolvers.hpp).
+enum class SubsolverKind { amg, fft };
 
 struct FluidSettings {
   double rho = 1.0;
@@ -30,6 +33,7 @@ struct FluidSettings {
   double rtol = 1e-12; // Krylov solver: relative tolerance of the outer FGMRES
   double atol = 1e-14; // ... and absolute tolerance
   PetscInt max_iterations = 200;
+  SubsolverKind subsolver = SubsolverKind::amg; // Krylov solver only
 };
 
 /// Wall-clock seconds spent in the parts of the steps so far.
