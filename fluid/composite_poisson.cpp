@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
@@ -80,6 +81,12 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
                                        std::function<double(const Real3&)> dirichlet_value)
     : comm_(comm), hierarchy_(&hierarchy), cells_(hierarchy)
 {
+  for (int d = 0; d < 3; ++d)
+    if (hierarchy.domain().periodic[d])
+      throw std::invalid_argument("composite operators: periodic sides are not supported yet (direction " +
+                                  std::string(1, "xyz"[d]) + ")");
+  if (boundary == CompositeBoundary::dirichlet && !dirichlet_value)
+    throw std::invalid_argument("composite operators: Dirichlet sides need boundary values");
   const PetscInt total = cells_.size();
   PetscInt owned = PETSC_DECIDE, global = total;
   PETSC_CHECK(PetscSplitOwnership(comm, &owned, &global));

@@ -69,6 +69,8 @@ struct CompositeFace {
 class CompositeOperators {
  public:
   /// `dirichlet_value(x)`: boundary data for `dirichlet` (ignored for `neumann`). Collective on `comm`.
+  /// Every side of the domain is a Dirichlet or Neumann side: a periodic direction is refused
+  /// (std::invalid_argument) until the numbering learns periodic images.
   CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy, CoarseFineStencil stencil,
                      CompositeBoundary boundary, std::function<double(const Real3&)> dirichlet_value = {});
   ~CompositeOperators();

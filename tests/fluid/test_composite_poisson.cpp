@@ -299,6 +299,19 @@ TEST(CompositePoisson, TwoPointCoarseFineFluxIsOnlyFirstOrderInMaxNorm)
   EXPECT_LT(max_order, 1.2);
 }
 
+TEST(CompositeOperators, RefusePeriodicSidesAndMissingBoundaryValues)
+{
+  BoxGeometry periodic;
+  periodic.cells = {8, 8, 8};
+  periodic.periodic = {false, true, false};
+  EXPECT_THROW(CompositeOperators(PETSC_COMM_WORLD, GridHierarchy(periodic, {}),
+                                  CoarseFineStencil::tangential_linear, CompositeBoundary::neumann),
+               std::invalid_argument);
+  EXPECT_THROW(CompositeOperators(PETSC_COMM_WORLD, make_hierarchy(8, Layout::two_levels_ratio2),
+                                  CoarseFineStencil::tangential_linear, CompositeBoundary::dirichlet),
+               std::invalid_argument);
+}
+
 TEST(CompositePoisson, OneRankAndAllRanksAgree)
 {
   std::vector<double> mine, alone;
