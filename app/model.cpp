@@ -7,6 +7,7 @@ namespace ibvalve::app {
 Model lumped_model(); // app/lumped_model.cpp
 Model ibfe_model();   // app/ibfe_model.cpp
 Model fluid_model();  // app/fluid_model.cpp
+Model aortic_valve_model(); // app/aortic_valve_model.cpp
 
 namespace {
 std::vector<std::string> model_names()
@@ -25,6 +26,7 @@ const std::vector<Model>& models()
     list.push_back(lumped_model());
     list.push_back(ibfe_model());
     list.push_back(fluid_model());
+    list.push_back(aortic_valve_model());
     return list;
   }();
   return all;

@@ -1,0 +1,423 @@
+// `model = "aortic-valve"`: the study's set-up (REFERENCE.md) on top of the IB/FE coupling
+// (ib/ibfe.hpp): the tri-leaflet valve in its tube (fe/valve_mesh.hpp, generated at start-up or read
+// from a Gmsh file), fibers from the mesh groups (fibers/rules.hpp, FD1 or FD2), one material per body
+// (leaflets, tube), the tube's outer surface and the leaflets' attachments tethered; the box's inlet
+// side (z lower) carries the LV pressure in a disk of the tube's radius, the outlet side (z upper) the
+// pressure of a three-element Windkessel fed with the outlet flux each step, zero pressure elsewhere.
+// Probes come from the geometry; the orifice area from the deformed leaflets; the report is written at
+// the end of every cycle.
+//
+// Windkessel coupling: explicit, lagged by one step. Step n uses P_Ao^n as the outlet pressure; after
+// it the flux Q^{n+1} through the outlet disk advances the Windkessel (linear flow over the step,
+// windkessel/windkessel.hpp) to give P_Ao^{n+1}. The lag is O(dt) in P_Ao; with dt = 1e-4 s and
+// R_c = 0.033 mmHg s/mL it changes P_Ao by R_c dQ, well below 0.1 mmHg.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include <mpi.h>
+
+#include "app/model.hpp"
+#include "app/version.hpp"
+#include "fe/gmsh_io.hpp"
+#include "fe/mesh.hpp"
+#include "fe/solid.hpp"
+#include "fe/valve_mesh.hpp"
+#include "fibers/rules.hpp"
+#include "fluid/navier_stokes.hpp"
+#include "fluid/queries.hpp"
+#include "hemodynamics/geometry.hpp"
+#include "hemodynamics/report.hpp"
+#include "hemodynamics/timeseries.hpp"
+#include "ib/ibfe.hpp"
+#include "io/errors.hpp"
+#include "io/files.hpp"
+#include "io/logger.hpp"
+#include "io/units.hpp"
+#include "materials/settings.hpp"
+#include "windkessel/waveform.hpp"
+#include "windkessel/windkessel.hpp"
+
+namespace ibvalve::app {
+
+namespace {
+
+constexpr int leaflet_count = 3;
+
+void add_aortic_valve_schema(io::Schema& s)
+{
+  s.add_integer("time.cycles", "cardiac cycles to run (a report after each)")
+      .defaults(std::int64_t{1})
+      .at_least(1);
+  s.add_real("time.step", "time step (rounded so a cycle holds a whole number of steps)")
+      .unit("s")
+      .defaults(5e-5)
+      .positive();
+  s.add_integer("output.every", "write a time-series row every this many steps")
+      .defaults(std::int64_t{10})
+      .at_least(1);
+  s.add_real("fluid.density", "blood density").unit("g/mL").defaults(1.0).positive();
+  s.add_real("fluid.viscosity", "blood viscosity").unit("cP").defaults(4.0).positive();
+  s.add_integer_list("fluid.cells", "grid cells in x, y, z")
+      .size(3)
+      .defaults(std::vector<std::int64_t>{16, 16, 28});
+  s.add_real_list("fluid.lower", "lower corner of the box (the tube's axis is x = y = 0, inlet at z = 0)")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{-4.0, -4.0, -0.5});
+  s.add_real_list("fluid.upper", "upper corner of the box")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{4.0, 4.0, 13.5});
+
+  s.add_string("mesh.file", "a Gmsh mesh with the groups of `ibvalve mesh aortic-valve`; unset = generate it")
+      .file(true);
+  const fe::ValveMeshParameters d;
+  s.add_real("mesh.tube_radius", "tube inner radius").unit("cm").defaults(d.tube_radius).positive();
+  s.add_real("mesh.tube_wall", "tube wall thickness").unit("cm").defaults(d.tube_wall).positive();
+  s.add_real("mesh.tube_length", "tube length").unit("cm").defaults(d.tube_length).positive();
+  s.add_real("mesh.leaflet_thickness", "leaflet thickness")
+      .unit("cm")
+      .defaults(d.leaflet_thickness)
+      .positive();
+  s.add_real("mesh.valve_base", "z of the attachment's nadir").unit("cm").defaults(d.valve_base).positive();
+  s.add_real("mesh.commissure_height", "commissures above the nadir")
+      .unit("cm")
+      .defaults(d.commissure_height)
+      .positive();
+  s.add_real("mesh.sag", "belly depth toward the ventricle").unit("cm").defaults(d.sag).non_negative();
+  s.add_real("mesh.free_edge_gap", "gap between closed free edges")
+      .unit("cm")
+      .defaults(d.free_edge_gap)
+      .positive();
+  s.add_integer("mesh.leaflet_across", "leaflet elements commissure to commissure (even)")
+      .defaults(std::int64_t{16});
+  s.add_integer("mesh.leaflet_radial", "leaflet elements attachment to free edge").defaults(std::int64_t{6});
+  s.add_integer("mesh.tube_around", "tube elements around").defaults(std::int64_t{48});
+  s.add_integer("mesh.tube_along", "tube elements along").defaults(std::int64_t{52});
+
+  s.merge(materials::material_schema("leaflets.material"));
+  s.merge(materials::material_schema("tube.material"));
+  s.add_string("fibers.rule", "leaflet fiber rule (docs/fibers.md)")
+      .choices({"FD1", "FD2"})
+      .defaults(std::string("FD1"));
+  s.add_real("tether.tube_stiffness", "spring per area holding tube_outer in place, dyn/cm^3")
+      .defaults(1e8)
+      .non_negative();
+  s.add_real("tether.tube_damping", "dashpot per area on tube_outer").defaults(0.0).non_negative();
+  s.add_real("tether.attachment_stiffness", "spring per area holding each leaflet's attachment, dyn/cm^3")
+      .defaults(1e8)
+      .non_negative();
+  s.add_real("tether.attachment_damping", "dashpot per area on the attachments").defaults(0.0).non_negative();
+
+  windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg");
+  s.add_real("inlet.radius", "radius of the inlet pressure disk (0 = the tube radius)")
+      .unit("cm")
+      .defaults(0.0)
+      .non_negative();
+  windkessel::add_schema(s, "windkessel");
+  s.add_real("outlet.radius", "radius of the Windkessel disk (0 = the tube radius)")
+      .unit("cm")
+      .defaults(0.0)
+      .non_negative();
+  s.add_real("probes.offset", "P_nlv / P_nao: on the axis this far below the nadir / above the commissures")
+      .unit("cm")
+      .defaults(1.0)
+      .positive();
+  s.add_real("probes.flow_plane_offset", "Q_valve through the tube section this far below the nadir")
+      .unit("cm")
+      .defaults(0.5)
+      .non_negative();
+  s.add_integer("probes.orifice_resolution", "pixels per side of the orifice-area raster")
+      .defaults(std::int64_t{256})
+      .at_least(16);
+
+  s.add_string("ib.kernel", "regularized delta function")
+      .choices({"piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3"})
+      .defaults(ib::kernel_name(ib::default_kernel));
+  s.add_real("ib.point_spacing", "largest spacing of the coupling points, in grid cells")
+      .defaults(0.5)
+      .positive();
+  s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
+      .defaults(std::int64_t{2})
+      .at_least(1);
+  hemodynamics::add_report_schema(s, "report");
+}
+
+class AorticValveRun : public PreparedRun {
+ public:
+  explicit AorticValveRun(const io::Config& config)
+      : config_(config), lv_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
+        outlet_parameters_(windkessel::parameters_from_config(config, "windkessel")),
+        report_(hemodynamics::metric_settings_from_config(config, "report"))
+  {
+    for (int d = 0; d < 3; ++d) {
+      box_.cells[d] = static_cast<PetscInt>(config.integers("fluid.cells")[d]);
+      box_.lower[d] = config.reals("fluid.lower")[d];
+      box_.upper[d] = config.reals("fluid.upper")[d];
+      box_.periodic[d] = false;
+      if (box_.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
+      if (!(box_.upper[d] > box_.lower[d])) config.fail("fluid.upper", "must lie above fluid.lower");
+    }
+    fluid_.rho = config.real("fluid.density");
+    fluid_.mu = config.real("fluid.viscosity");
+    fluid_.solver = fluid::SolverKind::krylov;
+
+    geometry_.tube_radius = config.real("mesh.tube_radius");
+    geometry_.tube_wall = config.real("mesh.tube_wall");
+    geometry_.tube_length = config.real("mesh.tube_length");
+    geometry_.leaflet_thickness = config.real("mesh.leaflet_thickness");
+    geometry_.valve_base = config.real("mesh.valve_base");
+    geometry_.commissure_height = config.real("mesh.commissure_height");
+    geometry_.sag = config.real("mesh.sag");
+    geometry_.free_edge_gap = config.real("mesh.free_edge_gap");
+    geometry_.leaflet_across = static_cast<int>(config.integer("mesh.leaflet_across"));
+    geometry_.leaflet_radial = static_cast<int>(config.integer("mesh.leaflet_radial"));
+    geometry_.tube_around = static_cast<int>(config.integer("mesh.tube_around"));
+    geometry_.tube_along = static_cast<int>(config.integer("mesh.tube_along"));
+    if (config.has("mesh.file")) {
+      mesh_ = fe::read_msh(config.path("mesh.file"));
+    } else {
+      try {
+        fe::check(geometry_);
+      } catch (const std::invalid_argument& e) {
+        config.fail("mesh", e.what());
+      }
+      mesh_ = fe::aortic_valve_mesh(geometry_);
+    }
+    for (const std::string group : {"tube", "tube_outer"})
+      if (!mesh_.has_group(group)) config.fail("mesh.file", "the mesh has no group '" + group + "'");
+    for (int k = 1; k <= leaflet_count; ++k)
+      for (const std::string suffix : {"", "_attachment", "_n1", "_n2", "_tau1", "_tau2"})
+        if (!mesh_.has_group(leaflet(k) + suffix))
+          config.fail("mesh.file", "the mesh has no group '" + leaflet(k) + suffix + "'");
+    for (const fe::Vec3& X : mesh_.nodes())
+      for (int d = 0; d < 3; ++d)
+        if (!(X[d] > box_.lower[d] && X[d] < box_.upper[d]))
+          config.fail("fluid.lower", "the valve and tube must lie inside the box");
+
+    leaflet_material_ = materials::read_material(config, "leaflets.material");
+    tube_material_ = materials::read_material(config, "tube.material");
+    rule_ = fibers::parse_fiber_rule(config.string("fibers.rule"));
+    ib_.kernel = *ib::find_kernel(config.string("ib.kernel"));
+    ib_.points.spacing = config.real("ib.point_spacing");
+    ib_.tethers.push_back(
+        {"tube_outer", config.real("tether.tube_stiffness"), config.real("tether.tube_damping")});
+    for (int k = 1; k <= leaflet_count; ++k)
+      ib_.tethers.push_back({leaflet(k) + "_attachment", config.real("tether.attachment_stiffness"),
+                             config.real("tether.attachment_damping")});
+
+    const double r = geometry_.tube_radius;
+    inlet_radius_ = config.real("inlet.radius") > 0 ? config.real("inlet.radius") : r;
+    outlet_radius_ = config.real("outlet.radius") > 0 ? config.real("outlet.radius") : r;
+    period_ = lv_.period();
+    if (std::abs(report_.period - period_) > 1e-9 * period_)
+      config.fail("report.period", "differs from the LV pressure table's period");
+    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
+    cycles_ = config.integer("time.cycles");
+    every_ = config.integer("output.every");
+    const double nadir = geometry_.valve_base, top = nadir + geometry_.commissure_height;
+    flow_plane_z_ = nadir - config.real("probes.flow_plane_offset");
+    near_lv_z_ = nadir - config.real("probes.offset");
+    near_ao_z_ = top + config.real("probes.offset");
+    orifice_resolution_ = static_cast<int>(config.integer("probes.orifice_resolution"));
+    plots_ = config.boolean("report.plots");
+  }
+
+  RunSummary run(const RunContext& context) override
+  {
+    if (context.restart)
+      throw InputError("aortic-valve: restart is not available yet for this model (the lumped model has it)");
+    auto& log = io::Logger::global();
+    int rank = 0;
+    MPI_Comm_rank(context.comm, &rank);
+    const double dt = period_ / static_cast<double>(steps_per_cycle_);
+
+    // Fibers (rule FD1/FD2) from each leaflet's groups, computed on the mesh at start-up.
+    std::vector<fibers::LeafletSpec> specs;
+    for (int k = 1; k <= leaflet_count; ++k) {
+      fibers::LeafletSpec spec;
+      spec.group = leaflet(k);
+      specs.push_back(spec);
+    }
+    const fibers::FiberField field = fibers::compute_fibers(mesh_, rule_, specs, context.comm);
+    std::vector<materials::FiberFrame> frames(mesh_.num_elements());
+    for (std::size_t e = 0; e < frames.size(); ++e) frames[e].f0 = field.element_directions[e];
+
+    std::vector<fe::BodyPart> parts;
+    std::vector<int> leaflet_elements;
+    for (int k = 1; k <= leaflet_count; ++k) {
+      const auto& elements = mesh_.group(leaflet(k)).elements;
+      leaflet_elements.insert(leaflet_elements.end(), elements.begin(), elements.end());
+      parts.push_back({leaflet(k), elements, {leaflet_material_.build()}});
+    }
+    parts.push_back({"tube", mesh_.group("tube").elements, {tube_material_.build()}});
+    fe::SolidModel solid(mesh_, parts, static_cast<int>(config_.integer("structure.quadrature_degree")),
+                         context.comm);
+    solid.set_fibers(frames);
+
+    // Boundary: every side a traction side; zero pressure except the inlet and outlet disks.
+    double outlet_pressure = outlet_parameters_.initial_pressure;
+    fluid::BoundaryConditions bc;
+    for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::traction;
+    const double rin = inlet_radius_, rout = outlet_radius_;
+    bc.side(2, 0).pressure = [this, rin](const fluid::Real3& x, double t) {
+      return std::hypot(x[0], x[1]) < rin ? lv_(t) : 0.0;
+    };
+    bc.side(2, 1).pressure = [&outlet_pressure, rout](const fluid::Real3& x, double) {
+      return std::hypot(x[0], x[1]) < rout ? outlet_pressure : 0.0;
+    };
+    fluid::NavierStokes fluid(context.comm, box_, bc, fluid_);
+    fluid.set_initial_condition(
+        [](const fluid::Real3&, double) {
+          return fluid::Real3{0.0, 0.0, 0.0};
+        },
+        nullptr, 0.0);
+    ib::IbfeIntegrator ibfe(fluid, solid, ib_);
+    windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
+    const ib::StabilityEstimate stability = ibfe.stability_estimate();
+    log.info("aortic valve: " + std::to_string(mesh_.num_elements()) + " elements (" +
+             std::to_string(leaflet_elements.size()) + " in the leaflets), " +
+             std::to_string(mesh_.num_nodes()) + " nodes; grid " + std::to_string(box_.cells[0]) + " x " +
+             std::to_string(box_.cells[1]) + " x " + std::to_string(box_.cells[2]) + "; dt " +
+             std::to_string(dt) + " s (stability estimate " + std::to_string(stability.dt) +
+             " s); leaflets " + leaflet_material_.describe() + "; fibers " + config_.string("fibers.rule"));
+
+    // Probes from the geometry.
+    const fluid::Real3 axis{0.0, 0.0, 0.0};
+    const auto valve_plane = fluid::PlaneRegion::disk(2, flow_plane_z_, axis, geometry_.tube_radius);
+    const double h_z = (box_.upper[2] - box_.lower[2]) / static_cast<double>(box_.cells[2]);
+    const double outlet_z = box_.upper[2] - 0.5 * h_z;
+    const auto outlet_plane = fluid::PlaneRegion::disk(2, outlet_z, axis, outlet_radius_);
+    const fluid::Real3 p_lv_at{0.0, 0.0, box_.lower[2] + 0.5 * h_z}, p_ao_at{0.0, 0.0, outlet_z};
+    const fluid::Real3 p_nlv_at{0.0, 0.0, near_lv_z_}, p_nao_at{0.0, 0.0, near_ao_z_};
+    std::vector<hemodynamics::Quad> leaflet_faces;
+    for (int e : leaflet_elements) {
+      const auto n = mesh_.element(static_cast<std::size_t>(e));
+      leaflet_faces.push_back({static_cast<std::size_t>(n[0]), static_cast<std::size_t>(n[1]),
+                               static_cast<std::size_t>(n[2]), static_cast<std::size_t>(n[3])});
+      leaflet_faces.push_back({static_cast<std::size_t>(n[4]), static_cast<std::size_t>(n[5]),
+                               static_cast<std::size_t>(n[6]), static_cast<std::size_t>(n[7])});
+    }
+    hemodynamics::CrossSection section;
+    section.radius = geometry_.tube_radius;
+    section.centre = {0.0, 0.0, geometry_.valve_base};
+    auto orifice_area = [&] {
+      const auto positions = ibfe.positions();
+      std::vector<hemodynamics::Point> points(positions.size());
+      for (std::size_t i = 0; i < points.size(); ++i)
+        points[i] = {positions[i][0], positions[i][1], positions[i][2]};
+      return hemodynamics::geometric_orifice_area(points, {}, leaflet_faces, section,
+                                                  hemodynamics::OrificeOptions{orifice_resolution_});
+    };
+
+    const std::filesystem::path& directory = context.run_directory;
+    io::CsvWriter csv;
+    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns());
+    double outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
+    auto record = [&] {
+      const double t = ibfe.time();
+      const double q_valve = fluid::volume_flux(fluid, valve_plane);
+      const double p_lv = fluid::pressure_at(fluid, p_lv_at), p_ao = fluid::pressure_at(fluid, p_ao_at);
+      const double p_nlv = fluid::pressure_at(fluid, p_nlv_at), p_nao = fluid::pressure_at(fluid, p_nao_at);
+      const double area = orifice_area();
+      largest_area = std::max(largest_area, area);
+      smallest_area = std::min(smallest_area, area);
+      if (!std::isfinite(q_valve) || !std::isfinite(p_nlv))
+        throw RunError("aortic-valve: the flow is not finite at t = " + std::to_string(t) +
+                       " s (try a smaller time.step)");
+      if (rank == 0)
+        csv.write_row({t, q_valve / units::mL, outlet_flow / units::mL, p_lv / units::mmHg,
+                       p_ao / units::mmHg, outlet.reservoir_pressure() / units::mmHg, p_nlv / units::mmHg,
+                       p_nao / units::mmHg, area});
+    };
+
+    RunSummary summary;
+    const long steps = cycles_ * steps_per_cycle_;
+    log.start_clock();
+    record();
+    for (long n = 1; n <= steps; ++n) {
+      try {
+        ibfe.step(dt);
+      } catch (const std::runtime_error& e) {
+        // A solver that diverges here is the run going unstable, not bad input: keep the output.
+        throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
+                       " s): " + e.what() + " (try a smaller time.step or a finer grid)");
+      }
+      outlet_flow = fluid::volume_flux(fluid, outlet_plane);
+      outlet_pressure = outlet.advance(dt, outlet_flow);
+      if (n % every_ == 0 || n == steps) record();
+      log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
+      if (context.stop_after_steps > 0 && n >= context.stop_after_steps && n < steps) {
+        log.finish_progress();
+        summary.lines.push_back("stopped after step " + std::to_string(n) + " of " + std::to_string(steps) +
+                                " (no checkpoint: this model cannot restart yet)");
+        break;
+      }
+      if (n % steps_per_cycle_ == 0) {
+        log.finish_progress();
+        write_report(context, summary, n / steps_per_cycle_);
+      }
+    }
+    const ib::IbfeTimings& t = ibfe.timings();
+    std::ostringstream timing;
+    timing.precision(3);
+    timing << "per step: " << t.total / static_cast<double>(t.steps) << " s (fluid " << t.fluid / t.steps
+           << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
+           << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ", points "
+           << t.points / t.steps << ") over " << t.steps << " steps; orifice area " << smallest_area << " to "
+           << largest_area << " cm^2";
+    summary.lines.push_back(timing.str());
+    return summary;
+  }
+
+ private:
+  static std::string leaflet(int k) { return "leaflet" + std::to_string(k); }
+
+  void write_report(const RunContext& context, RunSummary& summary, long cycle) const
+  {
+    hemodynamics::ReportOptions options;
+    options.settings = report_;
+    options.python = python_executable;
+    options.plots = plots_;
+    int rank = 0;
+    MPI_Comm_rank(context.comm, &rank);
+    if (rank == 0) {
+      const auto files = hemodynamics::write_report(context.run_directory, options);
+      summary.lines.push_back("cycle " + std::to_string(cycle) + " report: " + files.html.string());
+    }
+    MPI_Barrier(context.comm);
+  }
+
+  io::Config config_;
+  windkessel::PeriodicWaveform lv_;
+  windkessel::WindkesselParameters outlet_parameters_;
+  hemodynamics::MetricSettings report_;
+  fluid::BoxGeometry box_;
+  fluid::FluidSettings fluid_;
+  fe::ValveMeshParameters geometry_;
+  fe::Mesh mesh_;
+  materials::MaterialSettings leaflet_material_, tube_material_;
+  fibers::FiberRule rule_ = fibers::FiberRule::FD1;
+  ib::IbfeSettings ib_;
+  double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
+  long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1;
+  double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
+  int orifice_resolution_ = 256;
+  bool plots_ = true;
+};
+
+} // namespace
+
+Model aortic_valve_model()
+{
+  return Model{"aortic-valve",
+               "the tri-leaflet valve in its tube (IB/FE): LV pressure in, Windkessel out, fibers FD1/FD2, "
+               "report each cycle",
+               add_aortic_valve_schema, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+                 return std::make_unique<AorticValveRun>(config);
+               }};
+}
+
+} // namespace ibvalve::app
