@@ -7,6 +7,7 @@
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "app/version.hpp"
+#include "io/checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -91,6 +92,11 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   int size = 1, rank = 0;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
+  if (!options.restart.empty() && !io::Checkpoints(PETSC_COMM_WORLD, directory, {}).latest())
+    throw InputError(directory.string() + ": no complete checkpoint to restart from (models write them with "
+                                          "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
+                     model.name + " model may not write any)");
   int ok = 1;
   std::string problem;
   if (rank == 0) {
