@@ -40,6 +40,11 @@ void add_fluid_schema(io::Schema& s)
                "Stokes solver: fft (periodic boxes), krylov (any sides), auto (fft when periodic)")
       .defaults(std::string("auto"))
       .choices({"auto", "fft", "krylov"});
+  s.add_string("fluid.subsolver",
+               "krylov solver's preconditioner sub-solves: amg (hypre BoomerAMG V-cycles) or fft (FFTW "
+               "sine/cosine transforms: exact pressure Poisson, Helmholtz preconditioner)")
+      .defaults(std::string("amg"))
+      .choices({"amg", "fft"});
   s.add_string("fluid.convection", "convective scheme")
       .defaults(std::string("limited_upwind"))
       .choices({"limited_upwind", "centered"});
@@ -166,6 +171,8 @@ class FluidRun : public PreparedRun {
     if (solver == "fft" && !all_periodic) config.fail("fluid.solver", "fft needs every side periodic");
     settings_.solver = (solver == "fft" || (solver == "auto" && all_periodic)) ? fluid::SolverKind::fft
                                                                                : fluid::SolverKind::krylov;
+    settings_.subsolver =
+        config.string("fluid.subsolver") == "fft" ? fluid::SubsolverKind::fft : fluid::SubsolverKind::amg;
     const std::string initial = config.string("initial.condition");
     if (initial != "rest") {
       exact_.kind = initial;

@@ -35,7 +35,10 @@ class KrylovStokesSolver : public StokesSolver {
   void set_parameters(const StokesParameters& parameters) override;
   SolveStatistics solve(Vec rhs, Vec solution) override;
   void add_boundary_terms(Vec rhs, double t_new, double t_half) override;
-  std::string name() const override { return "krylov"; }
+  std::string name() const override
+  {
+    return settings_.subsolver == SubsolverKind::fft ? "krylov (fft sub-solves)" : "krylov";
+  }
 
   /// The assembled operator, its velocity block H and the pressure Poisson operator K = -D G, and
   /// the sub-solvers applied to them in the preconditioner (for tests; valid after set_parameters).
