@@ -76,12 +76,26 @@ SeparableTransformSolver::SeparableTransformSolver(MPI_Comm comm, const std::arr
   const ptrdiff_t n[3] = {axes[2].unknowns, axes[1].unknowns, axes[0].unknowns};
   const fftw_r2r_kind forward[3] = {axes[2].forward, axes[1].forward, axes[0].forward};
   const fftw_r2r_kind backward[3] = {axes[2].backward, axes[1].backward, axes[0].backward};
-  // Coefficients stay in the transposed layout (y split, z whole): one global transpose saved each way.
-  const ptrdiff_t alloc =
-      fftw_mpi_local_size_transposed(3, n, comm, &local_n0_, &local_0_start_, &local_n1_, &local_1_start_);
-  data_ = fftw_alloc_real(static_cast<std::size_t>(alloc > 0 ? alloc : 1));
-  forward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, forward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_OUT);
-  backward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, backward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_IN);
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  if (size == 1) {
+    // The slab is the whole box: serial transforms, coefficients in the data layout [z][y][x].
+    local_n0_ = n[0];
+    local_n1_ = n[1];
+    data_ = fftw_alloc_real(static_cast<std::size_t>(n[0] * n[1] * n[2]));
+    const int m[3] = {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])};
+    forward_ = fftw_plan_r2r(3, m, data_, data_, forward, FFTW_MEASURE);
+    backward_ = fftw_plan_r2r(3, m, data_, data_, backward, FFTW_MEASURE);
+  } else {
+    // Coefficients stay in the transposed layout [y local][z][x] (y split, z whole): one global
+    // transpose saved each way.
+    transposed_ = true;
+    const ptrdiff_t alloc =
+        fftw_mpi_local_size_transposed(3, n, comm, &local_n0_, &local_0_start_, &local_n1_, &local_1_start_);
+    data_ = fftw_alloc_real(static_cast<std::size_t>(alloc > 0 ? alloc : 1));
+    forward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, forward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_OUT);
+    backward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, backward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_IN);
+  }
   if (!forward_ || !backward_) {
     this->~SeparableTransformSolver();
     throw std::runtime_error("transform solver: FFTW could not plan the real-to-real transforms");
@@ -105,10 +119,10 @@ void SeparableTransformSolver::solve(double a, double b)
   const double* lx = axes_[0].eigenvalues.data();
   const double* ly = axes_[1].eigenvalues.data();
   const double* lz = axes_[2].eigenvalues.data();
-  // Transposed layout: [y local][z][x].
+  const ptrdiff_t ny = axes_[1].unknowns;
   for (ptrdiff_t jy = 0; jy < local_n1_; ++jy)
     for (ptrdiff_t jz = 0; jz < nz; ++jz) {
-      double* row = data_ + (jy * nz + jz) * nx;
+      double* row = data_ + (transposed_ ? (jy * nz + jz) * nx : (jz * ny + jy) * nx);
       const double ayz = a + b * (ly[jy + local_1_start_] + lz[jz]);
       for (ptrdiff_t jx = 0; jx < nx; ++jx) {
         const double factor = ayz + b * lx[jx];

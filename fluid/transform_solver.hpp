@@ -4,7 +4,8 @@
 // end by a periodic, Dirichlet or Neumann condition, by FFTW real-to-real transforms (FFTW-MPI,
 // slabs in z). Each 1-D closure is diagonalised by one of the trigonometric transforms (Strang 1999,
 // SIAM Rev. 41:135, "The discrete cosine transform", which lists all sixteen and their boundary
-// conditions; Schumann & Sweet 1988, JCP 75:123 for the staggered-grid Poisson case):
+// conditions; Schumann & Sweet 1988, JCP 75:123 for the staggered-grid Poisson case). On one rank
+// the transforms are FFTW's serial ones (the slab is the whole box):
 //
 //   unknowns at     ends            forward / backward (FFTW kinds)   eigenvalue of -d2 (times h^2/4)
 //   cell centres    Neumann-Neumann REDFT10 / REDFT01 (DCT-II/III)     sin^2(pi k / 2n)
@@ -71,6 +72,7 @@ class SeparableTransformSolver {
   std::array<TransformAxis, 3> axes_;
   std::ptrdiff_t local_n0_ = 0, local_0_start_ = 0, local_n1_ = 0, local_1_start_ = 0;
   double* data_ = nullptr;
+  bool transposed_ = false; // coefficients in FFTW-MPI's transposed layout (more than one rank)
   fftw_plan forward_ = nullptr, backward_ = nullptr;
 };
 
