@@ -43,7 +43,7 @@ void add_fluid_schema(io::Schema& s)
   s.add_string("fluid.subsolver",
                "krylov solver's preconditioner sub-solves: amg (hypre BoomerAMG V-cycles) or fft (FFTW "
                "sine/cosine transforms: exact pressure Poisson, Helmholtz preconditioner)")
-      .defaults(std::string("amg"))
+      .defaults(std::string("fft"))
       .choices({"amg", "fft"});
   s.add_string("fluid.convection", "convective scheme")
       .defaults(std::string("limited_upwind"))
