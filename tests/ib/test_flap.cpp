@@ -235,8 +235,8 @@ FlapResult run_flap(const FlapSettings& s)
     r.total_load += F * Lz;
     if (is_root()) std::printf("  strip y in [%.4f, %.4f]: load %.5g dyn/cm\n", ya, yb, F);
   }
-  // Below the first strip (y < L/8, within two grid cells of the wall) no box fits; that part of the
-  // load is left out (for a uniform load it makes 0.25 % of the tip deflection of a cantilever).
+  // The lowest strip (y < y0 + L/8), next to the wall and the tethered base, gets no load: its share
+  // of a uniform load makes 0.25 % of a cantilever's tip deflection.
 
   // The base as the tether held it, u(X) = a + b (X_x - x_c) per component (least squares over the
   // base nodes: a translation plus the rotation of the base face).
