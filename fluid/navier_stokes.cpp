@@ -38,7 +38,19 @@ NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryCondit
     grid_ = std::make_unique<StaggeredGrid>(comm, box, fft_decomposition(comm, box.cells), width);
     solver_ = std::make_unique<FftStokesSolver>(*grid_);
   } else {
-    grid_ = std::make_unique<StaggeredGrid>(comm, box, Decomposition{}, width);
+    // With the transform sub-solves, FFTW's z slabs keep the scatters to the transforms' layout
+    // (nearly) rank-local; slabs thinner than the ghost width fall back to PETSc's decomposition.
+    Decomposition decomposition;
+    if (settings.subsolver == SubsolverKind::fft) {
+      try {
+        Decomposition slabs = fft_decomposition(comm, box.cells);
+        bool thick = true;
+        for (PetscInt planes : slabs.z_ownership) thick = thick && planes >= width;
+        if (thick) decomposition = slabs;
+      } catch (const std::invalid_argument&) {
+      }
+    }
+    grid_ = std::make_unique<StaggeredGrid>(comm, box, decomposition, width);
     solver_ = std::make_unique<KrylovStokesSolver>(*grid_, bc_, settings);
   }
   state_ = grid_->create_local();

@@ -13,8 +13,9 @@
 //   Navier–Stokes step always has a divergence-free target.
 // - KrylovStokesSolver: any boundary conditions. The coupled system is assembled (PETSc AIJ) and
 //   solved by FGMRES preconditioned by the same projection method with inexact sub-solves
-//   (hypre BoomerAMG V-cycles on the Helmholtz block H and on the pressure Poisson operator D G),
-//   the preconditioner of Griffith (2009, JCP 228:7565, section 4). Options prefix "fluid_stokes_"
+//   (hypre BoomerAMG V-cycles on the Helmholtz block H and on the pressure Poisson operator D G, or
+//   FFTW sine/cosine transform solves, fluid/transform_subsolvers.hpp), the preconditioner of
+//   Griffith (2009, JCP 228:7565, section 4). Options prefix "fluid_stokes_"
 //   for the outer solver, "fluid_helmholtz_" and "fluid_poisson_" for the sub-solves.
 #include <string>
 
