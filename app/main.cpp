@@ -57,12 +57,21 @@ int main(int argc, char** argv)
   cli.require_subcommand(1);
   app::CommandAction action;
   app::add_run_command(cli, action);
+  // A build of a subset of the folders (IBVALVE_FOLDERS) has the subcommands whose folders it has.
+#if IBVALVE_HAVE_MATERIALS
   app::add_fit_command(cli, action);
+#endif
+#if IBVALVE_HAVE_FE
   app::add_mesh_command(cli, action);
+#endif
+#if IBVALVE_HAVE_FIBERS
+  app::add_fibers_command(cli, action);
+#endif
+#if IBVALVE_HAVE_HEMODYNAMICS
   app::add_report_command(cli, action);
   app::add_compare_command(cli, action);
   app::add_study_command(cli, action);
-  app::add_fibers_command(cli, action);
+#endif
 
   int code = 0;
   try {

@@ -4,9 +4,9 @@
 
 namespace ibvalve::app {
 
-Model lumped_model(); // app/lumped_model.cpp
-Model ibfe_model();   // app/ibfe_model.cpp
-Model fluid_model();  // app/fluid_model.cpp
+Model lumped_model();       // app/lumped_model.cpp
+Model ibfe_model();         // app/ibfe_model.cpp
+Model fluid_model();        // app/fluid_model.cpp
 Model aortic_valve_model(); // app/aortic_valve_model.cpp
 
 namespace {
@@ -23,10 +23,19 @@ const std::vector<Model>& models()
   // Each model registers itself here as its folder provides it.
   static const std::vector<Model> all = [] {
     std::vector<Model> list;
+    // A build of a subset of the folders (IBVALVE_FOLDERS) has the models whose folders it has.
+#if IBVALVE_HAVE_WINDKESSEL && IBVALVE_HAVE_HEMODYNAMICS
     list.push_back(lumped_model());
+#endif
+#if IBVALVE_HAVE_IB
     list.push_back(ibfe_model());
+#endif
+#if IBVALVE_HAVE_FLUID
     list.push_back(fluid_model());
+#endif
+#if IBVALVE_HAVE_IB && IBVALVE_HAVE_FIBERS && IBVALVE_HAVE_WINDKESSEL && IBVALVE_HAVE_HEMODYNAMICS
     list.push_back(aortic_valve_model());
+#endif
     return list;
   }();
   return all;
@@ -44,13 +53,17 @@ io::Schema common_schema()
   io::Schema s;
   s.add_string("model", "what to run").required().choices(model_names());
   s.add_string("name", "a name for the case, used for the default run folder").defaults(std::string{});
-  s.add_string("output.directory", "run folder (relative to the working directory); default runs/<case name>");
-  s.add_string("log.level", "how much to print").defaults(std::string("normal")).choices({"quiet", "normal", "verbose"});
+  s.add_string("output.directory",
+               "run folder (relative to the working directory); default runs/<case name>");
+  s.add_string("log.level", "how much to print")
+      .defaults(std::string("normal"))
+      .choices({"quiet", "normal", "verbose"});
   s.add_real("log.progress_interval", "seconds between progress lines when not on a terminal")
       .unit("s")
       .defaults(10.0)
       .positive();
-  s.add_string("petsc.options", "PETSc options for every solver (e.g. \"-ksp_type gmres\"); command-line options win")
+  s.add_string("petsc.options",
+               "PETSc options for every solver (e.g. \"-ksp_type gmres\"); command-line options win")
       .defaults(std::string{});
   return s;
 }
