@@ -5,21 +5,12 @@
 #include "fluid/fft_stokes.hpp"
 #include "fluid/krylov_stokes.hpp"
 #include "io/petsc_check.hpp"
+#include "io/stopwatch.hpp"
 
 namespace ibvalve::fluid {
 
 namespace {
-class Stopwatch {
- public:
-  explicit Stopwatch(double& total) : total_(total), start_(MPI_Wtime()) {}
-  ~Stopwatch() { total_ += MPI_Wtime() - start_; }
-  Stopwatch(const Stopwatch&) = delete;
-  Stopwatch& operator=(const Stopwatch&) = delete;
-
- private:
-  double& total_;
-  double start_;
-};
+using io::Stopwatch;
 } // namespace
 
 NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc,

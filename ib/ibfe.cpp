@@ -11,22 +11,13 @@
 #include "io/errors.hpp"
 #include "io/logger.hpp"
 #include "io/petsc_check.hpp"
+#include "io/stopwatch.hpp"
 
 namespace ibvalve::ib {
 
 namespace {
 
-class Stopwatch {
- public:
-  explicit Stopwatch(double& total) : total_(total), start_(MPI_Wtime()) {}
-  ~Stopwatch() { total_ += MPI_Wtime() - start_; }
-  Stopwatch(const Stopwatch&) = delete;
-  Stopwatch& operator=(const Stopwatch&) = delete;
-
- private:
-  double& total_;
-  double start_;
-};
+using io::Stopwatch;
 
 std::string format(double value)
 {

@@ -71,7 +71,6 @@ std::vector<double> CsvTable::values(std::string_view name) const
   return out;
 }
 
-namespace {
 std::string trim(std::string_view s)
 {
   const auto first = s.find_first_not_of(" \t\r");
@@ -80,7 +79,7 @@ std::string trim(std::string_view s)
   return std::string(s.substr(first, last - first + 1));
 }
 
-std::vector<std::string> split(const std::string& line)
+std::vector<std::string> split_csv_line(const std::string& line)
 {
   std::vector<std::string> fields;
   std::stringstream ss(line);
@@ -89,7 +88,6 @@ std::vector<std::string> split(const std::string& line)
   if (!line.empty() && line.back() == ',') fields.emplace_back();
   return fields;
 }
-} // namespace
 
 CsvTable read_csv(const std::filesystem::path& path, bool header)
 {
@@ -104,7 +102,7 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
     ++line_number;
     const std::string text = trim(line);
     if (text.empty() || text[0] == '#') continue;
-    auto fields = split(text);
+    auto fields = split_csv_line(text);
     if (!have_header) {
       table.columns = fields;
       have_header = true;
@@ -114,7 +112,8 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
       for (std::size_t i = 0; i < fields.size(); ++i) table.columns.push_back("c" + std::to_string(i));
     if (fields.size() != table.columns.size())
       throw InputError(path.string() + ":" + std::to_string(line_number) + ": expected " +
-                       std::to_string(table.columns.size()) + " values, found " + std::to_string(fields.size()));
+                       std::to_string(table.columns.size()) + " values, found " +
+                       std::to_string(fields.size()));
     std::vector<double> row(fields.size());
     for (std::size_t i = 0; i < fields.size(); ++i) {
       const char* begin = fields[i].data();

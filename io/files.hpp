@@ -18,14 +18,14 @@ std::string read_text_file(const std::filesystem::path& path);
 /// Appends rows to a CSV time series, flushing each row so a run that stops keeps every row so far.
 /// The header is written when the file is created; reopening an existing file (restart) appends.
 class CsvWriter {
-public:
+ public:
   CsvWriter() = default;
   CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append = false);
   void write_row(const std::vector<double>& values);
   const std::vector<std::string>& columns() const { return columns_; }
   bool is_open() const { return out_.is_open(); }
 
-private:
+ private:
   std::ofstream out_;
   std::vector<std::string> columns_;
 };
@@ -39,6 +39,11 @@ struct CsvTable {
   std::vector<double> values(std::string_view name) const;
   std::filesystem::path source;
 };
+
+/// `s` without leading and trailing blanks (spaces, tabs, carriage returns).
+std::string trim(std::string_view s);
+/// The comma-separated fields of one CSV line, each trimmed (a trailing comma gives an empty field).
+std::vector<std::string> split_csv_line(const std::string& line);
 
 /// Reads a CSV file of numbers. `header` false means the first row is data (columns named c0, c1, ...).
 /// A malformed line throws InputError "file:line: ...".

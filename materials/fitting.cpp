@@ -12,6 +12,7 @@
 #include <ceres/ceres.h>
 
 #include "io/errors.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::materials {
 
@@ -19,24 +20,6 @@ namespace ibvalve::materials {
 // CSV
 
 namespace {
-
-std::string trim(std::string_view s)
-{
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return "";
-  const auto last = s.find_last_not_of(" \t\r");
-  return std::string(s.substr(first, last - first + 1));
-}
-
-std::vector<std::string> split(const std::string& line)
-{
-  std::vector<std::string> fields;
-  std::stringstream ss(line);
-  std::string field;
-  while (std::getline(ss, field, ',')) fields.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
 
 bool parse_number(const std::string& text, double& value)
 {
@@ -69,9 +52,9 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3); // a UTF-8 byte-order mark
-    const std::string text = trim(line);
+    const std::string text = io::trim(line);
     if (text.empty() || text.front() == '#') continue;
-    const auto fields = split(text);
+    const auto fields = io::split_csv_line(text);
     if (!header_seen) {
       for (std::size_t k = 0; k < required.size(); ++k) {
         const auto it = std::find(fields.begin(), fields.end(), required[k]);
