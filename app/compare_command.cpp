@@ -58,8 +58,9 @@ void add_compare_command(CLI::App& app, CommandAction& action)
   sub->add_option("runs", options->runs, "run folders")->required();
   sub->add_option("-o,--output", options->output,
                   "folder for comparison.{md,html}, metrics.csv, ranking.csv");
-  sub->callback(
-      [options, &action] { action = [options](const PetscArguments&) { return compare_runs(options->runs, options->output); }; });
+  sub->callback([options, &action] {
+    action = [options](const PetscArguments&) { return compare_runs(options->runs, options->output); };
+  });
 }
 
 } // namespace ibvalve::app

@@ -235,8 +235,8 @@ class LumpedRun : public PreparedRun {
       first_step = static_cast<long>(header.step);
       rows = header.timeseries_rows;
       io::truncate_csv_rows(directory / "timeseries.csv", rows);
-      log.info("restarting from " + file->string() + " (step " + std::to_string(first_step) + ", t = " +
-               std::to_string(header.time) + " s)");
+      log.info("restarting from " + file->string() + " (step " + std::to_string(first_step) +
+               ", t = " + std::to_string(header.time) + " s)");
     }
     io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart);
     auto save = [&](long step) {
@@ -254,9 +254,10 @@ class LumpedRun : public PreparedRun {
     log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
              std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
     if (!context.restart) write(0.0);
-    const long last_step = context.stop_after_steps > 0
-                               ? std::min<long>(steps, first_step + static_cast<long>(context.stop_after_steps))
-                               : steps;
+    const long last_step =
+        context.stop_after_steps > 0
+            ? std::min<long>(steps, first_step + static_cast<long>(context.stop_after_steps))
+            : steps;
     for (long n = first_step; n < last_step; ++n) {
       const double t = static_cast<double>(n) * dt;
       y = system.step(t, y, dt);
@@ -272,9 +273,9 @@ class LumpedRun : public PreparedRun {
     RunSummary summary;
     if (last_step < steps) {
       const auto file = save(last_step);
-      summary.lines.push_back("stopped after step " + std::to_string(last_step) + " of " + std::to_string(steps) +
-                              " (checkpoint " + file.string() + "); continue with: ibvalve run --restart " +
-                              directory.string());
+      summary.lines.push_back("stopped after step " + std::to_string(last_step) + " of " +
+                              std::to_string(steps) + " (checkpoint " + file.string() +
+                              "); continue with: ibvalve run --restart " + directory.string());
       return summary;
     }
     hemodynamics::ReportOptions options;

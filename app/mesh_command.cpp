@@ -47,15 +47,17 @@ void add_mesh_command(CLI::App& app, CommandAction& action)
   mesh->require_subcommand(1);
   auto parameters = std::make_shared<fe::ValveMeshParameters>();
   auto output = std::make_shared<std::filesystem::path>("valve.msh");
-  CLI::App* valve = mesh->add_subcommand("aortic-valve", "idealized tri-leaflet aortic valve in a straight tube "
-                                                         "(lengths in cm; docs/fe.md)");
+  CLI::App* valve =
+      mesh->add_subcommand("aortic-valve", "idealized tri-leaflet aortic valve in a straight tube "
+                                           "(lengths in cm; docs/fe.md)");
   auto& p = *parameters;
   valve->add_option("-o,--output", *output, "output .msh file")->capture_default_str();
   valve->add_option("--tube-radius", p.tube_radius, "inner radius of the tube")->capture_default_str();
   valve->add_option("--tube-wall", p.tube_wall, "tube wall thickness")->capture_default_str();
   valve->add_option("--tube-length", p.tube_length, "tube length (inlet at z = 0)")->capture_default_str();
   valve->add_option("--leaflet-thickness", p.leaflet_thickness, "leaflet thickness")->capture_default_str();
-  valve->add_option("--valve-base", p.valve_base, "z of the attachment's lowest point")->capture_default_str();
+  valve->add_option("--valve-base", p.valve_base, "z of the attachment's lowest point")
+      ->capture_default_str();
   valve->add_option("--commissure-height", p.commissure_height, "commissure height above the base")
       ->capture_default_str();
   valve->add_option("--commissure-strip", p.commissure_strip, "attachment strip up the wall at commissures")
@@ -67,10 +69,12 @@ void add_mesh_command(CLI::App& app, CommandAction& action)
       ->capture_default_str();
   valve->add_option("--leaflet-radial", p.leaflet_radial, "elements from attachment to free edge")
       ->capture_default_str();
-  valve->add_option("--leaflet-through", p.leaflet_through, "elements through the leaflet")->capture_default_str();
+  valve->add_option("--leaflet-through", p.leaflet_through, "elements through the leaflet")
+      ->capture_default_str();
   valve->add_option("--tube-around", p.tube_around, "tube elements around")->capture_default_str();
   valve->add_option("--tube-along", p.tube_along, "tube elements along")->capture_default_str();
-  valve->add_option("--tube-through", p.tube_through, "tube elements through the wall")->capture_default_str();
+  valve->add_option("--tube-through", p.tube_through, "tube elements through the wall")
+      ->capture_default_str();
   valve->add_flag("!--no-tube", p.include_tube, "leaflets only");
   valve->callback([parameters, output, &action] {
     action = [parameters, output](const PetscArguments&) { return write_valve_mesh(*parameters, *output); };

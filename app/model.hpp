@@ -33,7 +33,7 @@ struct RunSummary {
 };
 
 class PreparedRun {
-public:
+ public:
   virtual ~PreparedRun() = default;
   virtual RunSummary run(const RunContext& context) = 0;
 };

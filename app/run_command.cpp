@@ -35,8 +35,9 @@ io::Config load_case(const RunOptions& options)
   const Model* model = nullptr;
   if (model_node && model_node->is_string()) model = find_model(*model_node->value<std::string>());
   if (!model) {
-    const std::string where = model_node ? options.case_file.string() + ":" + std::to_string(model_node->source().begin.line)
-                                         : options.case_file.string();
+    const std::string where =
+        model_node ? options.case_file.string() + ":" + std::to_string(model_node->source().begin.line)
+                   : options.case_file.string();
     const std::string name = model_node ? model_node->value_or(std::string{}) : std::string{};
     io::Config::validate(std::move(table), options.case_file, common_schema());
     // Only reached when no model is registered (the schema's choices are then empty).
@@ -78,7 +79,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   const io::Config config = load_case(options);
   if (!options.quiet && !options.verbose) {
     const std::string level = config.string("log.level");
-    log.set_level(level == "quiet" ? io::LogLevel::quiet : level == "verbose" ? io::LogLevel::verbose : io::LogLevel::normal);
+    log.set_level(level == "quiet"     ? io::LogLevel::quiet
+                  : level == "verbose" ? io::LogLevel::verbose
+                                       : io::LogLevel::normal);
   }
   log.set_progress_interval(config.real("log.progress_interval"));
   // Case options first, then the command line's, so that the command line wins.
@@ -94,8 +97,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
   if (!options.restart.empty() && !io::Checkpoints(PETSC_COMM_WORLD, directory, {}).latest())
-    throw InputError(directory.string() + ": no complete checkpoint to restart from (models write them with "
-                                          "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
+    throw InputError(directory.string() +
+                     ": no complete checkpoint to restart from (models write them with "
+                     "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
                      model.name + " model may not write any)");
   int ok = 1;
   std::string problem;
@@ -103,9 +107,11 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     if (!options.restart.empty()) {
       // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case.
       io::write_file_atomically(directory / "config.toml", config.resolved_toml());
-    } else if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !options.overwrite) {
+    } else if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) &&
+               !options.overwrite) {
       ok = 0;
-      problem = directory.string() + ": run folder exists and is not empty (give --overwrite, or -o another folder)";
+      problem = directory.string() +
+                ": run folder exists and is not empty (give --overwrite, or -o another folder)";
     } else {
       std::filesystem::create_directories(directory);
       io::write_file_atomically(directory / "config.toml", config.resolved_toml());
@@ -114,8 +120,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   MPI_Bcast(&ok, 1, MPI_INT, 0, PETSC_COMM_WORLD);
   if (!ok) throw InputError(problem);
   log.open_file(directory / "log.txt");
-  log.info(std::string("ibvalve ") + version_string + ": " + model.name + (options.restart.empty() ? " run of " : " restart of ") +
-           options.case_file.string() + " on " + std::to_string(size) + (size == 1 ? " rank" : " ranks"));
+  log.info(std::string("ibvalve ") + version_string + ": " + model.name +
+           (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
+           std::to_string(size) + (size == 1 ? " rank" : " ranks"));
   log.info("run folder: " + directory.string());
 
   RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps};
@@ -137,11 +144,14 @@ void add_run_command(CLI::App& app, CommandAction& action)
   sub->add_option("--stop-after-steps", options->stop_after_steps,
                   "stop after this many steps, writing a checkpoint (continue with --restart)");
   sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
-  sub->add_option("--set", options->overrides, "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
+  sub->add_option("--set", options->overrides,
+                  "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
   sub->add_flag("--overwrite", options->overwrite, "replace an existing run folder's contents");
   sub->add_flag("-v,--verbose", options->verbose, "print more");
   sub->add_flag("-q,--quiet", options->quiet, "print only errors");
-  sub->callback([options, &action] { action = [options](const PetscArguments& petsc) { return run_case(*options, petsc); }; });
+  sub->callback([options, &action] {
+    action = [options](const PetscArguments& petsc) { return run_case(*options, petsc); };
+  });
 }
 
 } // namespace ibvalve::app

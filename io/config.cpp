@@ -16,7 +16,8 @@ namespace ibvalve::io {
 
 KeyBuilder& KeyBuilder::unit(std::string unit)
 {
-  if (!units::to_cgs(unit)) throw std::logic_error("schema key " + spec_->key + ": unknown unit '" + unit + "'");
+  if (!units::to_cgs(unit))
+    throw std::logic_error("schema key " + spec_->key + ": unknown unit '" + unit + "'");
   spec_->unit = std::move(unit);
   return *this;
 }
@@ -92,13 +93,34 @@ KeyBuilder Schema::add(std::string key, ValueKind kind, std::string doc)
   return KeyBuilder(*keys_.back());
 }
 
-KeyBuilder Schema::add_boolean(std::string key, std::string doc) { return add(std::move(key), ValueKind::boolean, std::move(doc)); }
-KeyBuilder Schema::add_integer(std::string key, std::string doc) { return add(std::move(key), ValueKind::integer, std::move(doc)); }
-KeyBuilder Schema::add_real(std::string key, std::string doc) { return add(std::move(key), ValueKind::real, std::move(doc)); }
-KeyBuilder Schema::add_string(std::string key, std::string doc) { return add(std::move(key), ValueKind::string, std::move(doc)); }
-KeyBuilder Schema::add_real_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::real_list, std::move(doc)); }
-KeyBuilder Schema::add_integer_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::integer_list, std::move(doc)); }
-KeyBuilder Schema::add_string_list(std::string key, std::string doc) { return add(std::move(key), ValueKind::string_list, std::move(doc)); }
+KeyBuilder Schema::add_boolean(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::boolean, std::move(doc));
+}
+KeyBuilder Schema::add_integer(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::integer, std::move(doc));
+}
+KeyBuilder Schema::add_real(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::real, std::move(doc));
+}
+KeyBuilder Schema::add_string(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::string, std::move(doc));
+}
+KeyBuilder Schema::add_real_list(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::real_list, std::move(doc));
+}
+KeyBuilder Schema::add_integer_list(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::integer_list, std::move(doc));
+}
+KeyBuilder Schema::add_string_list(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::string_list, std::move(doc));
+}
 
 KeyBuilder Schema::add_table_list(std::string key, Schema element, std::string doc)
 {
@@ -144,14 +166,22 @@ namespace {
 std::string kind_name(ValueKind kind)
 {
   switch (kind) {
-  case ValueKind::boolean: return "true or false";
-  case ValueKind::integer: return "an integer";
-  case ValueKind::real: return "a number";
-  case ValueKind::string: return "a string";
-  case ValueKind::real_list: return "a list of numbers";
-  case ValueKind::integer_list: return "a list of integers";
-  case ValueKind::string_list: return "a list of strings";
-  case ValueKind::table_list: return "a list of tables ([[...]])";
+  case ValueKind::boolean:
+    return "true or false";
+  case ValueKind::integer:
+    return "an integer";
+  case ValueKind::real:
+    return "a number";
+  case ValueKind::string:
+    return "a string";
+  case ValueKind::real_list:
+    return "a list of numbers";
+  case ValueKind::integer_list:
+    return "a list of integers";
+  case ValueKind::string_list:
+    return "a list of strings";
+  case ValueKind::table_list:
+    return "a list of tables ([[...]])";
   }
   return "?";
 }
@@ -213,8 +243,8 @@ std::string Schema::markdown() const
           *spec->default_value);
     }
     std::string allowed = spec->choices.empty() ? range_text(*spec) : join(spec->choices, ", ");
-    os << "| `" << spec->key << "` | " << kind_name(spec->kind) << " | " << spec->unit << " | " << def << " | "
-       << allowed << " | " << spec->doc << " |\n";
+    os << "| `" << spec->key << "` | " << kind_name(spec->kind) << " | " << spec->unit << " | " << def
+       << " | " << allowed << " | " << spec->doc << " |\n";
     if (spec->element) {
       std::istringstream inner(spec->element->markdown());
       std::string line;
@@ -322,9 +352,11 @@ struct Validator {
 
   void check_string(const toml::node& node, const KeySpec& spec, std::string_view display_key) const
   {
-    if (!node.is_string()) input_error(&node, file, display_key, "expected a string, got " + display_value(node));
+    if (!node.is_string())
+      input_error(&node, file, display_key, "expected a string, got " + display_value(node));
     const std::string value = *node.value<std::string>();
-    if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(), value) == spec.choices.end())
+    if (!spec.choices.empty() &&
+        std::find(spec.choices.begin(), spec.choices.end(), value) == spec.choices.end())
       input_error(&node, file, display_key,
                   "\"" + value + "\" is not one of the allowed values: " + join(spec.choices, ", "));
     if (spec.is_path && spec.must_exist) {
@@ -353,11 +385,13 @@ struct Validator {
     case ValueKind::integer_list:
     case ValueKind::string_list: {
       const auto* array = node.as_array();
-      if (!array) input_error(&node, file, display_key, "expected " + kind_name(spec.kind) + ", got " + display_value(node));
+      if (!array)
+        input_error(&node, file, display_key,
+                    "expected " + kind_name(spec.kind) + ", got " + display_value(node));
       if (array->size() < spec.min_size || array->size() > spec.max_size) {
-        const std::string count = spec.min_size == spec.max_size
-                                      ? std::to_string(spec.min_size)
-                                      : std::to_string(spec.min_size) + " to " + std::to_string(spec.max_size);
+        const std::string count = spec.min_size == spec.max_size ? std::to_string(spec.min_size)
+                                                                 : std::to_string(spec.min_size) + " to " +
+                                                                       std::to_string(spec.max_size);
         input_error(&node, file, display_key,
                     "expected " + count + " values, got " + std::to_string(array->size()));
       }
@@ -376,7 +410,8 @@ struct Validator {
       if (!array || !array->is_array_of_tables())
         input_error(&node, file, display_key, "expected a list of tables ([[" + spec.key + "]] sections)");
       if (array->size() < spec.min_size || array->size() > spec.max_size)
-        input_error(&node, file, display_key, "expected at least " + std::to_string(spec.min_size) + " entries");
+        input_error(&node, file, display_key,
+                    "expected at least " + std::to_string(spec.min_size) + " entries");
       return; // elements are validated by validate_table
     }
     }
@@ -401,8 +436,9 @@ struct Validator {
         check_given(*node.as_table(), schema, key, display_key);
       } else {
         const toml::source_region& region = k.source();
-        std::string where = region.begin.line > 0 ? source_name(region, file) + ":" + std::to_string(region.begin.line)
-                                                  : location(&node, file);
+        std::string where = region.begin.line > 0
+                                ? source_name(region, file) + ":" + std::to_string(region.begin.line)
+                                : location(&node, file);
         throw InputError(where + ": " + display_key + ": unknown key" + suggestion(schema, key));
       }
     }
@@ -431,8 +467,8 @@ struct Validator {
       std::visit(
           [&](const auto& v) {
             using T = std::decay_t<decltype(v)>;
-            if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> || std::is_same_v<T, double> ||
-                          std::is_same_v<T, std::string>) {
+            if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> ||
+                          std::is_same_v<T, double> || std::is_same_v<T, std::string>) {
               table->insert(leaf, v);
             } else {
               toml::array array;
@@ -460,8 +496,8 @@ toml::table parse_toml_file(const std::filesystem::path& file)
   try {
     return toml::parse_file(file.string());
   } catch (const toml::parse_error& error) {
-    throw InputError(file.string() + ":" + std::to_string(error.source().begin.line) + ": TOML syntax error: " +
-                     std::string(error.description()));
+    throw InputError(file.string() + ":" + std::to_string(error.source().begin.line) +
+                     ": TOML syntax error: " + std::string(error.description()));
   }
 }
 
@@ -499,7 +535,8 @@ Config Config::validate(toml::table table, const std::filesystem::path& file, co
   return Config(std::move(state), &raw->root, &raw->schema, "");
 }
 
-Config Config::load(const std::filesystem::path& file, const Schema& schema, std::span<const std::string> overrides)
+Config Config::load(const std::filesystem::path& file, const Schema& schema,
+                    std::span<const std::string> overrides)
 {
   toml::table table = parse_toml_file(file);
   apply_overrides(table, overrides);
@@ -522,7 +559,10 @@ const toml::node* Config::node(std::string_view key) const
   return table_->at_path(key).node();
 }
 
-bool Config::has(std::string_view key) const { return node(key) != nullptr; }
+bool Config::has(std::string_view key) const
+{
+  return node(key) != nullptr;
+}
 
 namespace {
 const toml::node& require(const toml::node* n, std::string_view key)
@@ -537,7 +577,10 @@ double number_of(const toml::node& n)
 }
 } // namespace
 
-bool Config::boolean(std::string_view key) const { return *require(node(key), key).value<bool>(); }
+bool Config::boolean(std::string_view key) const
+{
+  return *require(node(key), key).value<bool>();
+}
 
 std::int64_t Config::integer(std::string_view key) const
 {
@@ -625,15 +668,16 @@ std::string format_value(const toml::node& node, const KeySpec& spec, const std:
   if (spec.is_path && node.is_string()) {
     const std::filesystem::path path(*node.value<std::string>());
     if (path.is_relative() && !path.empty())
-      return format_node(toml::value<std::string>(std::filesystem::absolute(folder / path).lexically_normal().string()));
+      return format_node(
+          toml::value<std::string>(std::filesystem::absolute(folder / path).lexically_normal().string()));
   }
   return format_node(node);
 }
 
 /// Writes the keys of `schema` found in `table`: plain keys as dotted keys under a [section] per first
 /// component, table lists as [[...]] blocks. Units and meanings go into comments.
-void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema, std::string_view header_prefix,
-                 const std::filesystem::path& folder)
+void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema,
+                 std::string_view header_prefix, const std::filesystem::path& folder)
 {
   auto comment = [](const KeySpec& spec) {
     std::string c = spec.unit.empty() ? "" : "[" + spec.unit + "] ";
@@ -681,7 +725,8 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
 std::string Config::resolved_toml() const
 {
   std::ostringstream os;
-  os << "# Resolved configuration: every key, defaults written out. Read from " << state_->file.string() << "\n";
+  os << "# Resolved configuration: every key, defaults written out. Read from " << state_->file.string()
+     << "\n";
   write_table(os, *table_, *schema_, "", state_->file.parent_path());
   return os.str();
 }

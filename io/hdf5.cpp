@@ -20,7 +20,7 @@ hid_t check_id(hid_t id, const std::string& what)
 
 /// Closes an HDF5 handle when it leaves scope.
 class Handle {
-public:
+ public:
   Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
   ~Handle()
   {
@@ -30,7 +30,7 @@ public:
   Handle& operator=(const Handle&) = delete;
   operator hid_t() const { return id_; }
 
-private:
+ private:
   hid_t id_;
   herr_t (*close_)(hid_t);
 };
@@ -41,7 +41,8 @@ void create_parent_groups(hid_t file, const std::string& name)
   for (auto slash = name.find('/', 1); slash != std::string::npos; slash = name.find('/', slash + 1)) {
     const std::string group = name.substr(0, slash);
     if (H5Lexists(file, group.c_str(), H5P_DEFAULT) <= 0) {
-      Handle g(check_id(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "create group " + group),
+      Handle g(check_id(H5Gcreate2(file, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                        "create group " + group),
                H5Gclose);
     }
   }
@@ -74,11 +75,13 @@ hid_t Hdf5File::create_dataset(const std::string& name, hid_t type, std::span<co
                   "create dataset " + name + " in " + path_.string());
 }
 
-void Hdf5File::write_block(const std::string& name, std::span<const double> data, std::span<const hsize_t> global_dims,
-                           std::span<const hsize_t> offset, std::span<const hsize_t> count)
+void Hdf5File::write_block(const std::string& name, std::span<const double> data,
+                           std::span<const hsize_t> global_dims, std::span<const hsize_t> offset,
+                           std::span<const hsize_t> count)
 {
   const hsize_t local = std::accumulate(count.begin(), count.end(), hsize_t{1}, std::multiplies<>());
-  if (local != data.size()) throw std::logic_error("Hdf5File::write_block: data size does not match count for " + name);
+  if (local != data.size())
+    throw std::logic_error("Hdf5File::write_block: data size does not match count for " + name);
   Handle dataset(create_dataset(name, H5T_NATIVE_DOUBLE, global_dims), H5Dclose);
   Handle file_space(H5Dget_space(dataset), H5Sclose);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose);
@@ -86,7 +89,8 @@ void Hdf5File::write_block(const std::string& name, std::span<const double> data
     check(H5Sselect_none(file_space), "select none");
     check(H5Sselect_none(memory_space), "select none");
   } else {
-    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr), "select block");
+    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
+          "select block");
   }
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
   check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE), "collective transfer");
@@ -94,7 +98,8 @@ void Hdf5File::write_block(const std::string& name, std::span<const double> data
         "write " + name + " to " + path_.string());
 }
 
-void Hdf5File::write_whole(const std::string& name, hid_t type, const void* data, std::span<const hsize_t> dims)
+void Hdf5File::write_whole(const std::string& name, hid_t type, const void* data,
+                           std::span<const hsize_t> dims)
 {
   Handle dataset(create_dataset(name, type, dims), H5Dclose);
   Handle file_space(H5Dget_space(dataset), H5Sclose);
@@ -105,36 +110,43 @@ void Hdf5File::write_whole(const std::string& name, hid_t type, const void* data
   }
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
   check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE), "collective transfer");
-  check(H5Dwrite(dataset, type, memory_space, file_space, transfer, data), "write " + name + " to " + path_.string());
+  check(H5Dwrite(dataset, type, memory_space, file_space, transfer, data),
+        "write " + name + " to " + path_.string());
 }
 
-void Hdf5File::write_root(const std::string& name, std::span<const double> data, std::span<const hsize_t> dims)
+void Hdf5File::write_root(const std::string& name, std::span<const double> data,
+                          std::span<const hsize_t> dims)
 {
   const hsize_t n = std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
-  if (rank_ == 0 && n != data.size()) throw std::logic_error("Hdf5File::write_root: size mismatch for " + name);
+  if (rank_ == 0 && n != data.size())
+    throw std::logic_error("Hdf5File::write_root: size mismatch for " + name);
   write_whole(name, H5T_NATIVE_DOUBLE, data.data(), dims);
 }
 
-void Hdf5File::write_root(const std::string& name, std::span<const std::int64_t> data, std::span<const hsize_t> dims)
+void Hdf5File::write_root(const std::string& name, std::span<const std::int64_t> data,
+                          std::span<const hsize_t> dims)
 {
   const hsize_t n = std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<>());
-  if (rank_ == 0 && n != data.size()) throw std::logic_error("Hdf5File::write_root: size mismatch for " + name);
+  if (rank_ == 0 && n != data.size())
+    throw std::logic_error("Hdf5File::write_root: size mismatch for " + name);
   write_whole(name, H5T_NATIVE_INT64, data.data(), dims);
 }
 
 void Hdf5File::write_attribute(const std::string& name, double value)
 {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attribute(check_id(H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT),
-                            "create attribute " + name),
-                   H5Aclose);
+  Handle attribute(
+      check_id(H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT),
+               "create attribute " + name),
+      H5Aclose);
   check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
 }
 
 double Hdf5File::read_attribute(const std::string& name) const
 {
-  Handle attribute(check_id(H5Aopen(file_, name.c_str(), H5P_DEFAULT), "no attribute " + name + " in " + path_.string()),
-                   H5Aclose);
+  Handle attribute(
+      check_id(H5Aopen(file_, name.c_str(), H5P_DEFAULT), "no attribute " + name + " in " + path_.string()),
+      H5Aclose);
   double value = 0;
   check(H5Aread(attribute, H5T_NATIVE_DOUBLE, &value), "read attribute " + name);
   return value;
@@ -147,8 +159,9 @@ bool Hdf5File::has(const std::string& name) const
 
 std::vector<hsize_t> Hdf5File::dims(const std::string& name) const
 {
-  Handle dataset(check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
-                 H5Dclose);
+  Handle dataset(
+      check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
+      H5Dclose);
   Handle space(H5Dget_space(dataset), H5Sclose);
   std::vector<hsize_t> d(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space)));
   H5Sget_simple_extent_dims(space, d.data(), nullptr);
@@ -157,8 +170,9 @@ std::vector<hsize_t> Hdf5File::dims(const std::string& name) const
 
 void Hdf5File::read_whole(const std::string& name, hid_t type, void* data) const
 {
-  Handle dataset(check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
-                 H5Dclose);
+  Handle dataset(
+      check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
+      H5Dclose);
   check(H5Dread(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "read " + name);
 }
 
@@ -181,8 +195,9 @@ std::vector<std::int64_t> Hdf5File::read_integers(const std::string& name) const
 std::vector<double> Hdf5File::read_block(const std::string& name, std::span<const hsize_t> offset,
                                          std::span<const hsize_t> count) const
 {
-  Handle dataset(check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
-                 H5Dclose);
+  Handle dataset(
+      check_id(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), "no dataset " + name + " in " + path_.string()),
+      H5Dclose);
   Handle file_space(H5Dget_space(dataset), H5Sclose);
   const hsize_t local = std::accumulate(count.begin(), count.end(), hsize_t{1}, std::multiplies<>());
   std::vector<double> out(local);
@@ -191,9 +206,11 @@ std::vector<double> Hdf5File::read_block(const std::string& name, std::span<cons
     check(H5Sselect_none(file_space), "select none");
     check(H5Sselect_none(memory_space), "select none");
   } else {
-    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr), "select block");
+    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
+          "select block");
   }
-  check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.data()), "read " + name);
+  check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.data()),
+        "read " + name);
   return out;
 }
 

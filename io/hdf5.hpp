@@ -16,7 +16,7 @@
 namespace ibvalve::io {
 
 class Hdf5File {
-public:
+ public:
   enum class Mode { create, read };
 
   Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode);
@@ -26,8 +26,9 @@ public:
 
   /// The global array `name` of shape `global_dims`; this rank writes `data` (C order, shape `count`)
   /// at `offset`. A rank with nothing to write passes count of zeros.
-  void write_block(const std::string& name, std::span<const double> data, std::span<const hsize_t> global_dims,
-                   std::span<const hsize_t> offset, std::span<const hsize_t> count);
+  void write_block(const std::string& name, std::span<const double> data,
+                   std::span<const hsize_t> global_dims, std::span<const hsize_t> offset,
+                   std::span<const hsize_t> count);
   /// The array `name` of shape `dims`, whose data rank 0 gives (other ranks' `data` is ignored).
   void write_root(const std::string& name, std::span<const double> data, std::span<const hsize_t> dims);
   void write_root(const std::string& name, std::span<const std::int64_t> data, std::span<const hsize_t> dims);
@@ -46,7 +47,7 @@ public:
 
   const std::filesystem::path& path() const { return path_; }
 
-private:
+ private:
   hid_t create_dataset(const std::string& name, hid_t type, std::span<const hsize_t> dims);
   void write_whole(const std::string& name, hid_t type, const void* data, std::span<const hsize_t> dims);
   void read_whole(const std::string& name, hid_t type, void* data) const;
