@@ -19,8 +19,9 @@ XdmfGrid XdmfGrid::regular(std::string name, std::array<std::size_t, 3> cells, s
   return g;
 }
 
-XdmfGrid XdmfGrid::mesh(std::string name, std::string topology, std::size_t elements, std::size_t nodes_per_element,
-                        std::string connectivity, std::size_t nodes, std::string coordinates)
+XdmfGrid XdmfGrid::mesh(std::string name, std::string topology, std::size_t elements,
+                        std::size_t nodes_per_element, std::string connectivity, std::size_t nodes,
+                        std::string coordinates)
 {
   XdmfGrid g;
   g.name = std::move(name);
@@ -33,7 +34,8 @@ XdmfGrid XdmfGrid::mesh(std::string name, std::string topology, std::size_t elem
   return g;
 }
 
-XdmfGrid& XdmfGrid::add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data)
+XdmfGrid& XdmfGrid::add_field(std::string field_name, Center center, std::vector<std::size_t> dims,
+                              std::string data)
 {
   fields.push_back({std::move(field_name), center, std::move(dims), std::move(data)});
   return *this;
@@ -86,13 +88,13 @@ void grid_text(std::ostringstream& os, const XdmfGrid& g)
   std::size_t grid_rank = 0;
   if (g.topology.empty()) {
     // XDMF orders regular-grid dimensions slowest first: z, y, x (points, not cells).
-    os << in << "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << g.cells[2] + 1 << " " << g.cells[1] + 1
-       << " " << g.cells[0] + 1 << "\"/>\n";
+    os << in << "<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"" << g.cells[2] + 1 << " "
+       << g.cells[1] + 1 << " " << g.cells[0] + 1 << "\"/>\n";
     os << in << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n";
-    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << g.origin[2]
-       << " " << g.origin[1] << " " << g.origin[0] << "</DataItem>\n";
-    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">" << g.spacing[2]
-       << " " << g.spacing[1] << " " << g.spacing[0] << "</DataItem>\n";
+    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+       << g.origin[2] << " " << g.origin[1] << " " << g.origin[0] << "</DataItem>\n";
+    os << in << "  <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" Format=\"XML\">"
+       << g.spacing[2] << " " << g.spacing[1] << " " << g.spacing[0] << "</DataItem>\n";
     os << in << "</Geometry>\n";
     grid_rank = 3;
   } else {
@@ -108,7 +110,8 @@ void grid_text(std::ostringstream& os, const XdmfGrid& g)
   }
   for (const XdmfField& f : g.fields) {
     std::string type = "Scalar";
-    if (f.dims.size() > grid_rank) type = f.dims.back() == 3 ? "Vector" : f.dims.back() == 9 ? "Tensor" : "Matrix";
+    if (f.dims.size() > grid_rank)
+      type = f.dims.back() == 3 ? "Vector" : f.dims.back() == 9 ? "Tensor" : "Matrix";
     os << in << "<Attribute Name=\"" << f.name << "\" AttributeType=\"" << type << "\" Center=\""
        << (f.center == Center::cell ? "Cell" : "Node") << "\">\n";
     data_item(os, f.dims, "Float", f.data, in + "  ");
@@ -123,7 +126,8 @@ std::string XdmfTimeSeries::text() const
 {
   std::ostringstream os;
   os << std::setprecision(17);
-  os << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
+  os << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  "
+        "<Domain>\n";
   os << "    <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& [time, grids] : steps_) {
     os << "     <Grid Name=\"t = " << time << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";

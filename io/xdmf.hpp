@@ -42,13 +42,14 @@ struct XdmfGrid {
 
   static XdmfGrid regular(std::string name, std::array<std::size_t, 3> cells, std::array<double, 3> origin,
                           std::array<double, 3> spacing);
-  static XdmfGrid mesh(std::string name, std::string topology, std::size_t elements, std::size_t nodes_per_element,
-                       std::string connectivity, std::size_t nodes, std::string coordinates);
+  static XdmfGrid mesh(std::string name, std::string topology, std::size_t elements,
+                       std::size_t nodes_per_element, std::string connectivity, std::size_t nodes,
+                       std::string coordinates);
   XdmfGrid& add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data);
 };
 
 class XdmfTimeSeries {
-public:
+ public:
   /// Rank 0 of `comm` writes `path`; every rank may call add_step (the others do nothing).
   XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path);
   void add_step(double time, std::vector<XdmfGrid> grids);
@@ -57,7 +58,7 @@ public:
   std::string text() const;
   std::size_t steps() const { return steps_.size(); }
 
-private:
+ private:
   void write() const;
   bool writer_ = true;
   std::filesystem::path path_;

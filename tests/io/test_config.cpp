@@ -18,15 +18,24 @@ Schema example_schema()
 {
   Schema boundary;
   boundary.add_string("face", "box face").required().choices({"x-", "x+", "y-", "y+", "z-", "z+"});
-  boundary.add_string("type", "condition").defaults(std::string("no-slip")).choices({"no-slip", "traction", "periodic"});
+  boundary.add_string("type", "condition")
+      .defaults(std::string("no-slip"))
+      .choices({"no-slip", "traction", "periodic"});
   boundary.add_real("pressure", "normal traction").unit("mmHg").defaults(0.0);
 
   Schema s;
   s.add_string("model", "what to run").required().choices({"fluid", "lumped"});
   s.add_real("fluid.density", "fluid density").unit("g/mL").defaults(1.0).positive();
   s.add_real("fluid.viscosity", "dynamic viscosity").unit("cP").defaults(4.0).positive();
-  s.add_integer_list("grid.cells", "cells per direction").size(3).defaults(std::vector<std::int64_t>{16, 16, 16}).at_least(2);
-  s.add_real_list("grid.lengths", "box size").unit("cm").size(3).defaults(std::vector<double>{1.0, 1.0, 1.0}).positive();
+  s.add_integer_list("grid.cells", "cells per direction")
+      .size(3)
+      .defaults(std::vector<std::int64_t>{16, 16, 16})
+      .at_least(2);
+  s.add_real_list("grid.lengths", "box size")
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{1.0, 1.0, 1.0})
+      .positive();
   s.add_real("time.dt", "time step").unit("s").required().positive();
   s.add_integer("time.steps", "number of steps").defaults(std::int64_t{10}).at_least(1);
   s.add_boolean("output.fields", "write fields").defaults(true);
@@ -37,20 +46,21 @@ Schema example_schema()
 }
 
 class CaseFile {
-public:
+ public:
   explicit CaseFile(const std::string& text)
   {
     int rank = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     static int counter = 0;
     path_ = std::filesystem::temp_directory_path() /
-            ("ibvalve_config_" + std::to_string(::getpid()) + "_" + std::to_string(rank) + "_" + std::to_string(counter++) + ".toml");
+            ("ibvalve_config_" + std::to_string(::getpid()) + "_" + std::to_string(rank) + "_" +
+             std::to_string(counter++) + ".toml");
     std::ofstream(path_) << text;
   }
   ~CaseFile() { std::filesystem::remove(path_); }
   const std::filesystem::path& path() const { return path_; }
 
-private:
+ private:
   std::filesystem::path path_;
 };
 
@@ -71,8 +81,9 @@ std::string load_error(const std::string& text)
 
 TEST(Config, ValidFileGivesEveryKeyInCgs)
 {
-  CaseFile file("model = \"fluid\"\n[fluid]\nviscosity = 3.5\n[time]\ndt = 1e-3\n[[fluid.boundary]]\nface = \"x-\"\n"
-                "type = \"traction\"\npressure = 120\n");
+  CaseFile file(
+      "model = \"fluid\"\n[fluid]\nviscosity = 3.5\n[time]\ndt = 1e-3\n[[fluid.boundary]]\nface = \"x-\"\n"
+      "type = \"traction\"\npressure = 120\n");
   const Config c = Config::load(file.path(), example_schema());
   EXPECT_DOUBLE_EQ(c.real("fluid.viscosity"), 3.5 * units::cP);
   EXPECT_DOUBLE_EQ(c.real("fluid.density"), 1.0);
@@ -129,7 +140,8 @@ const BadCase bad_cases[] = {
      ":5: output.fields: expected true or false, got 1"},
     {"negative viscosity", "model = \"fluid\"\n[fluid]\nviscosity = -0.5\n[time]\ndt = 1\n",
      ":3: fluid.viscosity: -0.5 is out of range (must be > 0 cP)"},
-    {"zero time step", "model = \"fluid\"\n[time]\ndt = 0\n", ":3: time.dt: 0 is out of range (must be > 0 s)"},
+    {"zero time step", "model = \"fluid\"\n[time]\ndt = 0\n",
+     ":3: time.dt: 0 is out of range (must be > 0 s)"},
     {"not one of the choices", "model = \"sph\"\n[time]\ndt = 1\n",
      ":1: model: \"sph\" is not one of the allowed values: fluid, lumped"},
     {"missing required key", "model = \"fluid\"\n", ":1: time.dt: missing required key (time step)"},
@@ -139,7 +151,8 @@ const BadCase bad_cases[] = {
      ":5: grid.cells[1]: 1 is out of range (must be >= 2)"},
     {"missing file", "model = \"fluid\"\n[time]\ndt = 1\n[mesh]\nfile = \"no-such-valve.msh\"\n",
      ":5: mesh.file: no such file '"},
-    {"bad entry in a table list", "model = \"fluid\"\n[time]\ndt = 1\n[[fluid.boundary]]\nface = \"x-\"\ntype = \"slip\"\n",
+    {"bad entry in a table list",
+     "model = \"fluid\"\n[time]\ndt = 1\n[[fluid.boundary]]\nface = \"x-\"\ntype = \"slip\"\n",
      ":6: fluid.boundary[0].type: \"slip\" is not one of the allowed values: no-slip, traction, periodic"},
     {"missing key in a table list", "model = \"fluid\"\n[time]\ndt = 1\n[[fluid.boundary]]\npressure = 3\n",
      ":4: fluid.boundary[0].face: missing required key (box face)"},
@@ -152,7 +165,8 @@ TEST(Config, EachBadInputGivesItsOwnOneLineMessage)
   for (const BadCase& bad : bad_cases) {
     SCOPED_TRACE(bad.what);
     const std::string message = load_error(bad.text);
-    EXPECT_EQ(message.rfind(bad.expected, 0), 0u) << "got:      " << message << "\nexpected: " << bad.expected;
+    EXPECT_EQ(message.rfind(bad.expected, 0), 0u)
+        << "got:      " << message << "\nexpected: " << bad.expected;
   }
 }
 
@@ -184,7 +198,8 @@ TEST(Config, MarkdownListsEveryKey)
 {
   const Schema schema = example_schema();
   const std::string md = schema.markdown();
-  for (const auto& spec : schema.keys()) EXPECT_NE(md.find("`" + spec->key + "`"), std::string::npos) << spec->key;
+  for (const auto& spec : schema.keys())
+    EXPECT_NE(md.find("`" + spec->key + "`"), std::string::npos) << spec->key;
   EXPECT_NE(md.find("`fluid.boundary[].face`"), std::string::npos);
 }
 

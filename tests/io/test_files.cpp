@@ -12,7 +12,8 @@ namespace {
 
 std::filesystem::path temp(const std::string& name)
 {
-  return std::filesystem::temp_directory_path() / ("ibvalve_files_" + std::to_string(::getpid()) + "_" + name);
+  return std::filesystem::temp_directory_path() /
+         ("ibvalve_files_" + std::to_string(::getpid()) + "_" + name);
 }
 
 TEST(Files, AtomicWriteReplacesTheWholeFileAndLeavesNoTemporary)

@@ -38,7 +38,8 @@ TEST(Hdf5File, BlocksFromEveryRankMakeOneGlobalArray)
     Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::create);
     file.write_block("fields/u", block, global, offset, count);
     const std::vector<std::int64_t> connectivity{0, 1, 2, 3};
-    file.write_root("mesh/connectivity", std::span<const std::int64_t>(connectivity), std::vector<hsize_t>{1, 4});
+    file.write_root("mesh/connectivity", std::span<const std::int64_t>(connectivity),
+                    std::vector<hsize_t>{1, 4});
     file.write_attribute("time", 0.25);
   }
   {
@@ -65,7 +66,8 @@ TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
 {
   XdmfTimeSeries series(MPI_COMM_WORLD, shared_temp_path("series").replace_extension(".xdmf"));
   auto fluid = XdmfGrid::regular("fluid", {4, 5, 6}, {0, 0, 0}, {0.25, 0.2, 0.1});
-  fluid.add_field("pressure", Center::cell, {6, 5, 4}, "f.h5:/p").add_field("velocity", Center::cell, {6, 5, 4, 3}, "f.h5:/u");
+  fluid.add_field("pressure", Center::cell, {6, 5, 4}, "f.h5:/p")
+      .add_field("velocity", Center::cell, {6, 5, 4, 3}, "f.h5:/u");
   auto mesh = XdmfGrid::mesh("valve", "Hexahedron", 2, 8, "m.h5:/cells", 12, "m.h5:/x");
   mesh.add_field("J", Center::cell, {2}, "m.h5:/J");
   series.add_step(0.5, {fluid, mesh});

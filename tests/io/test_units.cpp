@@ -21,7 +21,10 @@ TEST(Units, LumpedParametersConvertConsistently)
   EXPECT_DOUBLE_EQ(*to_cgs("mm"), 0.1);
 }
 
-TEST(Units, UnknownUnitIsRefused) { EXPECT_FALSE(to_cgs("furlong").has_value()); }
+TEST(Units, UnknownUnitIsRefused)
+{
+  EXPECT_FALSE(to_cgs("furlong").has_value());
+}
 
 } // namespace
 } // namespace ibvalve::units
