@@ -48,6 +48,20 @@ void create_parent_groups(hid_t file, const std::string& name)
   }
 }
 
+/// Selects this rank's block [offset, offset + count) of the file space, or nothing when it has none
+/// (every rank takes part in a collective transfer, with or without data).
+void select_block(hid_t file_space, hid_t memory_space, std::span<const hsize_t> offset,
+                  std::span<const hsize_t> count, hsize_t local)
+{
+  if (local == 0) {
+    check(H5Sselect_none(file_space), "select none");
+    check(H5Sselect_none(memory_space), "select none");
+  } else {
+    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
+          "select block");
+  }
+}
+
 } // namespace
 
 Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode) : comm_(comm), path_(path)
@@ -85,13 +99,7 @@ void Hdf5File::write_block(const std::string& name, std::span<const double> data
   Handle dataset(create_dataset(name, H5T_NATIVE_DOUBLE, global_dims), H5Dclose);
   Handle file_space(H5Dget_space(dataset), H5Sclose);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose);
-  if (local == 0) {
-    check(H5Sselect_none(file_space), "select none");
-    check(H5Sselect_none(memory_space), "select none");
-  } else {
-    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
-          "select block");
-  }
+  select_block(file_space, memory_space, offset, count, local);
   Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
   check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE), "collective transfer");
   check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, transfer, data.data()),
@@ -202,13 +210,7 @@ std::vector<double> Hdf5File::read_block(const std::string& name, std::span<cons
   const hsize_t local = std::accumulate(count.begin(), count.end(), hsize_t{1}, std::multiplies<>());
   std::vector<double> out(local);
   Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose);
-  if (local == 0) {
-    check(H5Sselect_none(file_space), "select none");
-    check(H5Sselect_none(memory_space), "select none");
-  } else {
-    check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, offset.data(), nullptr, count.data(), nullptr),
-          "select block");
-  }
+  select_block(file_space, memory_space, offset, count, local);
   check(H5Dread(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, out.data()),
         "read " + name);
   return out;
