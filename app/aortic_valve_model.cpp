@@ -18,6 +18,7 @@
 
 #include <mpi.h>
 
+#include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/version.hpp"
 #include "fe/gmsh_io.hpp"
@@ -152,14 +153,8 @@ class AorticValveRun : public PreparedRun {
         outlet_parameters_(windkessel::parameters_from_config(config, "windkessel")),
         report_(hemodynamics::metric_settings_from_config(config, "report"))
   {
-    for (int d = 0; d < 3; ++d) {
-      box_.cells[d] = static_cast<PetscInt>(config.integers("fluid.cells")[d]);
-      box_.lower[d] = config.reals("fluid.lower")[d];
-      box_.upper[d] = config.reals("fluid.upper")[d];
-      box_.periodic[d] = false;
-      if (box_.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
-      if (!(box_.upper[d] > box_.lower[d])) config.fail("fluid.upper", "must lie above fluid.lower");
-    }
+    box_ = read_fluid_box(config);
+    box_.periodic = {false, false, false};
     fluid_.rho = config.real("fluid.density");
     fluid_.mu = config.real("fluid.viscosity");
     fluid_.solver = fluid::SolverKind::krylov;

@@ -11,6 +11,7 @@
 
 #include <mpi.h>
 
+#include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
@@ -141,14 +142,7 @@ class FluidRun : public PreparedRun {
  public:
   explicit FluidRun(const io::Config& config) : config_(config)
   {
-    for (int d = 0; d < 3; ++d) {
-      box_.cells[d] = static_cast<PetscInt>(config.integers("fluid.cells")[d]);
-      box_.lower[d] = config.reals("fluid.lower")[d];
-      box_.upper[d] = config.reals("fluid.upper")[d];
-      if (box_.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
-      if (!(box_.upper[d] > box_.lower[d]))
-        config.fail("fluid.upper", "must lie above fluid.lower in every direction");
-    }
+    box_ = read_fluid_box(config);
     settings_.rho = config.real("fluid.density");
     settings_.mu = config.real("fluid.viscosity");
     settings_.rtol = config.real("fluid.rtol");

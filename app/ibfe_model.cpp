@@ -13,6 +13,7 @@
 
 #include <mpi.h>
 
+#include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
@@ -149,15 +150,8 @@ class IbfeRun : public PreparedRun {
  public:
   explicit IbfeRun(const io::Config& config) : config_(config)
   {
-    for (int d = 0; d < 3; ++d) {
-      box_.cells[d] = static_cast<PetscInt>(config.integers("fluid.cells")[d]);
-      box_.lower[d] = config.reals("fluid.lower")[d];
-      box_.upper[d] = config.reals("fluid.upper")[d];
-      if (box_.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
-      if (!(box_.upper[d] > box_.lower[d]))
-        config.fail("fluid.upper", "must lie above fluid.lower in every direction");
-      box_.periodic[d] = config.string("fluid.boundary") == "periodic";
-    }
+    box_ = read_fluid_box(config);
+    for (int d = 0; d < 3; ++d) box_.periodic[d] = config.string("fluid.boundary") == "periodic";
     fluid_settings_.rho = config.real("fluid.density");
     fluid_settings_.mu = config.real("fluid.viscosity");
     fluid_settings_.solver = box_.periodic[0] ? fluid::SolverKind::fft : fluid::SolverKind::krylov;
