@@ -1,6 +1,9 @@
 #include "fluid/navier_stokes.hpp"
 
+#include <array>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 #include "fluid/fft_stokes.hpp"
 #include "fluid/krylov_stokes.hpp"
@@ -11,6 +14,78 @@ namespace ibvalve::fluid {
 
 namespace {
 using io::Stopwatch;
+
+/// This rank's block of a checkpoint array (NavierStokes::save): (z, y, x, 4) over the elements it
+/// owns, including the extra face layer N of a non-periodic direction on the rank that owns it.
+struct CheckpointBlock {
+  std::array<hsize_t, 4> dims{}, offset{}, count{};
+  Index3 end{}; // exclusive element index ends in x, y, z
+};
+
+CheckpointBlock checkpoint_block(const StaggeredGrid& grid)
+{
+  CheckpointBlock b;
+  for (int d = 0; d < 3; ++d) {
+    const bool extra_layer = !grid.periodic(d);
+    b.end[d] = grid.begin(d) + grid.count(d) + (extra_layer && grid.owns_upper(d) ? 1 : 0);
+    b.dims[2 - d] = static_cast<hsize_t>(grid.cells(d) + (extra_layer ? 1 : 0));
+    b.offset[2 - d] = static_cast<hsize_t>(grid.begin(d));
+    b.count[2 - d] = static_cast<hsize_t>(b.end[d] - grid.begin(d));
+  }
+  b.dims[3] = b.count[3] = 4;
+  return b;
+}
+
+/// The DMStag slot of entry q (0..2: the x, y, z faces at the element's low sides, 3: the cell) of
+/// element e, or -1 when e lies in the extra face layer where that unknown does not exist: there
+/// only the face normal to the layer's direction does, and only off the other layers.
+PetscInt checkpoint_slot(const StaggeredGrid& grid, int q, const Index3& e)
+{
+  for (int d = 0; d < 3; ++d)
+    if (e[d] == grid.cells(d) && q != d) return -1;
+  return q < 3 ? grid.face_slot(q) : grid.pressure_slot();
+}
+
+/// Calls visit(slot or -1, i, j, k) for every entry of this rank's block, in the file's C order.
+template <class Visit>
+void for_checkpoint_entries(const StaggeredGrid& grid, const CheckpointBlock& b, Visit&& visit)
+{
+  for (PetscInt k = grid.begin(2); k < b.end[2]; ++k)
+    for (PetscInt j = grid.begin(1); j < b.end[1]; ++j)
+      for (PetscInt i = grid.begin(0); i < b.end[0]; ++i)
+        for (int q = 0; q < 4; ++q) visit(checkpoint_slot(grid, q, {i, j, k}), i, j, k);
+}
+
+void write_checkpoint_field(io::Hdf5File& file, const std::string& name, const StaggeredGrid& grid, Vec local)
+{
+  const CheckpointBlock b = checkpoint_block(grid);
+  std::vector<double> data;
+  data.reserve(b.count[0] * b.count[1] * b.count[2] * b.count[3]);
+  {
+    StagArray a(grid, local, true);
+    for_checkpoint_entries(grid, b, [&](PetscInt slot, PetscInt i, PetscInt j, PetscInt k) {
+      data.push_back(slot < 0 ? 0.0 : a(i, j, k, slot));
+    });
+  }
+  file.write_block(name, data, b.dims, b.offset, b.count);
+}
+
+/// Fills the owned entries of `local` (not its ghosts) from a checkpoint array.
+void read_checkpoint_field(const io::Hdf5File& file, const std::string& name, const StaggeredGrid& grid,
+                           Vec local)
+{
+  const CheckpointBlock b = checkpoint_block(grid);
+  if (file.dims(name) != std::vector<hsize_t>(b.dims.begin(), b.dims.end()))
+    throw std::runtime_error(file.path().string() + ": " + name +
+                             " was written for another grid (its shape differs from fluid.cells)");
+  const std::vector<double> data = file.read_block(name, b.offset, b.count);
+  StagArray a(grid, local);
+  std::size_t n = 0;
+  for_checkpoint_entries(grid, b, [&](PetscInt slot, PetscInt i, PetscInt j, PetscInt k) {
+    if (slot >= 0) a(i, j, k, slot) = data[n];
+    ++n;
+  });
+}
 } // namespace
 
 NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc,
@@ -187,6 +262,37 @@ void NavierStokes::step(double dt)
   ++steps_;
   ++timings_.steps;
   timings_.total += MPI_Wtime() - start;
+}
+
+void NavierStokes::save(io::Hdf5File& file, const std::string& group) const
+{
+  // After a step, convection_old_ holds N^n (the swap at its end); the next step extrapolates from it.
+  write_checkpoint_field(file, group + "/state", *grid_, state_);
+  write_checkpoint_field(file, group + "/convection", *grid_, convection_old_);
+  write_checkpoint_field(file, group + "/body_force", *grid_, force_);
+  const std::array<double, 3> clock{time_, pressure_time_, last_dt_};
+  const std::array<std::int64_t, 2> counters{static_cast<std::int64_t>(steps_), have_old_convection_ ? 1 : 0};
+  const std::array<hsize_t, 1> three{3}, two{2};
+  file.write_root(group + "/clock", clock, three);
+  file.write_root(group + "/counters", counters, two);
+}
+
+void NavierStokes::restore(const io::Hdf5File& file, const std::string& group)
+{
+  const std::vector<double> clock = file.read(group + "/clock");
+  const std::vector<std::int64_t> counters = file.read_integers(group + "/counters");
+  if (clock.size() != 3 || counters.size() != 2)
+    throw std::runtime_error(file.path().string() + ": " + group + " is not a fluid checkpoint");
+  read_checkpoint_field(file, group + "/state", *grid_, state_);
+  read_checkpoint_field(file, group + "/convection", *grid_, convection_old_);
+  read_checkpoint_field(file, group + "/body_force", *grid_, force_);
+  time_ = clock[0];
+  pressure_time_ = clock[1];
+  last_dt_ = clock[2];
+  steps_ = static_cast<PetscInt>(counters[0]);
+  have_old_convection_ = counters[1] != 0;
+  // Ghosts (other ranks' values, boundary ghosts at time_) as the step's last exchange left them.
+  exchange(time_);
 }
 
 } // namespace ibvalve::fluid

@@ -17,6 +17,7 @@
 #include "fluid/convection.hpp"
 #include "fluid/grid.hpp"
 #include "fluid/stokes_solver.hpp"
+#include "io/hdf5.hpp"
 
 namespace ibvalve::fluid {
 
@@ -81,6 +82,17 @@ class NavierStokes {
   double pressure_time() const { return pressure_time_; }
   const StepTimings& timings() const { return timings_; }
   const SolveStatistics& last_solve() const { return last_solve_; }
+
+  /// Writes everything step() reads into `group` of a checkpoint (collective): u^n and p^{n-1/2}, the
+  /// convection term N^n that Adams–Bashforth 2 needs as N^{n-1} next step, the body force, and the
+  /// clock (time, pressure time, last step, step count). Grid fields are (z, y, x, 4) arrays of
+  /// (u_x, u_y, u_z, p) per element over (N + 1) elements in each non-periodic direction (the extra
+  /// face layer; slots that do not exist there hold 0), so the layout does not depend on the ranks.
+  void save(io::Hdf5File& file, const std::string& group) const;
+  /// Reads what save() wrote into this solver (same box and cells; any rank count). Call it once the
+  /// boundary conditions are those of the checkpoint's time: the ghosts are refilled from them. On
+  /// the same rank count, the steps that follow equal those of the uninterrupted run bit for bit.
+  void restore(const io::Hdf5File& file, const std::string& group);
 
  private:
   void exchange(double t);
