@@ -41,7 +41,8 @@ XdmfGrid& XdmfGrid::add_field(std::string field_name, Center center, std::vector
   return *this;
 }
 
-XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path) : path_(std::move(path))
+XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path)
+    : comm_(comm), path_(std::move(path))
 {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -50,13 +51,42 @@ XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path) : path
 
 void XdmfTimeSeries::add_step(double time, std::vector<XdmfGrid> grids)
 {
-  steps_.emplace_back(time, std::move(grids));
+  steps_.emplace_back(time, step_text(time, grids));
   write();
 }
 
 void XdmfTimeSeries::drop_after(double time)
 {
   while (!steps_.empty() && steps_.back().first > time) steps_.pop_back();
+  write();
+}
+
+void XdmfTimeSeries::resume(double time)
+{
+  // The file holds one spatial collection per step between the temporal collection's opening and
+  // closing lines (text() below); each names its time with 17 digits, so the times read back exactly.
+  steps_.clear();
+  long kept = 0;
+  if (writer_ && std::filesystem::exists(path_)) {
+    const std::string text = read_text_file(path_);
+    const std::string opening = "     <Grid Name=\"t = ", closing = "\n     </Grid>\n",
+                      value = "<Time Value=\"";
+    for (std::size_t begin = text.find(opening); begin != std::string::npos;
+         begin = text.find(opening, begin)) {
+      const std::size_t end = text.find(closing, begin);
+      const std::size_t at = text.find(value, begin);
+      if (end == std::string::npos || at == std::string::npos || at > end)
+        throw std::runtime_error(path_.string() + ": not an XDMF time series of ibvalve");
+      const double t = std::stod(text.substr(at + value.size()));
+      if (t > time) break;
+      steps_.emplace_back(t, text.substr(begin, end + closing.size() - begin));
+      begin = end + closing.size();
+    }
+    kept = static_cast<long>(steps_.size());
+  }
+  // The other ranks only count the steps (steps() is the same everywhere).
+  MPI_Bcast(&kept, 1, MPI_LONG, 0, comm_);
+  if (!writer_) steps_.assign(static_cast<std::size_t>(kept), {0.0, std::string()});
   write();
 }
 
@@ -122,19 +152,24 @@ void grid_text(std::ostringstream& os, const XdmfGrid& g)
 
 } // namespace
 
-std::string XdmfTimeSeries::text() const
+std::string XdmfTimeSeries::step_text(double time, const std::vector<XdmfGrid>& grids)
 {
   std::ostringstream os;
   os << std::setprecision(17);
+  os << "     <Grid Name=\"t = " << time << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+  os << "      <Time Value=\"" << time << "\"/>\n";
+  for (const XdmfGrid& g : grids) grid_text(os, g);
+  os << "     </Grid>\n";
+  return os.str();
+}
+
+std::string XdmfTimeSeries::text() const
+{
+  std::ostringstream os;
   os << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  "
         "<Domain>\n";
   os << "    <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (const auto& [time, grids] : steps_) {
-    os << "     <Grid Name=\"t = " << time << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
-    os << "      <Time Value=\"" << time << "\"/>\n";
-    for (const XdmfGrid& g : grids) grid_text(os, g);
-    os << "     </Grid>\n";
-  }
+  for (const auto& step : steps_) os << step.second;
   os << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   return os.str();
 }

@@ -55,14 +55,20 @@ class XdmfTimeSeries {
   void add_step(double time, std::vector<XdmfGrid> grids);
   /// Forgets steps after `time` (a restart from a checkpoint at `time`) and rewrites the file.
   void drop_after(double time);
+  /// On a restart: takes over the steps up to `time` from the file the interrupted run left (read by
+  /// rank 0; none when there is no file) and rewrites it, so the series goes on from the checkpoint.
+  void resume(double time);
   std::string text() const;
   std::size_t steps() const { return steps_.size(); }
 
  private:
   void write() const;
+  static std::string step_text(double time, const std::vector<XdmfGrid>& grids);
+  MPI_Comm comm_;
   bool writer_ = true;
   std::filesystem::path path_;
-  std::vector<std::pair<double, std::vector<XdmfGrid>>> steps_;
+  // Each step's time and its spatial collection as XDMF text (what a resumed series reads back).
+  std::vector<std::pair<double, std::string>> steps_;
 };
 
 } // namespace ibvalve::io
