@@ -4,6 +4,7 @@
 // sides, the centre pressure; errors against the exact solution for the Taylor–Green and ABC
 // initial conditions) and fields/*.h5 + fields.xdmf (velocity, vorticity, pressure).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,9 +14,11 @@
 
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/restart.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
+#include "io/checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -102,6 +105,7 @@ void add_fluid_schema(io::Schema& s)
   s.add_integer("output.timeseries_every", "write a timeseries.csv row every this many steps")
       .defaults(std::int64_t{1})
       .at_least(1);
+  io::add_checkpoint_schema(s);
 }
 
 /// The exact decaying vortices (Taylor–Green in x-y; ABC) carried by a uniform velocity.
@@ -192,6 +196,7 @@ class FluidRun : public PreparedRun {
     dt_ = config.real("time.step");
     fields_every_ = config.integer("output.fields_every");
     series_every_ = config.integer("output.timeseries_every");
+    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -231,12 +236,25 @@ class FluidRun : public PreparedRun {
       columns.push_back("u_error_max");
       columns.push_back("p_error_max");
     }
+    // The state of a continued run (docs/runs.md): the fluid's, and the counts of rows and field files.
+    const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
+    long first_step = 0, fields_written = 0;
+    std::int64_t rows = 0;
+    if (context.restart) {
+      const io::CheckpointHeader header =
+          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+            fluid->restore(h5, "fluid");
+            fields_written = static_cast<long>(h5.read_integers("fluid_model/fields_written").at(0));
+          });
+      first_step = static_cast<long>(header.step);
+      rows = header.timeseries_rows;
+      series.resume(fluid->time());
+    }
     io::CsvWriter csv;
-    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", columns);
+    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart);
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     const long steps = std::max(1L, std::lround(end_ / dt_));
-    long fields_written = 0;
     double last_divergence = 0.0;
     auto record = [&](long step) {
       const double umax = fluid::max_velocity_magnitude(*fluid);
@@ -281,6 +299,7 @@ class FluidRun : public PreparedRun {
           row.push_back(e.pressure_max);
         }
         if (rank == 0) csv.write_row(row);
+        ++rows;
       }
       if (step == 0 || step == steps || (fields_every_ > 0 && step % fields_every_ == 0)) {
         char name[64];
@@ -292,8 +311,16 @@ class FluidRun : public PreparedRun {
         ++fields_written;
       }
     };
-    record(0);
-    for (long step = 1; step <= steps; ++step) {
+    auto save = [&](long step) {
+      return checkpoints.write({step, fluid->time(), rows}, [&](io::Hdf5File& h5) {
+        fluid->save(h5, "fluid");
+        const std::array<std::int64_t, 1> written{fields_written};
+        h5.write_root("fluid_model/fields_written", written, std::array<hsize_t, 1>{1});
+      });
+    };
+    if (!context.restart) record(0);
+    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    for (long step = first_step + 1; step <= last_step; ++step) {
       try {
         fluid->step(dt_);
       } catch (const std::runtime_error& e) {
@@ -301,17 +328,23 @@ class FluidRun : public PreparedRun {
       }
       record(step);
       log.progress({step, fluid->time(), static_cast<double>(steps) * dt_});
+      if (checkpoints.due(step) && step < steps) save(step);
     }
     log.finish_progress();
-    const auto& timing = fluid->timings();
     RunSummary summary;
+    if (last_step < steps) {
+      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+      return summary;
+    }
+    const auto& timing = fluid->timings();
+    const long taken = std::max<long>(1, static_cast<long>(timing.steps));
     char line[256];
     std::snprintf(
         line, sizeof line,
         "fluid: %ld steps, %.4f s per step (convection %.4f, viscous %.4f, pressure %.4f, halo %.4f), "
         "%.1f solver iterations per step",
-        steps, timing.total / steps, timing.convection / steps, timing.viscous / steps,
-        timing.pressure / steps, timing.halo / steps, static_cast<double>(timing.solver_iterations) / steps);
+        taken, timing.total / taken, timing.convection / taken, timing.viscous / taken,
+        timing.pressure / taken, timing.halo / taken, static_cast<double>(timing.solver_iterations) / taken);
     summary.lines.push_back(line);
     std::snprintf(line, sizeof line, "fluid: max |div u| %.2e at the end; %ld field files, timeseries.csv",
                   last_divergence, fields_written);
@@ -378,6 +411,7 @@ class FluidRun : public PreparedRun {
   ExactVortex exact_;
   double end_ = 0.0, dt_ = 0.0;
   long fields_every_ = 0, series_every_ = 1;
+  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace

@@ -1,0 +1,57 @@
+#include "app/restart.hpp"
+
+#include <algorithm>
+
+#include <mpi.h>
+
+#include "io/errors.hpp"
+#include "io/logger.hpp"
+
+namespace ibvalve::app {
+
+io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, const RunContext& context,
+                                         const std::function<void(const io::Hdf5File&)>& restore)
+{
+  const auto file = checkpoints.latest();
+  if (!file)
+    throw InputError(context.run_directory.string() + ": no checkpoint to restart from (checkpoint.every)");
+  const io::CheckpointHeader header = checkpoints.read(*file, restore);
+  int rank = 0;
+  MPI_Comm_rank(context.comm, &rank);
+  // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut.
+  int ok = 1;
+  std::string problem;
+  if (rank == 0) {
+    try {
+      io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
+    } catch (const InputError& e) {
+      ok = 0;
+      problem = e.what();
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, context.comm);
+  if (!ok) {
+    int length = static_cast<int>(problem.size());
+    MPI_Bcast(&length, 1, MPI_INT, 0, context.comm);
+    problem.resize(static_cast<std::size_t>(length));
+    MPI_Bcast(problem.data(), length, MPI_CHAR, 0, context.comm);
+    throw InputError(problem);
+  }
+  io::Logger::global().info("restarting from " + file->string() + " (step " + std::to_string(header.step) +
+                            ", t = " + std::to_string(header.time) + " s)");
+  return header;
+}
+
+std::int64_t last_step_of_invocation(const RunContext& context, std::int64_t first_step, std::int64_t steps)
+{
+  return context.stop_after_steps > 0 ? std::min(steps, first_step + context.stop_after_steps) : steps;
+}
+
+std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
+                         const std::filesystem::path& run_directory)
+{
+  return "stopped after step " + std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " +
+         file.string() + "); continue with: ibvalve run --restart " + run_directory.string();
+}
+
+} // namespace ibvalve::app

@@ -1,0 +1,27 @@
+#pragma once
+// Checkpoint/restart of the grid-based run models (fluid, ibfe, aortic-valve): the steps they share
+// around io/checkpoint.hpp, so each model only says what its state is.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "app/model.hpp"
+#include "io/checkpoint.hpp"
+
+namespace ibvalve::app {
+
+/// On `--restart`: reads the newest complete checkpoint of the run folder through `restore`
+/// (collective over the checkpoints' communicator), cuts timeseries.csv back to the rows it had then
+/// (rank 0 of `comm`) and logs where the run goes on from. InputError when there is no checkpoint.
+io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, const RunContext& context,
+                                         const std::function<void(const io::Hdf5File&)>& restore);
+
+/// The last step of this invocation: `steps` (the run's end), or fewer with --stop-after-steps.
+std::int64_t last_step_of_invocation(const RunContext& context, std::int64_t first_step, std::int64_t steps);
+
+/// The summary line of a run stopped by --stop-after-steps at `step` with checkpoint `file`.
+std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
+                         const std::filesystem::path& run_directory);
+
+} // namespace ibvalve::app
