@@ -1,8 +1,10 @@
 #include "ib/ibfe.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 #include <mpi.h>
@@ -218,6 +220,34 @@ void IbfeIntegrator::step(double dt)
                      " s (the time step is probably above the stable limit)");
   }
   ++timings_.steps;
+}
+
+void IbfeIntegrator::save(io::Hdf5File& file, const std::string& group) const
+{
+  // Replicated on every rank: rank 0 writes.
+  const std::array<hsize_t, 2> dims{solid_.mesh().num_nodes(), 3};
+  file.write_root(group + "/displacement", displacement_, dims);
+  file.write_root(group + "/velocity", velocity_, dims);
+  file.write_root(group + "/nodal_forces", forces_, dims);
+  velocity_mass_.save(file, group + "/velocity_mass");
+  if (force_mass_) force_mass_->save(file, group + "/force_mass");
+}
+
+void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
+{
+  auto read = [&](const std::string& name) {
+    std::vector<double> values = file.read(group + "/" + name);
+    if (values.size() != solid_.num_dofs())
+      throw std::runtime_error(file.path().string() + ": " + group + "/" + name +
+                               " does not match the structure's mesh");
+    return values;
+  };
+  displacement_ = read("displacement");
+  velocity_ = read("velocity");
+  forces_ = read("nodal_forces");
+  velocity_mass_.restore(file, group + "/velocity_mass");
+  if (force_mass_) force_mass_->restore(file, group + "/force_mass");
+  place_points(displacement_);
 }
 
 double IbfeIntegrator::volume() const

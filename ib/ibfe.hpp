@@ -110,6 +110,14 @@ class IbfeIntegrator {
   const IbfeTimings& timings() const { return timings_; }
   StabilityEstimate stability_estimate() const;
 
+  /// Writes the structure's state into `group` of a checkpoint (collective): the displacement chi - X
+  /// (all that the next step reads besides the fluid), the last nodal velocity and forces (output),
+  /// and the starting points of the iterative mass solves. The fluid saves itself
+  /// (fluid::NavierStokes::save); a checkpoint of a coupled run holds both.
+  void save(io::Hdf5File& file, const std::string& group) const;
+  /// Reads what save() wrote (same mesh) and places the coupling points there.
+  void restore(const io::Hdf5File& file, const std::string& group);
+
   /// Places the coupling points for the nodes at X + `displacement`, interpolates the face velocity
   /// held in `velocity` (a local vector of the fluid grid) there and L2-projects it to the nodes.
   std::vector<double> nodal_velocity(Vec velocity, std::span<const double> displacement);

@@ -1,5 +1,9 @@
 #include "ib/nodal_mass.hpp"
 
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
 
@@ -75,6 +79,40 @@ std::vector<double> NodalMass::solve(std::span<const double> b, int guess_slot) 
     for (std::size_t n = 0; n < nodes; ++n) v[3 * n + c] = solution[n];
   }
   return v;
+}
+
+void NodalMass::save(io::Hdf5File& file, const std::string& group) const
+{
+  // Every rank holds the same guesses (same system, same summed right-hand sides): rank 0 writes them.
+  const std::array<std::int64_t, 1> count{static_cast<std::int64_t>(guesses_.size())};
+  file.write_root(group + "/guess_count", count, std::array<hsize_t, 1>{1});
+  if (guesses_.empty()) return; // lumped, or no solve yet
+  const std::size_t nodes = mesh_.num_nodes();
+  std::vector<double> all;
+  all.reserve(guesses_.size() * nodes);
+  for (Vec v : guesses_) {
+    const std::vector<double> values = system_.gather(v);
+    all.insert(all.end(), values.begin(), values.end());
+  }
+  const std::array<hsize_t, 2> dims{guesses_.size(), nodes};
+  file.write_root(group + "/guesses", all, dims);
+}
+
+void NodalMass::restore(const io::Hdf5File& file, const std::string& group)
+{
+  const std::string name = group + "/guesses";
+  for (Vec& v : guesses_) VecDestroy(&v);
+  guesses_.clear();
+  if (file.read_integers(group + "/guess_count").at(0) == 0) return;
+  const std::vector<hsize_t> dims = file.dims(name);
+  const std::size_t nodes = mesh_.num_nodes();
+  if (dims.size() != 2 || dims[1] != nodes)
+    throw std::runtime_error(file.path().string() + ": " + name + " does not match the structure's mesh");
+  const std::vector<double> all = file.read(name);
+  for (std::size_t g = 0; g < dims[0]; ++g) {
+    guesses_.push_back(system_.create_vector());
+    system_.scatter(std::span(all).subspan(g * nodes, nodes), guesses_.back());
+  }
 }
 
 } // namespace ibvalve::ib

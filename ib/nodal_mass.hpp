@@ -19,6 +19,7 @@
 #include "fe/mass.hpp"
 #include "fe/nodal_system.hpp"
 #include "fe/quadrature_data.hpp"
+#include "io/hdf5.hpp"
 
 namespace ibvalve::ib {
 
@@ -37,6 +38,11 @@ class NodalMass {
   std::vector<double> solve(std::span<const double> b, int guess_slot = 0) const;
   /// Krylov iterations of the last consistent solve (summed over the components).
   PetscInt last_iterations() const { return iterations_; }
+
+  /// Writes the stored solutions the iterative solves start from (the guess slots) into `group` of a
+  /// checkpoint, so a restarted run starts each solve where the uninterrupted one would. Collective.
+  void save(io::Hdf5File& file, const std::string& group) const;
+  void restore(const io::Hdf5File& file, const std::string& group);
 
  private:
   const fe::Mesh& mesh_;
