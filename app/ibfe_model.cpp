@@ -15,6 +15,7 @@
 
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/restart.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
@@ -22,6 +23,7 @@
 #include "fluid/queries.hpp"
 #include "ib/ibfe.hpp"
 #include "ib/shapes.hpp"
+#include "io/checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
@@ -139,6 +141,7 @@ void add_ibfe_schema(io::Schema& s)
       .defaults(0.0)
       .non_negative();
   s.add_table_list("ib.tether", tether, "tethers pulling groups of nodes back to their reference positions");
+  io::add_checkpoint_schema(s);
 }
 
 fe::MassKind mass_kind(const std::string& name)
@@ -210,17 +213,12 @@ class IbfeRun : public PreparedRun {
     end_ = config.real("time.end");
     dt_ = config.real("time.step");
     every_ = config.integer("output.every");
+    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
   RunSummary run(const RunContext& context) override
   {
     auto& log = io::Logger::global();
-    // A coupled restart needs the fluid's state (velocity, pressure, convection history) in the
-    // checkpoint, which fluid::NavierStokes cannot save yet; refuse rather than start over silently.
-    if (context.restart)
-      throw InputError(
-          context.run_directory.string() +
-          ": ibfe runs cannot be restarted yet (the fluid state is not checkpointed); run the case again");
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
@@ -248,10 +246,26 @@ class IbfeRun : public PreparedRun {
     if (rank == 0) std::filesystem::create_directories(directory / "fields");
     MPI_Barrier(context.comm);
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
+    // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
+    const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
+    long first_step = 0;
+    std::int64_t rows = 0;
+    if (context.restart) {
+      const io::CheckpointHeader header =
+          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+            fluid.restore(h5, "fluid");
+            ibfe.restore(h5, "ibfe");
+          });
+      first_step = static_cast<long>(header.step);
+      rows = header.timeseries_rows;
+      series.resume(ibfe.time());
+    }
     io::CsvWriter csv;
     if (rank == 0)
-      csv = io::CsvWriter(directory / "timeseries.csv", {"t", "volume", "volume_change", "max_node_speed",
-                                                         "max_displacement", "kinetic_energy"});
+      csv = io::CsvWriter(
+          directory / "timeseries.csv",
+          {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
+          context.restart);
     const double V0 = mesh_.volume();
     const long steps = std::max(1L, std::lround(end_ / dt_));
     auto record = [&](long step) {
@@ -262,30 +276,35 @@ class IbfeRun : public PreparedRun {
       }
       const double volume = ibfe.volume(), energy = fluid::kinetic_energy(fluid);
       if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+      ++rows;
       if (step % every_ == 0 || step == steps)
         write_fields(context.comm, directory, series, fluid, ibfe, step);
     };
+    auto save = [&](long step) {
+      return checkpoints.write({step, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
+        fluid.save(h5, "fluid");
+        ibfe.save(h5, "ibfe");
+      });
+    };
     log.start_clock();
-    record(0);
-    for (long step = 1; step <= steps; ++step) {
+    if (!context.restart) record(0);
+    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    for (long step = first_step + 1; step <= last_step; ++step) {
       ibfe.step(dt_);
       record(step);
       log.progress({step, ibfe.time(), steps * dt_});
-      if (context.stop_after_steps > 0 && step >= context.stop_after_steps && step < steps) {
-        log.finish_progress();
-        log.warn("stopped after " + std::to_string(step) +
-                 " steps as asked (no checkpoint: ibfe runs cannot restart yet)");
-        break;
-      }
+      if (checkpoints.due(step) && step < steps) save(step);
     }
     log.finish_progress();
+    RunSummary summary;
+    if (last_step < steps)
+      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
     const ib::IbfeTimings& t = ibfe.timings();
     std::ostringstream timing;
     timing.precision(3);
     timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
            << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
            << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")";
-    RunSummary summary;
     summary.lines.push_back(timing.str());
     summary.lines.push_back("structure volume change " + std::to_string(100.0 * (ibfe.volume() / V0 - 1.0)) +
                             " %");
@@ -425,6 +444,7 @@ class IbfeRun : public PreparedRun {
   fe::Vec3 center_ = fe::Vec3::Zero();
   double inner_radius_ = 0.0, inflated_ = 0.0, end_ = 0.0, dt_ = 0.0;
   long every_ = 1;
+  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace
