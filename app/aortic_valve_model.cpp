@@ -20,6 +20,7 @@
 
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/restart.hpp"
 #include "app/version.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
@@ -32,6 +33,7 @@
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
 #include "ib/ibfe.hpp"
+#include "io/checkpoint.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -144,6 +146,7 @@ void add_aortic_valve_schema(io::Schema& s)
       .defaults(std::int64_t{2})
       .at_least(1);
   hemodynamics::add_report_schema(s, "report");
+  io::add_checkpoint_schema(s);
 }
 
 class AorticValveRun : public PreparedRun {
@@ -218,12 +221,11 @@ class AorticValveRun : public PreparedRun {
     near_ao_z_ = top + config.real("probes.offset");
     orifice_resolution_ = static_cast<int>(config.integer("probes.orifice_resolution"));
     plots_ = config.boolean("report.plots");
+    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
   RunSummary run(const RunContext& context) override
   {
-    if (context.restart)
-      throw InputError("aortic-valve: restart is not available yet for this model (the lumped model has it)");
     auto& log = io::Logger::global();
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
@@ -308,9 +310,42 @@ class AorticValveRun : public PreparedRun {
     };
 
     const std::filesystem::path& directory = context.run_directory;
-    io::CsvWriter csv;
-    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns());
     double outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
+    // Checkpoints (docs/runs.md): the fluid, the structure, the Windkessel and the lagged outlet
+    // pressure and flow, and the orifice-area range of the summary.
+    const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
+    long first_step = 0;
+    std::int64_t rows = 0;
+    if (context.restart) {
+      const io::CheckpointHeader header =
+          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+            const std::vector<double> saved = h5.read("aortic_valve/outlet");
+            if (saved.size() != 7)
+              throw InputError(h5.path().string() + ": aortic_valve/outlet has the wrong size");
+            outlet.restore({saved[0], saved[1], saved[2]});
+            outlet_pressure = saved[3]; // before the fluid: its boundary ghosts are refilled with it
+            outlet_flow = saved[4];
+            largest_area = saved[5];
+            smallest_area = saved[6];
+            fluid.restore(h5, "fluid");
+            ibfe.restore(h5, "ibfe");
+          });
+      first_step = static_cast<long>(header.step);
+      rows = header.timeseries_rows;
+    }
+    auto save = [&](long n) {
+      return checkpoints.write({n, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
+        fluid.save(h5, "fluid");
+        ibfe.save(h5, "ibfe");
+        const windkessel::WindkesselState& w = outlet.state();
+        const std::vector<double> saved{w.time,      w.reservoir_pressure, w.flow,       outlet_pressure,
+                                        outlet_flow, largest_area,         smallest_area};
+        h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
+      });
+    };
+    io::CsvWriter csv;
+    if (rank == 0)
+      csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart);
     auto record = [&] {
       const double t = ibfe.time();
       const double q_valve = fluid::volume_flux(fluid, valve_plane);
@@ -326,13 +361,15 @@ class AorticValveRun : public PreparedRun {
         csv.write_row({t, q_valve / units::mL, outlet_flow / units::mL, p_lv / units::mmHg,
                        p_ao / units::mmHg, outlet.reservoir_pressure() / units::mmHg, p_nlv / units::mmHg,
                        p_nao / units::mmHg, area});
+      ++rows;
     };
 
     RunSummary summary;
     const long steps = cycles_ * steps_per_cycle_;
     log.start_clock();
-    record();
-    for (long n = 1; n <= steps; ++n) {
+    if (!context.restart) record();
+    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    for (long n = first_step + 1; n <= last_step; ++n) {
       try {
         ibfe.step(dt);
       } catch (const std::runtime_error& e) {
@@ -344,17 +381,14 @@ class AorticValveRun : public PreparedRun {
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
       log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
-      if (context.stop_after_steps > 0 && n >= context.stop_after_steps && n < steps) {
-        log.finish_progress();
-        summary.lines.push_back("stopped after step " + std::to_string(n) + " of " + std::to_string(steps) +
-                                " (no checkpoint: this model cannot restart yet)");
-        break;
-      }
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();
         write_report(context, summary, n / steps_per_cycle_);
       }
+      if (checkpoints.due(n) && n < steps) save(n);
     }
+    log.finish_progress();
+    if (last_step < steps) summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
     const ib::IbfeTimings& t = ibfe.timings();
     std::ostringstream timing;
     timing.precision(3);
@@ -401,6 +435,7 @@ class AorticValveRun : public PreparedRun {
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
   bool plots_ = true;
+  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace
