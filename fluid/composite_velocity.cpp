@@ -1,0 +1,387 @@
+#include "fluid/composite_velocity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+
+namespace {
+
+// Keys pack level (4 bits), normal (2 bits) and the three indices shifted by 16 (19 bits each).
+constexpr PetscInt index_shift = 16;
+std::uint64_t pack(const FaceKey& k)
+{
+  std::uint64_t key = static_cast<std::uint64_t>(k.level) << 59 | static_cast<std::uint64_t>(k.normal) << 57;
+  for (int d = 0; d < 3; ++d)
+    key |= static_cast<std::uint64_t>(k.index[d] + index_shift) << (19 * d);
+  return key;
+}
+
+/// Lagrange weights of the nodes `s` at `x`.
+std::vector<double> lagrange(const std::vector<double>& s, double x)
+{
+  std::vector<double> w(s.size(), 1.0);
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t j = 0; j < s.size(); ++j)
+      if (j != i) w[i] *= (x - s[j]) / (s[i] - s[j]);
+  return w;
+}
+
+Index3 unit(int d)
+{
+  Index3 e{0, 0, 0};
+  e[d] = 1;
+  return e;
+}
+Index3 plus(Index3 a, const Index3& b, PetscInt s = 1)
+{
+  for (int d = 0; d < 3; ++d) a[d] += s * b[d];
+  return a;
+}
+
+} // namespace
+
+void FaceValue::add(const FaceValue& other, double weight)
+{
+  if (weight == 0.0) return;
+  for (const auto& [i, w] : other.unknowns) unknowns.emplace_back(i, weight * w);
+  for (const auto& [i, w] : other.data) data.emplace_back(i, weight * w);
+}
+
+CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : operators_(&operators)
+{
+  const GridHierarchy& h = hierarchy();
+  const CompositeCells& cells = operators.cells();
+  // The face numbering of CompositeOperators (Neumann sides): each rank enumerates the faces of its cells
+  // in cell order, so the global order is that enumeration over all cells. Replayed here on every rank.
+  PetscInt next = 0;
+  cells.for_each(0, cells.size(), [&](PetscInt, const CompositeCells::Cell& cell) {
+    const int l = cell.level;
+    for (int d = 0; d < 3; ++d)
+      for (const int side : {-1, 1}) {
+        Index3 neighbour = cell.index;
+        neighbour[d] += side;
+        if (!h.domain_box(l).contains(neighbour)) continue;
+        if (h.box_containing(l, neighbour) >= 0 && (side > 0 || h.covered(l, neighbour))) continue;
+        FaceKey key{l, d, cell.index};
+        if (side > 0) ++key.index[d];
+        indices_[pack(key)] = next++;
+      }
+  });
+  const auto& faces = operators.owned_faces();
+  PetscInt begin = 0;
+  {
+    const PetscInt local = static_cast<PetscInt>(faces.size());
+    PetscInt end = 0;
+    MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, operators.comm());
+    begin = end - local;
+  }
+  // Owned keys in the operators' order (checked against their face centres).
+  std::vector<FaceKey> all(static_cast<std::size_t>(next));
+  for (const auto& [packed, n] : indices_) {
+    FaceKey k;
+    k.level = static_cast<int>(packed >> 59);
+    k.normal = static_cast<int>((packed >> 57) & 3u);
+    for (int d = 0; d < 3; ++d)
+      k.index[d] = static_cast<PetscInt>((packed >> (19 * d)) & ((1u << 19) - 1)) - index_shift;
+    all[static_cast<std::size_t>(n)] = k;
+  }
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const FaceKey& k = all[static_cast<std::size_t>(begin) + f];
+    const Real3 x = position(k);
+    double off = 0.0;
+    for (int d = 0; d < 3; ++d) off = std::max(off, std::abs(x[d] - faces[f].center[d]));
+    if (k.normal != faces[f].normal || off > 1e-9 * h.domain().length(0))
+      throw std::logic_error("composite velocity: face numbering differs from CompositeOperators");
+    owned_keys_.push_back(k);
+  }
+
+  // The Laplacian: sum over directions of (u(I+e) - 2 u(I) + u(I-e)) / h_e^2, ghosts resolved.
+  const PetscInt local = static_cast<PetscInt>(owned_keys_.size());
+  PETSC_CHECK(MatCreateAIJ(operators.comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 30, nullptr, 30,
+                           nullptr, &laplacian_));
+  PETSC_CHECK(MatSetOption(laplacian_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  laplacian_data_.resize(owned_keys_.size());
+  for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
+    const FaceKey& k = owned_keys_[f];
+    FaceValue row;
+    for (int e = 0; e < 3; ++e) {
+      const double w = 1.0 / (h.h(k.level, e) * h.h(k.level, e));
+      row.add(value({k.level, k.normal, plus(k.index, unit(e))}), w);
+      row.add(value({k.level, k.normal, plus(k.index, unit(e), -1)}), w);
+      row.add(value(k), -2.0 * w);
+    }
+    // Merge duplicate columns.
+    std::sort(row.unknowns.begin(), row.unknowns.end());
+    std::vector<PetscInt> columns;
+    std::vector<PetscScalar> values;
+    for (const auto& [c, w] : row.unknowns) {
+      if (!columns.empty() && columns.back() == c)
+        values.back() += w;
+      else {
+        columns.push_back(c);
+        values.push_back(w);
+      }
+    }
+    const PetscInt global_row = begin + static_cast<PetscInt>(f);
+    PETSC_CHECK(MatSetValues(laplacian_, 1, &global_row, static_cast<PetscInt>(columns.size()), columns.data(),
+                             values.data(), INSERT_VALUES));
+    laplacian_data_[f] = row.data;
+  }
+  PETSC_CHECK(MatAssemblyBegin(laplacian_, MAT_FINAL_ASSEMBLY));
+  PETSC_CHECK(MatAssemblyEnd(laplacian_, MAT_FINAL_ASSEMBLY));
+
+  // Convection stencils: for face (l, d, I) and each direction e, the d-values at I +- e and the e-values
+  // at the edges +- e/2 (faces I + e, I + e - e_d and I, I - e_d normal to e).
+  std::unordered_map<std::uint64_t, PetscInt> slot;
+  auto slot_of = [&](const FaceKey& key) {
+    const auto [it, inserted] = slot.try_emplace(pack(key), static_cast<PetscInt>(convection_values_.size()));
+    if (inserted) convection_values_.push_back(value(key));
+    return it->second;
+  };
+  for (const FaceKey& k : owned_keys_) {
+    std::array<PetscInt, 18> s{};
+    const int d = k.normal;
+    for (int e = 0; e < 3; ++e) {
+      const Index3 I = k.index, ee = unit(e), ed = unit(d);
+      s[6 * e + 0] = slot_of({k.level, d, plus(I, ee, -1)});
+      s[6 * e + 1] = slot_of({k.level, d, plus(I, ee)});
+      s[6 * e + 2] = slot_of({k.level, e, plus(I, ee)});                  // +e/2 edge, upper d side
+      s[6 * e + 3] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)});    // +e/2 edge, lower d side
+      s[6 * e + 4] = slot_of({k.level, e, I});                            // -e/2 edge, upper d side
+      s[6 * e + 5] = slot_of({k.level, e, plus(I, ed, -1)});              // -e/2 edge, lower d side
+    }
+    convection_stencils_.push_back(s);
+  }
+
+  Vec probe = operators.create_face_vector();
+  PETSC_CHECK(VecScatterCreateToAll(probe, &gather_, &gathered_));
+  PETSC_CHECK(VecDestroy(&probe));
+}
+
+CompositeVelocity::~CompositeVelocity()
+{
+  MatDestroy(&laplacian_);
+  VecScatterDestroy(&gather_);
+  VecDestroy(&gathered_);
+}
+
+CompositeVelocity::Kind CompositeVelocity::classify(const FaceKey& k) const
+{
+  const GridHierarchy& h = hierarchy();
+  const Index3& n = h.domain_cells(k.level);
+  const int d = k.normal;
+  for (int e = 0; e < 3; ++e) {
+    const PetscInt top = e == d ? n[e] : n[e] - 1;
+    if (k.index[e] < 0 || k.index[e] > top) return Kind::outside_domain;
+  }
+  if (k.index[d] == 0 || k.index[d] == n[d]) return Kind::wall;
+  Index3 lower = k.index;
+  --lower[d];
+  const bool in_lower = h.box_containing(k.level, lower) >= 0, in_upper = h.box_containing(k.level, k.index) >= 0;
+  if (!in_lower && !in_upper) return Kind::outside_level;
+  if ((in_lower && h.covered(k.level, lower)) || (in_upper && h.covered(k.level, k.index))) return Kind::covered;
+  return Kind::unknown;
+}
+
+PetscInt CompositeVelocity::index(const FaceKey& key) const
+{
+  const auto it = indices_.find(pack(key));
+  return it == indices_.end() ? -1 : it->second;
+}
+
+Real3 CompositeVelocity::position(const FaceKey& k) const
+{
+  const GridHierarchy& h = hierarchy();
+  Real3 x = h.cell_center(k.level, k.index);
+  x[k.normal] -= 0.5 * h.h(k.level, k.normal);
+  return x;
+}
+
+PetscInt CompositeVelocity::data_point(const Real3& x, int component) const
+{
+  // Wall points are found again by their position (rounded to 1e-9 of the finest spacing).
+  const GridHierarchy& h = hierarchy();
+  std::uint64_t key = static_cast<std::uint64_t>(component) << 62;
+  for (int d = 0; d < 3; ++d) {
+    const double s = (x[d] - h.domain().lower[d]) / h.h(h.finest(), d);
+    key ^= static_cast<std::uint64_t>(std::llround(s * 4.0) + 1000) << (20 * d);
+  }
+  const auto [it, inserted] = data_index_.try_emplace(key, static_cast<PetscInt>(data_points_.size()));
+  if (inserted) data_points_.push_back({x, component});
+  return it->second;
+}
+
+const FaceValue& CompositeVelocity::value(const FaceKey& key) const
+{
+  const std::uint64_t packed = pack(key);
+  if (const auto it = values_.find(packed); it != values_.end()) return it->second;
+  FaceValue v = compute(key);
+  return values_.emplace(packed, std::move(v)).first->second;
+}
+
+FaceValue CompositeVelocity::compute(const FaceKey& k) const
+{
+  const GridHierarchy& h = hierarchy();
+  FaceValue v;
+  switch (classify(k)) {
+  case Kind::unknown:
+    v.unknowns.emplace_back(index(k), 1.0);
+    return v;
+  case Kind::wall:
+    v.data.emplace_back(data_point(position(k), k.normal), 1.0);
+    return v;
+  case Kind::covered:
+    return interpolate(k.level + 1, k.normal, position(k), Mode::finer_interior);
+  case Kind::outside_level:
+    return interpolate(k.level - 1, k.normal, position(k), Mode::coarser);
+  case Kind::outside_domain:
+    break;
+  }
+  // Half a cell outside a wall (tangential component): (8 g - 6 u_1 + u_2) / 3, quadratic through the wall.
+  const Index3& n = h.domain_cells(k.level);
+  for (int t = 0; t < 3; ++t) {
+    if (t == k.normal || (k.index[t] >= 0 && k.index[t] < n[t])) continue;
+    if (k.index[t] != -1 && k.index[t] != n[t])
+      throw std::logic_error("composite velocity: a ghost more than one cell outside the domain");
+    const bool low = k.index[t] < 0;
+    FaceKey u1 = k, u2 = k;
+    u1.index[t] = low ? 0 : n[t] - 1;
+    u2.index[t] = low ? 1 : n[t] - 2;
+    Real3 wall = position(k);
+    wall[t] = low ? h.domain().lower[t] : h.domain().upper[t];
+    v.data.emplace_back(data_point(wall, k.normal), 8.0 / 3.0);
+    v.add(value(u1), -2.0);
+    v.add(value(u2), 1.0 / 3.0);
+    return v;
+  }
+  throw std::logic_error("composite velocity: a normal-velocity ghost beyond a wall");
+}
+
+FaceValue CompositeVelocity::interpolate(int level, int normal, const Real3& x, Mode mode) const
+{
+  const GridHierarchy& h = hierarchy();
+  const Index3& n = h.domain_cells(level);
+  // Candidate windows of sample indices per direction, best first.
+  std::array<std::vector<std::vector<PetscInt>>, 3> windows;
+  std::array<double, 3> target{};
+  for (int e = 0; e < 3; ++e) {
+    const double offset = e == normal ? 0.0 : 0.5;
+    const double s = (x[e] - h.domain().lower[e]) / h.h(level, e) - offset;
+    target[e] = s;
+    const PetscInt top = e == normal ? n[e] : n[e] - 1;
+    const double nearest = std::round(s);
+    if (std::abs(s - nearest) < 1e-8) {
+      windows[e].push_back({static_cast<PetscInt>(nearest)});
+      continue;
+    }
+    const PetscInt k0 = static_cast<PetscInt>(std::floor(s));
+    std::vector<std::vector<PetscInt>> c = {{k0 - 1, k0, k0 + 1}, {k0, k0 + 1, k0 + 2}};
+    if (s - static_cast<double>(k0) > 0.5) std::swap(c[0], c[1]);
+    c.push_back({k0, k0 + 1});
+    for (auto& w : c)
+      if (w.front() >= 0 && w.back() <= top) windows[e].push_back(w);
+  }
+  auto allowed = [&](Kind kind, bool relaxed) {
+    if (kind == Kind::unknown || kind == Kind::wall || kind == Kind::covered) return true;
+    return relaxed && mode == Mode::coarser && kind == Kind::outside_level;
+  };
+  for (const bool relaxed : {false, true}) {
+    for (const auto& wx : windows[0])
+      for (const auto& wy : windows[1])
+        for (const auto& wz : windows[2]) {
+          bool ok = true;
+          for (const PetscInt i : wx)
+            for (const PetscInt j : wy)
+              for (const PetscInt k : wz)
+                if (ok && !allowed(classify({level, normal, {i, j, k}}), relaxed)) ok = false;
+          if (!ok) continue;
+          auto weights = [&](const std::vector<PetscInt>& w, int e) {
+            std::vector<double> s(w.begin(), w.end());
+            return lagrange(s, target[e]);
+          };
+          const auto ax = weights(wx, 0), ay = weights(wy, 1), az = weights(wz, 2);
+          FaceValue v;
+          for (std::size_t c = 0; c < wz.size(); ++c)
+            for (std::size_t b = 0; b < wy.size(); ++b)
+              for (std::size_t a = 0; a < wx.size(); ++a)
+                v.add(value({level, normal, {wx[a], wy[b], wz[c]}}), ax[a] * ay[b] * az[c]);
+          return v;
+        }
+  }
+  throw std::logic_error("composite velocity: no interpolation stencil on level " + std::to_string(level));
+}
+
+std::vector<double> CompositeVelocity::data_values(const VelocityFunction& wall_velocity, double t) const
+{
+  std::vector<double> values(data_points_.size(), 0.0);
+  if (!wall_velocity) return values;
+  for (std::size_t i = 0; i < data_points_.size(); ++i)
+    values[i] = wall_velocity(data_points_[i].x, t)[data_points_[i].component];
+  return values;
+}
+
+void CompositeVelocity::laplacian_data(const std::vector<double>& data, Vec out) const
+{
+  PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArray(out, &a));
+  for (std::size_t f = 0; f < laplacian_data_.size(); ++f) {
+    double s = 0.0;
+    for (const auto& [i, w] : laplacian_data_[f]) s += w * data[static_cast<std::size_t>(i)];
+    a[f] = s;
+  }
+  PETSC_CHECK(VecRestoreArray(out, &a));
+}
+
+std::vector<double> CompositeVelocity::gather(Vec u) const
+{
+  PETSC_CHECK(VecScatterBegin(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt n = 0;
+  PETSC_CHECK(VecGetLocalSize(gathered_, &n));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(gathered_, &a));
+  std::vector<double> all(a, a + n);
+  PETSC_CHECK(VecRestoreArrayRead(gathered_, &a));
+  return all;
+}
+
+double CompositeVelocity::evaluate(const FaceValue& value, const std::vector<double>& all,
+                                   const std::vector<double>& data)
+{
+  double s = 0.0;
+  for (const auto& [i, w] : value.unknowns) s += w * all[static_cast<std::size_t>(i)];
+  for (const auto& [i, w] : value.data) s += w * data[static_cast<std::size_t>(i)];
+  return s;
+}
+
+void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec out) const
+{
+  const std::vector<double> all = gather(u);
+  std::vector<double> v(convection_values_.size());
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = evaluate(convection_values_[i], all, data);
+  const GridHierarchy& h = hierarchy();
+  PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArray(out, &a));
+  for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
+    const FaceKey& k = owned_keys_[f];
+    const auto& s = convection_stencils_[f];
+    const double self = all[static_cast<std::size_t>(index(k))];
+    double n = 0.0;
+    for (int e = 0; e < 3; ++e) {
+      const auto at = [&](int j) { return v[static_cast<std::size_t>(s[6 * e + j])]; };
+      // (u_e u_d) on the momentum cell's +e and -e sides: u_d averaged along e, u_e along d.
+      const double up = 0.5 * (self + at(1)), down = 0.5 * (at(0) + self);
+      const double carrier_up = 0.5 * (at(2) + at(3)), carrier_down = 0.5 * (at(4) + at(5));
+      n += (carrier_up * up - carrier_down * down) / h.h(k.level, e);
+    }
+    a[f] = n;
+  }
+  PETSC_CHECK(VecRestoreArray(out, &a));
+}
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,117 @@
+#pragma once
+// The staggered (MAC) velocity on the composite grid of a GridHierarchy (docs/nested.md, "Velocity on the
+// levels").
+//
+// Unknowns: the composite faces of CompositeOperators (built with CompositeBoundary::neumann), i.e. the
+// normal velocity on every face between two uncovered cells of one level and on every fine face of a
+// coarse-fine interface; wall faces carry the given normal velocity (zero: the box is closed). Every other
+// face value a stencil needs is an affine combination of the unknowns and of wall data (a `FaceValue`):
+//  - a face under a finer level ("covered", or a coarse face on a coarse-fine interface): tensor-product
+//    quadratic interpolation of the finer level's face values at the coarse face's centre, from finer
+//    faces inside the finer level only (so the coarse stencils see the fine solution, error O(h^3));
+//  - a face outside its level's boxes (a fine ghost): tensor-product quadratic interpolation of the coarser
+//    level's faces (which may themselves be covered: then they are fine data), error O(H^3);
+//  - a tangential-velocity ghost half a cell outside a wall: quadratic extrapolation through the wall
+//    value, g_ghost = (8 g - 6 u_1 + u_2)/3.
+// A ghost error O(h^3) makes the truncation error of the 7-point Laplacian O(h) on the layer of faces next
+// to a coarse-fine interface and O(h^2) elsewhere, which keeps the solution second order (the quadratic
+// coarse-fine interpolation of Martin & Colella 2000, J. Comput. Phys. 163:271, and Minion 1996,
+// J. Comput. Phys. 127:158, here written as one point interpolation per ghost).
+//
+// The viscous operator L (each component's 7-point Laplacian on the composite faces, ghosts as above) is
+// an assembled PETSc matrix plus a wall-data part; the convective term N(u) = div(u u) is the centred,
+// conservative MAC form evaluated level by level with the same ghost values. Neither is refluxed at
+// coarse-fine interfaces (momentum is conserved there to truncation error); mass is conserved exactly by the
+// projection (fluid/nested_navier_stokes.hpp).
+//
+// The ghost maps are replicated on every rank (like CompositeCells): convection gathers the whole
+// composite velocity on each rank (interim, see docs/nested.md).
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include <petscmat.h>
+
+#include "fluid/boundary.hpp"
+#include "fluid/composite_poisson.hpp"
+
+namespace ibvalve::fluid {
+
+/// The face normal to `normal` between cells index - e_normal and index of `level`.
+struct FaceKey {
+  int level = 0;
+  int normal = 0;
+  Index3 index{};
+};
+
+/// An affine combination of composite face unknowns and wall data points.
+struct FaceValue {
+  std::vector<std::pair<PetscInt, double>> unknowns;
+  std::vector<std::pair<PetscInt, double>> data;
+  void add(const FaceValue& other, double weight);
+};
+
+class CompositeVelocity {
+ public:
+  enum class Kind { unknown, wall, covered, outside_level, outside_domain };
+  /// `operators` gives the face numbering; it must be built with CompositeBoundary::neumann.
+  explicit CompositeVelocity(const CompositeOperators& operators);
+  ~CompositeVelocity();
+  CompositeVelocity(const CompositeVelocity&) = delete;
+  CompositeVelocity& operator=(const CompositeVelocity&) = delete;
+
+  const CompositeOperators& operators() const { return *operators_; }
+  const GridHierarchy& hierarchy() const { return operators_->cells().hierarchy(); }
+
+  Kind classify(const FaceKey& key) const;
+  /// Global index of an unknown face, -1 otherwise.
+  PetscInt index(const FaceKey& key) const;
+  Real3 position(const FaceKey& key) const;
+  /// The face's value as an affine combination (memoised; references stay valid).
+  const FaceValue& value(const FaceKey& key) const;
+  /// Keys of the faces this rank owns, in the order of the face vector's owned entries.
+  const std::vector<FaceKey>& owned_keys() const { return owned_keys_; }
+
+  /// Wall data points (position, velocity component) and their values for a wall velocity at time t.
+  struct DataPoint {
+    Real3 x{};
+    int component = 0;
+  };
+  const std::vector<DataPoint>& data_points() const { return data_points_; }
+  std::vector<double> data_values(const VelocityFunction& wall_velocity, double t) const;
+
+  /// L: the composite face Laplacian of the unknowns; the full operator is L u + b(g) (laplacian_data).
+  Mat laplacian() const { return laplacian_; }
+  /// out = b(g): the wall-data part of the Laplacian on the owned faces.
+  void laplacian_data(const std::vector<double>& data, Vec out) const;
+  /// out = N(u) = div(u u) (centred, conservative on each level) on the owned faces; u a face vector.
+  void convection(Vec u, const std::vector<double>& data, Vec out) const;
+  /// Every rank's copy of the whole face vector `u` (collective).
+  std::vector<double> gather(Vec u) const;
+  /// Evaluates a FaceValue against a gathered vector and wall data.
+  static double evaluate(const FaceValue& value, const std::vector<double>& all,
+                         const std::vector<double>& data);
+
+ private:
+  enum class Mode { finer_interior, coarser };
+  FaceValue compute(const FaceKey& key) const;
+  FaceValue interpolate(int level, int normal, const Real3& x, Mode mode) const;
+  PetscInt data_point(const Real3& x, int component) const;
+
+  const CompositeOperators* operators_;
+  std::unordered_map<std::uint64_t, PetscInt> indices_;
+  mutable std::unordered_map<std::uint64_t, FaceValue> values_;
+  mutable std::vector<DataPoint> data_points_;
+  mutable std::unordered_map<std::uint64_t, PetscInt> data_index_;
+  std::vector<FaceKey> owned_keys_;
+  Mat laplacian_ = nullptr;
+  std::vector<std::vector<std::pair<PetscInt, double>>> laplacian_data_;
+  // Convection: for each owned face, the 18 positions (into convection_values_) it reads.
+  std::vector<FaceValue> convection_values_;
+  std::vector<std::array<PetscInt, 18>> convection_stencils_;
+  VecScatter gather_ = nullptr;
+  Vec gathered_ = nullptr;
+};
+
+} // namespace ibvalve::fluid

@@ -1,0 +1,495 @@
+#include "fluid/nested_navier_stokes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "fluid/composite_queries.hpp"
+#include "io/errors.hpp"
+#include "io/petsc_check.hpp"
+#include "io/stopwatch.hpp"
+
+namespace ibvalve::fluid {
+
+namespace {
+
+PetscInt floor_div(PetscInt a, PetscInt b)
+{
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+/// Derivative at 0 of the Lagrange basis of the three nodes s.
+std::array<double, 3> derivative_weights(const std::array<double, 3>& s)
+{
+  std::array<double, 3> w{};
+  for (int a = 0; a < 3; ++a) {
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    w[a] = -(s[b] + s[c]) / ((s[a] - s[b]) * (s[a] - s[c]));
+  }
+  return w;
+}
+
+/// Candidate index windows (best first) around the position s (in sample units) within [0, top].
+std::vector<std::vector<PetscInt>> windows_around(double s, PetscInt top)
+{
+  const double nearest = std::round(s);
+  if (std::abs(s - nearest) < 1e-8) return {{static_cast<PetscInt>(nearest)}};
+  const PetscInt k0 = static_cast<PetscInt>(std::floor(s));
+  std::vector<std::vector<PetscInt>> c = {{k0 - 1, k0, k0 + 1}, {k0, k0 + 1, k0 + 2}};
+  if (s - static_cast<double>(k0) > 0.5) std::swap(c[0], c[1]);
+  c.push_back({k0, k0 + 1});
+  c.push_back({s - static_cast<double>(k0) > 0.5 ? k0 + 1 : k0});
+  std::vector<std::vector<PetscInt>> out;
+  for (auto& w : c)
+    if (w.front() >= 0 && w.back() <= top) out.push_back(w);
+  return out;
+}
+
+std::vector<double> lagrange(const std::vector<PetscInt>& nodes, double x)
+{
+  std::vector<double> w(nodes.size(), 1.0);
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    for (std::size_t j = 0; j < nodes.size(); ++j)
+      if (j != i)
+        w[i] *= (x - static_cast<double>(nodes[j])) / static_cast<double>(nodes[i] - nodes[j]);
+  return w;
+}
+
+void check_reason(KSP ksp, const char* what)
+{
+  KSPConvergedReason reason;
+  PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
+  if (reason < 0) {
+    PetscInt iterations = 0;
+    PETSC_CHECK(KSPGetIterationNumber(ksp, &iterations));
+    throw RunError(std::string("nested Navier-Stokes: the ") + what + " solve diverged (" +
+                   KSPConvergedReasons[reason] + ") after " + std::to_string(iterations) + " iterations");
+  }
+}
+
+} // namespace
+
+Mat consistent_composite_gradient(const CompositeVelocity& velocity)
+{
+  const CompositeOperators& ops = velocity.operators();
+  const GridHierarchy& h = velocity.hierarchy();
+  const CompositeCells& cells = ops.cells();
+  const auto& keys = velocity.owned_keys();
+  PetscInt local_cells = 0;
+  {
+    Vec v = ops.create_cell_vector();
+    PETSC_CHECK(VecGetLocalSize(v, &local_cells));
+    PETSC_CHECK(VecDestroy(&v));
+  }
+  Mat g = nullptr;
+  PETSC_CHECK(MatCreateAIJ(ops.comm(), static_cast<PetscInt>(keys.size()), local_cells, PETSC_DETERMINE,
+                           cells.size(), 12, nullptr, 12, nullptr, &g));
+  PETSC_CHECK(MatSetOption(g, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  PetscInt row = 0;
+  {
+    PetscInt end = 0;
+    PETSC_CHECK(MatGetOwnershipRange(g, &row, &end));
+  }
+  for (const FaceKey& k : keys) {
+    const int l = k.level, d = k.normal;
+    Index3 lower = k.index;
+    --lower[d];
+    const PetscInt below = cells.index(l, lower), above = cells.index(l, k.index);
+    std::vector<PetscInt> columns;
+    std::vector<PetscScalar> values;
+    const double hd = h.h(l, d);
+    if (below >= 0 && above >= 0) {
+      columns = {above, below};
+      values = {1.0 / hd, -1.0 / hd};
+    } else {
+      // Coarse-fine face; xi runs along the normal from the fine cell towards the coarse one.
+      const int side = above < 0 ? 1 : -1;
+      const Index3 fine = side > 0 ? lower : k.index, outside = side > 0 ? k.index : lower;
+      const PetscInt r = h.ratio(l);
+      Index3 coarse;
+      for (int e = 0; e < 3; ++e) coarse[e] = floor_div(outside[e], r);
+      const Real3 x = velocity.position(k);
+      // U*: tensor quadratic interpolation of the coarse layer along the interface.
+      std::array<std::vector<std::vector<PetscInt>>, 3> windows;
+      std::array<double, 3> target{};
+      for (int e = 0; e < 3; ++e) {
+        if (e == d) {
+          windows[e] = {{coarse[e]}};
+          continue;
+        }
+        target[e] = (x[e] - h.domain().lower[e]) / h.h(l - 1, e) - 0.5;
+        windows[e] = windows_around(target[e], h.domain_cells(l - 1)[e] - 1);
+      }
+      bool found = false;
+      std::vector<std::pair<PetscInt, double>> interpolated;
+      for (const auto& wx : windows[0]) {
+        for (const auto& wy : windows[1]) {
+          for (const auto& wz : windows[2]) {
+            bool ok = true;
+            for (const PetscInt a : wx)
+              for (const PetscInt b : wy)
+                for (const PetscInt c : wz) ok = ok && cells.index(l - 1, {a, b, c}) >= 0;
+            if (!ok) continue;
+            const auto ax = d == 0 ? std::vector<double>{1.0} : lagrange(wx, target[0]);
+            const auto ay = d == 1 ? std::vector<double>{1.0} : lagrange(wy, target[1]);
+            const auto az = d == 2 ? std::vector<double>{1.0} : lagrange(wz, target[2]);
+            for (std::size_t c = 0; c < wz.size(); ++c)
+              for (std::size_t b = 0; b < wy.size(); ++b)
+                for (std::size_t a = 0; a < wx.size(); ++a)
+                  interpolated.emplace_back(cells.index(l - 1, {wx[a], wy[b], wz[c]}), ax[a] * ay[b] * az[c]);
+            found = true;
+            break;
+          }
+          if (found) break;
+        }
+        if (found) break;
+      }
+      if (!found) throw std::logic_error("consistent composite gradient: no coarse stencil along the interface");
+      const double H = h.h(l - 1, d);
+      Index3 second = fine;
+      second[d] -= side;
+      const PetscInt f1 = cells.index(l, fine), f2 = cells.index(l, second);
+      double coarse_weight = 0.0;
+      if (f2 >= 0) {
+        const auto w = derivative_weights({-1.5 * hd, -0.5 * hd, 0.5 * H});
+        columns = {f2, f1};
+        values = {side * w[0], side * w[1]};
+        coarse_weight = side * w[2];
+      } else {
+        const double distance = 0.5 * (hd + H);
+        columns = {f1};
+        values = {-side / distance};
+        coarse_weight = side / distance;
+      }
+      for (const auto& [c, w] : interpolated) {
+        columns.push_back(c);
+        values.push_back(coarse_weight * w);
+      }
+    }
+    PETSC_CHECK(MatSetValues(g, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(), values.data(),
+                             ADD_VALUES));
+    ++row;
+  }
+  PETSC_CHECK(MatAssemblyBegin(g, MAT_FINAL_ASSEMBLY));
+  PETSC_CHECK(MatAssemblyEnd(g, MAT_FINAL_ASSEMBLY));
+  return g;
+}
+
+NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy,
+                                       VelocityFunction wall_velocity, const NestedFluidSettings& settings)
+    : comm_(comm), hierarchy_(&hierarchy), wall_velocity_(std::move(wall_velocity)), settings_(settings)
+{
+  if (!(settings.rho > 0.0) || !(settings.mu >= 0.0))
+    throw std::invalid_argument("nested Navier-Stokes: rho must be positive and mu non-negative");
+  operators_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::two_point,
+                                                    CompositeBoundary::neumann);
+  velocity_ops_ = std::make_unique<CompositeVelocity>(*operators_);
+  Mat preconditioner = nullptr;
+  if (settings.coupling == PressureCoupling::consistent) {
+    gradient_ = consistent_composite_gradient(*velocity_ops_);
+    divergence_ = operators_->gradient();
+    preconditioner = operators_->laplacian();
+  } else {
+    tangential_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::tangential_linear,
+                                                       CompositeBoundary::neumann);
+    gradient_ = tangential_->gradient();
+    PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(gradient_)));
+    divergence_ = tangential_->gradient();
+  }
+  PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(divergence_)));
+  {
+    Mat weighted = nullptr;
+    PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, &weighted));
+    PETSC_CHECK(MatDiagonalScale(weighted, operators_->weights(), nullptr));
+    PETSC_CHECK(MatTransposeMatMult(divergence_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &projection_));
+    PETSC_CHECK(MatDestroy(&weighted));
+  }
+  if (!preconditioner) preconditioner = projection_;
+  PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &constants_));
+  PETSC_CHECK(MatSetNullSpace(projection_, constants_));
+  PETSC_CHECK(MatSetTransposeNullSpace(projection_, constants_));
+
+  PC pc = nullptr;
+  PETSC_CHECK(KSPCreate(comm, &pressure_ksp_));
+  PETSC_CHECK(KSPSetOperators(pressure_ksp_, projection_, preconditioner));
+  if (settings.coupling == PressureCoupling::consistent) {
+    PETSC_CHECK(KSPSetType(pressure_ksp_, KSPGMRES));
+    PETSC_CHECK(KSPSetPCSide(pressure_ksp_, PC_RIGHT));
+  } else {
+    PETSC_CHECK(KSPSetType(pressure_ksp_, KSPCG));
+    PETSC_CHECK(KSPSetNormType(pressure_ksp_, KSP_NORM_UNPRECONDITIONED));
+  }
+  PETSC_CHECK(KSPGetPC(pressure_ksp_, &pc));
+  PETSC_CHECK(PCSetType(pc, PCHYPRE));
+  PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+  PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.pressure_rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.prefix + "pressure_").c_str()));
+  PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
+
+  PETSC_CHECK(KSPCreate(comm, &velocity_ksp_));
+  PETSC_CHECK(KSPSetType(velocity_ksp_, KSPGMRES));
+  PETSC_CHECK(KSPSetPCSide(velocity_ksp_, PC_RIGHT));
+  PETSC_CHECK(KSPGetPC(velocity_ksp_, &pc));
+  PETSC_CHECK(PCSetType(pc, PCHYPRE));
+  PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
+  PETSC_CHECK(KSPSetInitialGuessNonzero(velocity_ksp_, PETSC_TRUE));
+  PETSC_CHECK(KSPSetTolerances(velocity_ksp_, settings.velocity_rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetOptionsPrefix(velocity_ksp_, (settings.prefix + "velocity_").c_str()));
+
+  u_ = operators_->create_face_vector();
+  force_ = operators_->create_face_vector();
+  convection_ = operators_->create_face_vector();
+  convection_old_ = operators_->create_face_vector();
+  p_ = operators_->create_cell_vector();
+  if (hierarchy.boxes(hierarchy.finest()).size() == 1) build_finest_level();
+}
+
+NestedNavierStokes::~NestedNavierStokes()
+{
+  for (Mat* m : {&gradient_, &divergence_, &projection_, &helmholtz_}) MatDestroy(m);
+  KSPDestroy(&velocity_ksp_);
+  KSPDestroy(&pressure_ksp_);
+  MatNullSpaceDestroy(&constants_);
+  for (Vec* v : {&u_, &p_, &force_, &convection_, &convection_old_}) VecDestroy(v);
+}
+
+void NestedNavierStokes::set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
+                                               double t)
+{
+  operators_->sample_normal([&](const Real3& x) { return velocity(x, t); }, u_);
+  if (pressure)
+    operators_->sample([&](const Real3& x) { return pressure(x, t); }, p_);
+  else
+    PETSC_CHECK(VecSet(p_, 0.0));
+  time_ = pressure_time_ = t;
+  have_old_convection_ = false;
+}
+
+void NestedNavierStokes::set_body_force(const VelocityFunction& force, double t)
+{
+  operators_->sample_normal([&](const Real3& x) { return force(x, t); }, force_);
+}
+
+void NestedNavierStokes::build_helmholtz(double dt)
+{
+  if (helmholtz_ && dt == helmholtz_dt_) return;
+  PETSC_CHECK(MatDestroy(&helmholtz_));
+  PETSC_CHECK(MatDuplicate(velocity_ops_->laplacian(), MAT_COPY_VALUES, &helmholtz_));
+  PETSC_CHECK(MatScale(helmholtz_, -0.5 * settings_.mu));
+  PETSC_CHECK(MatShift(helmholtz_, settings_.rho / dt));
+  PETSC_CHECK(KSPSetOperators(velocity_ksp_, helmholtz_, helmholtz_));
+  PETSC_CHECK(KSPSetFromOptions(velocity_ksp_));
+  helmholtz_dt_ = dt;
+}
+
+void NestedNavierStokes::advance(double dt, Vec convection_half)
+{
+  const double rho = settings_.rho, mu = settings_.mu, t0 = time_, t1 = time_ + dt;
+  build_helmholtz(dt);
+  Vec rhs = operators_->create_face_vector(), work = operators_->create_face_vector();
+  {
+    io::Stopwatch watch(stats_.seconds_velocity);
+    // rho/dt u^n + mu/2 (L u^n + b(g^n) + b(g^{n+1})) - rho N - G p + f
+    PETSC_CHECK(MatMult(velocity_ops_->laplacian(), u_, rhs));
+    velocity_ops_->laplacian_data(velocity_ops_->data_values(wall_velocity_, t0), work);
+    PETSC_CHECK(VecAXPY(rhs, 1.0, work));
+    velocity_ops_->laplacian_data(velocity_ops_->data_values(wall_velocity_, t1), work);
+    PETSC_CHECK(VecAXPY(rhs, 1.0, work));
+    PETSC_CHECK(VecScale(rhs, 0.5 * mu));
+    PETSC_CHECK(VecAXPY(rhs, rho / dt, u_));
+    PETSC_CHECK(VecAXPY(rhs, -rho, convection_half));
+    PETSC_CHECK(MatMult(gradient_, p_, work));
+    PETSC_CHECK(VecAXPY(rhs, -1.0, work));
+    PETSC_CHECK(VecAXPY(rhs, 1.0, force_));
+    PETSC_CHECK(KSPSolve(velocity_ksp_, rhs, u_)); // u_ := u*
+    check_reason(velocity_ksp_, "viscous");
+    PETSC_CHECK(KSPGetIterationNumber(velocity_ksp_, &stats_.velocity_iterations));
+  }
+  {
+    io::Stopwatch watch(stats_.seconds_pressure);
+    Vec b = operators_->create_cell_vector(), phi = operators_->create_cell_vector(),
+        m_phi = operators_->create_cell_vector();
+    PETSC_CHECK(VecPointwiseMult(work, operators_->weights(), u_));
+    PETSC_CHECK(MatMultTranspose(divergence_, work, b));
+    PETSC_CHECK(KSPSolve(pressure_ksp_, b, phi));
+    check_reason(pressure_ksp_, "projection");
+    PETSC_CHECK(KSPGetIterationNumber(pressure_ksp_, &stats_.pressure_iterations));
+    PETSC_CHECK(MatMult(gradient_, phi, work));
+    PETSC_CHECK(VecAXPY(u_, -1.0, work));
+    // p^{n+1/2} = p^{n-1/2} + rho/dt phi - mu/2 D G phi, with D G phi = -V^{-1} M phi.
+    PETSC_CHECK(MatMult(projection_, phi, m_phi));
+    PETSC_CHECK(VecPointwiseDivide(m_phi, m_phi, operators_->volumes()));
+    PETSC_CHECK(VecAXPY(p_, rho / dt, phi));
+    PETSC_CHECK(VecAXPY(p_, 0.5 * mu, m_phi));
+    for (Vec* v : {&b, &phi, &m_phi}) PETSC_CHECK(VecDestroy(v));
+  }
+  PETSC_CHECK(VecDestroy(&rhs));
+  PETSC_CHECK(VecDestroy(&work));
+}
+
+void NestedNavierStokes::step(double dt)
+{
+  if (!(dt > 0.0)) throw std::invalid_argument("nested Navier-Stokes: dt must be positive");
+  io::Stopwatch total(stats_.seconds_total);
+  {
+    io::Stopwatch watch(stats_.seconds_convection);
+    velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_);
+  }
+  Vec half = operators_->create_face_vector();
+  if (have_old_convection_) {
+    const double r = dt / last_dt_;
+    PETSC_CHECK(VecAXPBYPCZ(half, 1.0 + 0.5 * r, -0.5 * r, 0.0, convection_, convection_old_));
+    advance(dt, half);
+  } else {
+    // Heun: a predictor step with N(u^n), then the step again with (N(u^n) + N(u~^{n+1}))/2.
+    Vec u0 = nullptr, p0 = nullptr;
+    PETSC_CHECK(VecDuplicate(u_, &u0));
+    PETSC_CHECK(VecCopy(u_, u0));
+    PETSC_CHECK(VecDuplicate(p_, &p0));
+    PETSC_CHECK(VecCopy(p_, p0));
+    advance(dt, convection_);
+    {
+      io::Stopwatch watch(stats_.seconds_convection);
+      velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_ + dt), half);
+    }
+    PETSC_CHECK(VecAXPBY(half, 0.5, 0.5, convection_));
+    PETSC_CHECK(VecCopy(u0, u_));
+    PETSC_CHECK(VecCopy(p0, p_));
+    PETSC_CHECK(VecDestroy(&u0));
+    PETSC_CHECK(VecDestroy(&p0));
+    advance(dt, half);
+  }
+  PETSC_CHECK(VecDestroy(&half));
+  PETSC_CHECK(VecCopy(convection_, convection_old_));
+  have_old_convection_ = true;
+  last_dt_ = dt;
+  time_ += dt;
+  pressure_time_ = time_ - 0.5 * dt;
+  ++stats_.steps;
+  double u_max = 0.0;
+  PETSC_CHECK(VecNorm(u_, NORM_INFINITY, &u_max));
+  if (!std::isfinite(u_max))
+    throw RunError("nested Navier-Stokes: the velocity is not finite at t = " + std::to_string(time_));
+}
+
+std::vector<double> NestedNavierStokes::max_divergence_by_level() const
+{
+  Vec w = operators_->create_face_vector(), div = operators_->create_cell_vector();
+  PETSC_CHECK(VecPointwiseMult(w, operators_->weights(), u_));
+  PETSC_CHECK(MatMultTranspose(divergence_, w, div));
+  PETSC_CHECK(VecPointwiseDivide(div, div, operators_->volumes()));
+  PetscInt begin = 0, end = 0;
+  PETSC_CHECK(VecGetOwnershipRange(div, &begin, &end));
+  std::vector<double> local(hierarchy_->levels(), 0.0), global(hierarchy_->levels(), 0.0);
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(div, &a));
+  operators_->cells().for_each(begin, end, [&](PetscInt n, const CompositeCells::Cell& c) {
+    local[c.level] = std::max(local[c.level], std::abs(a[n - begin]));
+  });
+  PETSC_CHECK(VecRestoreArrayRead(div, &a));
+  MPI_Allreduce(local.data(), global.data(), hierarchy_->levels(), MPI_DOUBLE, MPI_MAX, comm_);
+  PETSC_CHECK(VecDestroy(&w));
+  PETSC_CHECK(VecDestroy(&div));
+  return global;
+}
+
+double NestedNavierStokes::flux(const PlaneRegion& region) const
+{
+  return composite_flux(*operators_, u_, region);
+}
+
+void NestedNavierStokes::build_finest_level()
+{
+  const GridHierarchy& h = *hierarchy_;
+  const int f = h.finest();
+  const IndexBox& box = h.boxes(f)[0];
+  BoxGeometry geometry;
+  geometry.periodic = {false, false, false};
+  for (int d = 0; d < 3; ++d) {
+    geometry.cells[d] = box.cells(d);
+    geometry.lower[d] = h.domain().lower[d] + static_cast<double>(box.lower[d]) * h.h(f, d);
+    geometry.upper[d] = h.domain().lower[d] + static_cast<double>(box.upper[d]) * h.h(f, d);
+  }
+  finest_ = std::make_unique<StaggeredGrid>(comm_, geometry, Decomposition{}, 2);
+  const StaggeredGrid& g = *finest_;
+  const Index3& n = h.domain_cells(f);
+  for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
+    for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
+      for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i)
+        for (int d = 0; d < 3; ++d) {
+          const FaceKey key{f, d, {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k}};
+          bool inside = true;
+          for (int e = 0; e < 3; ++e) {
+            const PetscInt low = e == d ? 0 : -1, high = e == d ? n[e] : n[e];
+            inside = inside && key.index[e] >= low && key.index[e] <= high;
+          }
+          finest_values_.push_back(inside ? &velocity_ops_->value(key) : nullptr);
+          const bool owned = i >= g.begin(0) && i < g.face_end(d, 0) && j >= g.begin(1) && j < g.face_end(d, 1) &&
+                             k >= g.begin(2) && k < g.face_end(d, 2);
+          finest_owned_index_.push_back(owned ? velocity_ops_->index(key) : -1);
+        }
+}
+
+const StaggeredGrid& NestedNavierStokes::finest_level_grid() const
+{
+  if (!finest_)
+    throw std::invalid_argument("nested Navier-Stokes: the finest level has several boxes (IB needs one)");
+  return *finest_;
+}
+
+void NestedNavierStokes::velocity_to_finest(Vec local) const
+{
+  const StaggeredGrid& g = finest_level_grid();
+  const std::vector<double> all = velocity_ops_->gather(u_);
+  const std::vector<double> data = velocity_ops_->data_values(wall_velocity_, time_);
+  // The pressure of the owned finest cells (all composite cells of the finest level are uncovered).
+  Vec p_all = nullptr;
+  VecScatter scatter = nullptr;
+  PETSC_CHECK(VecScatterCreateToAll(p_, &scatter, &p_all));
+  PETSC_CHECK(VecScatterBegin(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* p = nullptr;
+  PETSC_CHECK(VecGetArrayRead(p_all, &p));
+  const GridHierarchy& h = *hierarchy_;
+  const IndexBox& box = h.boxes(h.finest())[0];
+  {
+    StagArray a(g, local);
+    std::size_t slot = 0;
+    for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
+      for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
+        for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i) {
+          for (int d = 0; d < 3; ++d, ++slot) {
+            const FaceValue* v = finest_values_[slot];
+            a(i, j, k, g.face_slot(d)) = v ? CompositeVelocity::evaluate(*v, all, data) : 0.0;
+          }
+          const PetscInt c = h.levels() > 0 ? operators_->cells().index(
+                                                  h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k})
+                                            : -1;
+          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
+        }
+  }
+  PETSC_CHECK(VecRestoreArrayRead(p_all, &p));
+  PETSC_CHECK(VecDestroy(&p_all));
+  PETSC_CHECK(VecScatterDestroy(&scatter));
+}
+
+void NestedNavierStokes::add_force_from_finest(Vec local)
+{
+  const StaggeredGrid& g = finest_level_grid();
+  {
+    StagArray a(g, local, true);
+    std::size_t slot = 0;
+    for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
+      for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
+        for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i)
+          for (int d = 0; d < 3; ++d, ++slot) {
+            const PetscInt n = finest_owned_index_[slot];
+            if (n >= 0) PETSC_CHECK(VecSetValue(force_, n, a(i, j, k, g.face_slot(d)), ADD_VALUES));
+          }
+  }
+  PETSC_CHECK(VecAssemblyBegin(force_));
+  PETSC_CHECK(VecAssemblyEnd(force_));
+}
+
+} // namespace ibvalve::fluid

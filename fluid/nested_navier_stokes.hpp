@@ -1,0 +1,140 @@
+#pragma once
+// Incompressible Navier–Stokes on the composite grid of nested levels (docs/nested.md, "The time step"):
+// one time step for all levels together, a second-order pressure-increment projection method (Bell,
+// Colella & Glaz 1989; Brown, Cortez & Minion 2001, J. Comput. Phys. 168:464, their "method II"):
+//
+//   (rho/dt - mu/2 L) u* = (rho/dt + mu/2 L) u^n - rho N^{n+1/2} - G p^{n-1/2} + f^{n+1/2}   (walls: u* = g)
+//   M phi = D_int u*,   u^{n+1} = u* - G phi,   p^{n+1/2} = p^{n-1/2} + rho/dt phi - mu/2 (D G phi)
+//
+// L is the composite face Laplacian and N the centred convective term of fluid/composite_velocity.hpp,
+// Crank–Nicolson and Adams–Bashforth 2 as on one level (fluid/navier_stokes.hpp; the first step is a Heun
+// predictor-corrector). The velocity unknowns are the composite faces of CompositeOperators; the box is
+// closed (u.n = 0 on every side, any tangential wall velocity g(x, t)).
+//
+// The pressure coupling (PressureCoupling):
+//  - `consistent` (default): D is the refluxed (two-point) composite divergence, exactly conservative
+//    (the coarse flux through a coarse-fine face is the sum of its fine fluxes), and G is the gradient with
+//    quadratic coarse-fine interpolation (coarse values carried quadratically along the interface, then a
+//    quadratic through two fine cells and the coarse value along the normal; Martin & Colella 2000). The
+//    projection operator M = D_int G (D_int = -V D) is not symmetric: GMRES preconditioned by BoomerAMG on
+//    the symmetric two-point matrix G_tp^T W G_tp. Divergence zero to solver tolerance on every cell and the
+//    flux through any closed surface of composite faces zero to solver tolerance.
+//  - `adjoint`: G the tangential-linear composite gradient and D its adjoint (the symmetric pair of
+//    fluid/composite_poisson.hpp), M = A symmetric, CG + BoomerAMG. Its O(h) gradient error at coarse-fine
+//    faces limits the velocity to first order in max norm (measured in docs/nested.md).
+//
+// For the IB layer: the finest level must be one box; finest_level_grid() is a single-box StaggeredGrid
+// over it (ghost width 2), velocity_to_finest() fills a local vector of that grid (ghost faces included:
+// outside the box they are the coarse-fine interpolated values) and add_force_from_finest() adds a face
+// force spread on that grid to the composite body force.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fluid/boundary.hpp"
+#include "fluid/composite_poisson.hpp"
+#include "fluid/composite_velocity.hpp"
+#include "fluid/grid.hpp"
+#include "fluid/queries.hpp"
+
+namespace ibvalve::fluid {
+
+enum class PressureCoupling { consistent, adjoint };
+
+struct NestedFluidSettings {
+  double rho = 1.0;
+  double mu = 0.01;
+  PressureCoupling coupling = PressureCoupling::consistent;
+  double velocity_rtol = 1e-12; // viscous solves (GMRES + BoomerAMG), options prefix <prefix>velocity_
+  double pressure_rtol = 1e-12; // projection (GMRES or CG + BoomerAMG), options prefix <prefix>pressure_
+  std::string prefix = "nested_";
+};
+
+struct NestedStepStatistics {
+  PetscInt velocity_iterations = 0; // last viscous solve
+  PetscInt pressure_iterations = 0; // last projection
+  double seconds_convection = 0.0, seconds_velocity = 0.0, seconds_pressure = 0.0, seconds_total = 0.0;
+  PetscInt steps = 0;
+};
+
+/// The composite gradient with quadratic coarse-fine interpolation (faces x cells, the face order of
+/// `velocity`): same-level faces (p+ - p-)/h; a coarse-fine face differentiates at the face the quadratic
+/// through the two fine cells behind it and the coarse value carried to the fine face's tangential
+/// position by tensor quadratic interpolation along the interface (linear when the second fine cell is
+/// itself covered). Annihilates constants. Caller destroys the matrix.
+Mat consistent_composite_gradient(const CompositeVelocity& velocity);
+
+class NestedNavierStokes {
+ public:
+  /// `wall_velocity(x, t)`: the velocity on the walls (its normal part must be zero); empty = no slip.
+  NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, VelocityFunction wall_velocity,
+                     const NestedFluidSettings& settings);
+  ~NestedNavierStokes();
+  NestedNavierStokes(const NestedNavierStokes&) = delete;
+  NestedNavierStokes& operator=(const NestedNavierStokes&) = delete;
+
+  const GridHierarchy& hierarchy() const { return *hierarchy_; }
+  /// The composite numbering (two-point operators, Neumann sides) and the face velocity machinery.
+  const CompositeOperators& operators() const { return *operators_; }
+  const CompositeVelocity& composite_velocity() const { return *velocity_ops_; }
+  const NestedFluidSettings& settings() const { return settings_; }
+
+  /// u(x, t) on the composite faces and p(x, t) as p^{n-1/2} (the first step's pressure guess).
+  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
+  /// The body force f^{n+1/2} on the composite faces (kept between steps).
+  Vec body_force() { return force_; }
+  void set_body_force(const VelocityFunction& force, double t);
+
+  void step(double dt);
+  double time() const { return time_; }
+  double pressure_time() const { return pressure_time_; }
+  PetscInt steps_taken() const { return stats_.steps; }
+  /// Composite face velocity u^n (normal components) and composite cell pressure p^{n-1/2}.
+  Vec velocity() const { return u_; }
+  Vec pressure() const { return p_; }
+  const NestedStepStatistics& statistics() const { return stats_; }
+
+  /// max |D u| over the composite cells of each level (D the projection's divergence).
+  std::vector<double> max_divergence_by_level() const;
+  /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).
+  double flux(const PlaneRegion& region) const;
+
+  /// The finest level as one StaggeredGrid (non-periodic, its own box; throws std::invalid_argument when
+  /// the finest level has several boxes).
+  const StaggeredGrid& finest_level_grid() const;
+  /// Fills every face slot of `local` (a local vector of finest_level_grid(), ghosts included) with u^n
+  /// and the cell slots of the owned cells with p^{n-1/2}. Collective.
+  void velocity_to_finest(Vec local) const;
+  /// Adds the face slots of the owned faces of `local` (a local vector of finest_level_grid(), e.g. what
+  /// ib::Interaction::spread wrote) to body_force(). Collective.
+  void add_force_from_finest(Vec local);
+
+ private:
+  void advance(double dt, Vec convection_half);
+  void build_helmholtz(double dt);
+  void build_finest_level();
+
+  MPI_Comm comm_;
+  const GridHierarchy* hierarchy_;
+  VelocityFunction wall_velocity_;
+  NestedFluidSettings settings_;
+  std::unique_ptr<CompositeOperators> operators_, tangential_;
+  std::unique_ptr<CompositeVelocity> velocity_ops_;
+  Mat gradient_ = nullptr;       // G: the gradient of the momentum equation and the projection
+  Mat divergence_ = nullptr;     // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
+  Mat projection_ = nullptr;     // M = G_d^T W G
+  Mat helmholtz_ = nullptr;      // rho/dt - mu/2 L
+  KSP velocity_ksp_ = nullptr, pressure_ksp_ = nullptr;
+  MatNullSpace constants_ = nullptr;
+  Vec u_ = nullptr, p_ = nullptr, force_ = nullptr;
+  Vec convection_ = nullptr, convection_old_ = nullptr;
+  double time_ = 0.0, pressure_time_ = 0.0, helmholtz_dt_ = 0.0, last_dt_ = 0.0;
+  bool have_old_convection_ = false;
+  NestedStepStatistics stats_;
+  std::unique_ptr<StaggeredGrid> finest_;
+  // Finest grid: for each local element and face slot, the composite value; for owned faces the index.
+  std::vector<const FaceValue*> finest_values_;
+  std::vector<PetscInt> finest_owned_index_;
+};
+
+} // namespace ibvalve::fluid

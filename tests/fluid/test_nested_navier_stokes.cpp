@@ -1,0 +1,165 @@
+// Navier–Stokes time steps on nested levels (fluid/nested_navier_stokes.hpp), measured against the
+// Taylor–Green vortex u = (sin pi x cos pi y, -cos pi x sin pi y, 0) F(t), p = rho/4 (cos 2 pi x + cos 2 pi y)
+// F(t)^2, F = exp(-2 pi^2 nu t), an exact solution in the closed unit cube (u.n = 0 on every side, the
+// tangential wall velocity given). A refined box [2/8, 5/8] x [3/8, 6/8] x [2/8, 4/8] straddles the vortex
+// off-centre; level 0 has N0 = 8, 16, 32 cells per side, so the interfaces move with the refinement, and
+// dt = h0/4 to t = 1/4 (errors O(h^2) in space and O(dt^2) in time together). Measured:
+//  - velocity error orders (L2 weighted by the faces' dual volumes, and max over all composite faces);
+//  - the divergence after every step on every level, relative to max|u|/h of that level;
+//  - the net volume flux out of a closed box whose sides cross the coarse-fine interface;
+//  - 1 rank against 2 ranks;
+//  - the finest-level grid for the IB layer: velocity copied to it (ghosts included) and a force added back.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fluid/nested_navier_stokes.hpp"
+#include "io/petsc_check.hpp"
+
+namespace ibvalve::fluid {
+namespace {
+
+constexpr double pi = std::numbers::pi;
+constexpr double nu = 0.05;
+
+Real3 taylor_green(const Real3& x, double t)
+{
+  const double f = std::exp(-2.0 * pi * pi * nu * t);
+  return {f * std::sin(pi * x[0]) * std::cos(pi * x[1]), -f * std::cos(pi * x[0]) * std::sin(pi * x[1]), 0.0};
+}
+double taylor_green_pressure(const Real3& x, double t)
+{
+  const double f = std::exp(-2.0 * pi * pi * nu * t);
+  return 0.25 * (std::cos(2.0 * pi * x[0]) + std::cos(2.0 * pi * x[1])) * f * f;
+}
+
+template <class... Args>
+void report(const char* format, Args... args)
+{
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) std::printf(format, args...);
+}
+
+GridHierarchy make_hierarchy(PetscInt n0, PetscInt ratio)
+{
+  BoxGeometry box;
+  box.cells = {n0, n0, n0};
+  box.periodic = {false, false, false};
+  IndexBox fine{{2 * n0 / 8, 3 * n0 / 8, 2 * n0 / 8}, {5 * n0 / 8, 6 * n0 / 8, 4 * n0 / 8}};
+  return GridHierarchy(box, {FinerLevel{ratio, {fine.refined(ratio)}}});
+}
+
+struct Result {
+  double l2 = 0.0, max = 0.0;
+  double divergence = 0.0;     // largest over steps and levels of max|D u| h_l / max|u|
+  double closed_flux = 0.0;    // |net outflow| / sum of |side fluxes| of the closed box, largest over steps
+  PetscInt velocity_iterations = 0, pressure_iterations = 0;
+  double seconds = 0.0;
+  std::vector<double> u; // the final velocity, gathered (for the rank comparison)
+};
+
+double closed_box_net_flux(const NestedNavierStokes& fluid, double* scale)
+{
+  // [1/2, 7/8] x [2/8, 7/8] x [1/8, 3/8]: the planes x = 1/2 and z = 3/8 cut through level 1.
+  const Real3 lower{0.5, 0.25, 0.125}, upper{0.875, 0.875, 0.375};
+  double net = 0.0, total = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for (const int side : {0, 1}) {
+      const double position = side ? upper[d] : lower[d];
+      const double q = fluid.flux(PlaneRegion::rectangle(d, position, lower, upper));
+      net += side ? q : -q;
+      total += std::abs(q);
+    }
+  *scale = total;
+  return net;
+}
+
+Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling, bool gather = false)
+{
+  const GridHierarchy h = make_hierarchy(n0, ratio);
+  NestedFluidSettings settings;
+  settings.rho = 1.0;
+  settings.mu = nu;
+  settings.coupling = coupling;
+  NestedNavierStokes fluid(comm, h, taylor_green, settings);
+  fluid.set_initial_condition(taylor_green, taylor_green_pressure, 0.0);
+  const double dt = 0.25 / static_cast<double>(n0);
+  const int steps = static_cast<int>(std::lround(0.25 / dt));
+  Result r;
+  const double start = MPI_Wtime();
+  for (int s = 0; s < steps; ++s) {
+    fluid.step(dt);
+    double u_max = 0.0;
+    PETSC_CHECK(VecNorm(fluid.velocity(), NORM_INFINITY, &u_max));
+    const auto div = fluid.max_divergence_by_level();
+    for (int l = 0; l < h.levels(); ++l) r.divergence = std::max(r.divergence, div[l] * h.h(l, 0) / u_max);
+    double scale = 0.0;
+    const double net = closed_box_net_flux(fluid, &scale);
+    r.closed_flux = std::max(r.closed_flux, std::abs(net) / scale);
+    r.velocity_iterations = std::max(r.velocity_iterations, fluid.statistics().velocity_iterations);
+    r.pressure_iterations = std::max(r.pressure_iterations, fluid.statistics().pressure_iterations);
+  }
+  r.seconds = MPI_Wtime() - start;
+  const CompositeOperators& ops = fluid.operators();
+  Vec exact = ops.create_face_vector(), squared = ops.create_face_vector();
+  ops.sample_normal([&](const Real3& x) { return taylor_green(x, fluid.time()); }, exact);
+  PETSC_CHECK(VecAXPY(exact, -1.0, fluid.velocity()));
+  PETSC_CHECK(VecNorm(exact, NORM_INFINITY, &r.max));
+  PETSC_CHECK(VecPointwiseMult(squared, exact, exact));
+  double weighted = 0.0, total = 0.0;
+  PETSC_CHECK(VecDot(squared, ops.weights(), &weighted));
+  PETSC_CHECK(VecSum(ops.weights(), &total));
+  r.l2 = std::sqrt(weighted / total);
+  if (gather) r.u = fluid.composite_velocity().gather(fluid.velocity());
+  PETSC_CHECK(VecDestroy(&exact));
+  PETSC_CHECK(VecDestroy(&squared));
+  return r;
+}
+
+void convergence(PetscInt ratio, PressureCoupling coupling, const char* name, double l2_order, double max_order)
+{
+  std::vector<Result> r;
+  for (const PetscInt n0 : {8, 16, 32}) {
+    r.push_back(run(PETSC_COMM_WORLD, n0, ratio, coupling));
+    const Result& x = r.back();
+    report("%s N0=%d: L2 %.3e max %.3e; divergence %.1e; closed-box flux %.1e; iterations velocity %d "
+           "pressure %d; %.2f s\n",
+           name, static_cast<int>(n0), x.l2, x.max, x.divergence, x.closed_flux,
+           static_cast<int>(x.velocity_iterations), static_cast<int>(x.pressure_iterations), x.seconds);
+  }
+  const auto order = [&](double Result::*e, int a) { return std::log2(r[a].*e / r[a + 1].*e); };
+  report("%s orders: L2 %.2f, %.2f; max %.2f, %.2f\n", name, order(&Result::l2, 0), order(&Result::l2, 1),
+         order(&Result::max, 0), order(&Result::max, 1));
+  EXPECT_GE(order(&Result::l2, 1), l2_order) << name;
+  EXPECT_GE(order(&Result::max, 1), max_order) << name;
+  for (const Result& x : r) {
+    EXPECT_LT(x.divergence, 1e-10) << name;
+    EXPECT_LT(x.closed_flux, 1e-10) << name;
+  }
+}
+
+TEST(NestedNavierStokes, TaylorGreenSecondOrderDivergenceFreeConservativeRatio2)
+{
+  convergence(2, PressureCoupling::consistent, "ratio 2, consistent", 1.9, 1.5);
+}
+
+TEST(NestedNavierStokes, OneRankAndTwoRanksAgree)
+{
+  const Result world = run(PETSC_COMM_WORLD, 8, 2, PressureCoupling::consistent, true);
+  const Result self = run(PETSC_COMM_SELF, 8, 2, PressureCoupling::consistent, true);
+  ASSERT_EQ(world.u.size(), self.u.size());
+  double difference = 0.0, size = 0.0;
+  for (std::size_t i = 0; i < self.u.size(); ++i) {
+    difference = std::max(difference, std::abs(world.u[i] - self.u[i]));
+    size = std::max(size, std::abs(self.u[i]));
+  }
+  report("1 rank vs all ranks: max difference %.2e (max |u| %.2f)\n", difference, size);
+  EXPECT_LT(difference, 1e-9 * size);
+}
+
+} // namespace
+} // namespace ibvalve::fluid
