@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "io/files.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
 
@@ -80,6 +81,46 @@ TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
   series.add_step(1.0, {fluid});
   series.drop_after(0.5);
   EXPECT_EQ(series.steps(), 1u);
+}
+
+TEST(XdmfTimeSeries, ResumeTakesOverTheStepsUpToTheCheckpointFromTheFile)
+{
+  // A run wrote outputs at t = 0, 1/3 and 2/3 and was stopped; its checkpoint is at t = 1/3 (a time
+  // that only 17 digits give back exactly). The restarted run's series starts from the file.
+  const auto path = shared_temp_path("resume").replace_extension(".xdmf");
+  auto fluid = XdmfGrid::regular("fluid", {4, 5, 6}, {0, 0, 0}, {0.25, 0.2, 0.1});
+  fluid.add_field("velocity", Center::cell, {6, 5, 4, 3}, "f.h5:/u");
+  auto mesh = XdmfGrid::mesh("valve", "Hexahedron", 2, 8, "m.h5:/cells", 12, "m.h5:/x");
+  const double third = 1.0 / 3.0;
+  {
+    XdmfTimeSeries interrupted(MPI_COMM_WORLD, path);
+    interrupted.add_step(0.0, {fluid, mesh});
+    interrupted.add_step(third, {fluid, mesh});
+    interrupted.add_step(2.0 * third, {fluid, mesh});
+  }
+  XdmfTimeSeries expected(MPI_COMM_WORLD, shared_temp_path("expected").replace_extension(".xdmf"));
+  expected.add_step(0.0, {fluid, mesh});
+  expected.add_step(third, {fluid, mesh});
+  expected.add_step(1.0, {fluid});
+
+  XdmfTimeSeries resumed(MPI_COMM_WORLD, path);
+  resumed.resume(third);
+  EXPECT_EQ(resumed.steps(), 2u);
+  resumed.add_step(1.0, {fluid});
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    EXPECT_EQ(resumed.text(), expected.text());
+    EXPECT_EQ(read_text_file(path), expected.text());
+  }
+  // A series with no file yet (a restart before the first output) resumes with no steps.
+  XdmfTimeSeries fresh(MPI_COMM_WORLD, shared_temp_path("none").replace_extension(".xdmf"));
+  fresh.resume(1.0);
+  EXPECT_EQ(fresh.steps(), 0u);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0)
+    for (const char* name : {"resume", "expected", "none"})
+      std::filesystem::remove(shared_temp_path(name).replace_extension(".xdmf"));
 }
 
 } // namespace
