@@ -318,7 +318,7 @@ class AorticValveRun : public PreparedRun {
     std::int64_t rows = 0;
     if (context.restart) {
       const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+          restart_from_latest(checkpoints, context, cycles_ * steps_per_cycle_, [&](const io::Hdf5File& h5) {
             const std::vector<double> saved = h5.read("aortic_valve/outlet");
             if (saved.size() != 7)
               throw InputError(h5.path().string() + ": aortic_valve/outlet has the wrong size");
@@ -388,7 +388,8 @@ class AorticValveRun : public PreparedRun {
       if (checkpoints.due(n) && n < steps) save(n);
     }
     log.finish_progress();
-    if (last_step < steps) summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+    if (last_step < steps)
+      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
     const ib::IbfeTimings& t = ibfe.timings();
     std::ostringstream timing;
     timing.precision(3);

@@ -238,11 +238,12 @@ class FluidRun : public PreparedRun {
     }
     // The state of a continued run (docs/runs.md): the fluid's, and the counts of rows and field files.
     const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
+    const long steps = std::max(1L, std::lround(end_ / dt_));
     long first_step = 0, fields_written = 0;
     std::int64_t rows = 0;
     if (context.restart) {
       const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+          restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
             fluid->restore(h5, "fluid");
             fields_written = static_cast<long>(h5.read_integers("fluid_model/fields_written").at(0));
           });
@@ -254,7 +255,6 @@ class FluidRun : public PreparedRun {
     if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart);
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
-    const long steps = std::max(1L, std::lround(end_ / dt_));
     double last_divergence = 0.0;
     auto record = [&](long step) {
       const double umax = fluid::max_velocity_magnitude(*fluid);

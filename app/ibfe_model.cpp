@@ -248,11 +248,12 @@ class IbfeRun : public PreparedRun {
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
     const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
+    const long steps = std::max(1L, std::lround(end_ / dt_));
     long first_step = 0;
     std::int64_t rows = 0;
     if (context.restart) {
       const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, [&](const io::Hdf5File& h5) {
+          restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
             fluid.restore(h5, "fluid");
             ibfe.restore(h5, "ibfe");
           });
@@ -267,7 +268,6 @@ class IbfeRun : public PreparedRun {
           {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
           context.restart);
     const double V0 = mesh_.volume();
-    const long steps = std::max(1L, std::lround(end_ / dt_));
     auto record = [&](long step) {
       double speed = 0.0, displacement = 0.0;
       for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {

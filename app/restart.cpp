@@ -10,12 +10,17 @@
 namespace ibvalve::app {
 
 io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, const RunContext& context,
+                                         std::int64_t steps,
                                          const std::function<void(const io::Hdf5File&)>& restore)
 {
   const auto file = checkpoints.latest();
   if (!file)
     throw InputError(context.run_directory.string() + ": no checkpoint to restart from (checkpoint.every)");
   const io::CheckpointHeader header = checkpoints.read(*file, restore);
+  if (header.step >= steps)
+    throw InputError(file->string() + ": the checkpoint is at step " + std::to_string(header.step) +
+                     " but the run now ends at step " + std::to_string(steps) +
+                     ": nothing to continue (lengthen the run with --set)");
   int rank = 0;
   MPI_Comm_rank(context.comm, &rank);
   // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut.
