@@ -16,8 +16,7 @@ constexpr PetscInt index_shift = 16;
 std::uint64_t pack(const FaceKey& k)
 {
   std::uint64_t key = static_cast<std::uint64_t>(k.level) << 59 | static_cast<std::uint64_t>(k.normal) << 57;
-  for (int d = 0; d < 3; ++d)
-    key |= static_cast<std::uint64_t>(k.index[d] + index_shift) << (19 * d);
+  for (int d = 0; d < 3; ++d) key |= static_cast<std::uint64_t>(k.index[d] + index_shift) << (19 * d);
   return key;
 }
 
@@ -44,6 +43,23 @@ Index3 plus(Index3 a, const Index3& b, PetscInt s = 1)
 }
 
 } // namespace
+
+void FaceValue::compress()
+{
+  auto merge = [](std::vector<std::pair<PetscInt, double>>& terms) {
+    std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      if (out > 0 && terms[out - 1].first == terms[i].first)
+        terms[out - 1].second += terms[i].second;
+      else
+        terms[out++] = terms[i];
+    }
+    terms.resize(out);
+  };
+  merge(unknowns);
+  merge(data);
+}
 
 void FaceValue::add(const FaceValue& other, double weight)
 {
@@ -102,35 +118,35 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
 
   // The Laplacian: sum over directions of (u(I+e) - 2 u(I) + u(I-e)) / h_e^2, ghosts resolved.
   const PetscInt local = static_cast<PetscInt>(owned_keys_.size());
-  PETSC_CHECK(MatCreateAIJ(operators.comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 30, nullptr, 30,
-                           nullptr, &laplacian_));
-  PETSC_CHECK(MatSetOption(laplacian_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  std::vector<FaceValue> rows(owned_keys_.size());
   laplacian_data_.resize(owned_keys_.size());
+  std::vector<PetscInt> diagonal_count(owned_keys_.size(), 0), off_count(owned_keys_.size(), 0);
+  const PetscInt end = begin + local;
   for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
     const FaceKey& k = owned_keys_[f];
-    FaceValue row;
+    FaceValue& row = rows[f];
     for (int e = 0; e < 3; ++e) {
       const double w = 1.0 / (h.h(k.level, e) * h.h(k.level, e));
       row.add(value({k.level, k.normal, plus(k.index, unit(e))}), w);
       row.add(value({k.level, k.normal, plus(k.index, unit(e), -1)}), w);
       row.add(value(k), -2.0 * w);
     }
-    // Merge duplicate columns.
-    std::sort(row.unknowns.begin(), row.unknowns.end());
+    row.compress();
+    for (const auto& [c, w] : row.unknowns) ++(c >= begin && c < end ? diagonal_count[f] : off_count[f]);
+    laplacian_data_[f] = row.data;
+  }
+  PETSC_CHECK(MatCreateAIJ(operators.comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 0,
+                           diagonal_count.data(), 0, off_count.data(), &laplacian_));
+  for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
     std::vector<PetscInt> columns;
     std::vector<PetscScalar> values;
-    for (const auto& [c, w] : row.unknowns) {
-      if (!columns.empty() && columns.back() == c)
-        values.back() += w;
-      else {
-        columns.push_back(c);
-        values.push_back(w);
-      }
+    for (const auto& [c, w] : rows[f].unknowns) {
+      columns.push_back(c);
+      values.push_back(w);
     }
     const PetscInt global_row = begin + static_cast<PetscInt>(f);
-    PETSC_CHECK(MatSetValues(laplacian_, 1, &global_row, static_cast<PetscInt>(columns.size()), columns.data(),
-                             values.data(), INSERT_VALUES));
-    laplacian_data_[f] = row.data;
+    PETSC_CHECK(MatSetValues(laplacian_, 1, &global_row, static_cast<PetscInt>(columns.size()),
+                             columns.data(), values.data(), INSERT_VALUES));
   }
   PETSC_CHECK(MatAssemblyBegin(laplacian_, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(laplacian_, MAT_FINAL_ASSEMBLY));
@@ -150,10 +166,10 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
       const Index3 I = k.index, ee = unit(e), ed = unit(d);
       s[6 * e + 0] = slot_of({k.level, d, plus(I, ee, -1)});
       s[6 * e + 1] = slot_of({k.level, d, plus(I, ee)});
-      s[6 * e + 2] = slot_of({k.level, e, plus(I, ee)});                  // +e/2 edge, upper d side
-      s[6 * e + 3] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)});    // +e/2 edge, lower d side
-      s[6 * e + 4] = slot_of({k.level, e, I});                            // -e/2 edge, upper d side
-      s[6 * e + 5] = slot_of({k.level, e, plus(I, ed, -1)});              // -e/2 edge, lower d side
+      s[6 * e + 2] = slot_of({k.level, e, plus(I, ee)});               // +e/2 edge, upper d side
+      s[6 * e + 3] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)}); // +e/2 edge, lower d side
+      s[6 * e + 4] = slot_of({k.level, e, I});                         // -e/2 edge, upper d side
+      s[6 * e + 5] = slot_of({k.level, e, plus(I, ed, -1)});           // -e/2 edge, lower d side
     }
     convection_stencils_.push_back(s);
   }
@@ -182,9 +198,11 @@ CompositeVelocity::Kind CompositeVelocity::classify(const FaceKey& k) const
   if (k.index[d] == 0 || k.index[d] == n[d]) return Kind::wall;
   Index3 lower = k.index;
   --lower[d];
-  const bool in_lower = h.box_containing(k.level, lower) >= 0, in_upper = h.box_containing(k.level, k.index) >= 0;
+  const bool in_lower = h.box_containing(k.level, lower) >= 0,
+             in_upper = h.box_containing(k.level, k.index) >= 0;
   if (!in_lower && !in_upper) return Kind::outside_level;
-  if ((in_lower && h.covered(k.level, lower)) || (in_upper && h.covered(k.level, k.index))) return Kind::covered;
+  if ((in_lower && h.covered(k.level, lower)) || (in_upper && h.covered(k.level, k.index)))
+    return Kind::covered;
   return Kind::unknown;
 }
 
@@ -221,6 +239,7 @@ const FaceValue& CompositeVelocity::value(const FaceKey& key) const
   const std::uint64_t packed = pack(key);
   if (const auto it = values_.find(packed); it != values_.end()) return it->second;
   FaceValue v = compute(key);
+  v.compress();
   return values_.emplace(packed, std::move(v)).first->second;
 }
 

@@ -50,6 +50,8 @@ struct FaceValue {
   std::vector<std::pair<PetscInt, double>> unknowns;
   std::vector<std::pair<PetscInt, double>> data;
   void add(const FaceValue& other, double weight);
+  /// Sorts the terms and merges repeated indices.
+  void compress();
 };
 
 class CompositeVelocity {

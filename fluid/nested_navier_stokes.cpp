@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "fluid/composite_queries.hpp"
 #include "io/errors.hpp"
@@ -51,8 +52,7 @@ std::vector<double> lagrange(const std::vector<PetscInt>& nodes, double x)
   std::vector<double> w(nodes.size(), 1.0);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (std::size_t j = 0; j < nodes.size(); ++j)
-      if (j != i)
-        w[i] *= (x - static_cast<double>(nodes[j])) / static_cast<double>(nodes[i] - nodes[j]);
+      if (j != i) w[i] *= (x - static_cast<double>(nodes[j])) / static_cast<double>(nodes[i] - nodes[j]);
   return w;
 }
 
@@ -145,7 +145,8 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity)
         }
         if (found) break;
       }
-      if (!found) throw std::logic_error("consistent composite gradient: no coarse stencil along the interface");
+      if (!found)
+        throw std::logic_error("consistent composite gradient: no coarse stencil along the interface");
       const double H = h.h(l - 1, d);
       Index3 second = fine;
       second[d] -= side;
@@ -227,6 +228,19 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.prefix + "pressure_").c_str()));
   PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
 
+  // BoomerAMG's settings for 3D problems with wide stencils (the quadratic coarse-fine ghosts) unless the
+  // user chose others: HMIS coarsening, extended+i interpolation, strength threshold 0.5, at most 4
+  // interpolation weights per row (Falgout coarsening and classical interpolation, PETSc's defaults, cost
+  // several times more per solve here; docs/nested.md).
+  const std::string velocity_prefix = "-" + settings.prefix + "velocity_pc_hypre_boomeramg_";
+  for (const auto& [name, value] : {std::pair<const char*, const char*>{"coarsen_type", "HMIS"},
+                                    {"interp_type", "ext+i"},
+                                    {"strong_threshold", "0.5"},
+                                    {"P_max", "4"}}) {
+    PetscBool set = PETSC_FALSE;
+    PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, (velocity_prefix + name).c_str(), &set));
+    if (!set) PETSC_CHECK(PetscOptionsSetValue(nullptr, (velocity_prefix + name).c_str(), value));
+  }
   PETSC_CHECK(KSPCreate(comm, &velocity_ksp_));
   PETSC_CHECK(KSPSetType(velocity_ksp_, KSPGMRES));
   PETSC_CHECK(KSPSetPCSide(velocity_ksp_, PC_RIGHT));
@@ -254,8 +268,8 @@ NestedNavierStokes::~NestedNavierStokes()
   for (Vec* v : {&u_, &p_, &force_, &convection_, &convection_old_}) VecDestroy(v);
 }
 
-void NestedNavierStokes::set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
-                                               double t)
+void NestedNavierStokes::set_initial_condition(const VelocityFunction& velocity,
+                                               const ScalarFunction& pressure, double t)
 {
   operators_->sample_normal([&](const Real3& x) { return velocity(x, t); }, u_);
   if (pressure)
@@ -425,8 +439,8 @@ void NestedNavierStokes::build_finest_level()
             inside = inside && key.index[e] >= low && key.index[e] <= high;
           }
           finest_values_.push_back(inside ? &velocity_ops_->value(key) : nullptr);
-          const bool owned = i >= g.begin(0) && i < g.face_end(d, 0) && j >= g.begin(1) && j < g.face_end(d, 1) &&
-                             k >= g.begin(2) && k < g.face_end(d, 2);
+          const bool owned = i >= g.begin(0) && i < g.face_end(d, 0) && j >= g.begin(1) &&
+                             j < g.face_end(d, 1) && k >= g.begin(2) && k < g.face_end(d, 2);
           finest_owned_index_.push_back(owned ? velocity_ops_->index(key) : -1);
         }
 }
@@ -463,9 +477,10 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
             const FaceValue* v = finest_values_[slot];
             a(i, j, k, g.face_slot(d)) = v ? CompositeVelocity::evaluate(*v, all, data) : 0.0;
           }
-          const PetscInt c = h.levels() > 0 ? operators_->cells().index(
-                                                  h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k})
-                                            : -1;
+          const PetscInt c = h.levels() > 0
+                                 ? operators_->cells().index(
+                                       h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k})
+                                 : -1;
           a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
         }
   }

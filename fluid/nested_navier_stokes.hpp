@@ -120,10 +120,10 @@ class NestedNavierStokes {
   NestedFluidSettings settings_;
   std::unique_ptr<CompositeOperators> operators_, tangential_;
   std::unique_ptr<CompositeVelocity> velocity_ops_;
-  Mat gradient_ = nullptr;       // G: the gradient of the momentum equation and the projection
-  Mat divergence_ = nullptr;     // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
-  Mat projection_ = nullptr;     // M = G_d^T W G
-  Mat helmholtz_ = nullptr;      // rho/dt - mu/2 L
+  Mat gradient_ = nullptr;   // G: the gradient of the momentum equation and the projection
+  Mat divergence_ = nullptr; // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
+  Mat projection_ = nullptr; // M = G_d^T W G
+  Mat helmholtz_ = nullptr;  // rho/dt - mu/2 L
   KSP velocity_ksp_ = nullptr, pressure_ksp_ = nullptr;
   MatNullSpace constants_ = nullptr;
   Vec u_ = nullptr, p_ = nullptr, force_ = nullptr;
