@@ -73,6 +73,17 @@ void add_aortic_valve_schema(io::Schema& s)
       .unit("cm")
       .size(3)
       .defaults(std::vector<double>{4.0, 4.0, 13.5});
+  s.add_string("fluid.subsolver",
+               "sub-solves of the Krylov Stokes solver's preconditioner: fft (FFTW sine/cosine transforms) "
+               "or amg (hypre BoomerAMG V-cycles)")
+      .defaults(std::string("fft"))
+      .choices({"amg", "fft"});
+  s.add_real("fluid.rtol", "relative tolerance of the Krylov (FGMRES) Stokes solve each step")
+      .defaults(1e-8)
+      .positive();
+  s.add_integer("fluid.max_iterations", "most FGMRES iterations per step")
+      .defaults(std::int64_t{100})
+      .at_least(1);
 
   s.add_string("mesh.file", "a Gmsh mesh with the groups of `ibvalve mesh aortic-valve`; unset = generate it")
       .file(true);
@@ -161,6 +172,10 @@ class AorticValveRun : public PreparedRun {
     fluid_.rho = config.real("fluid.density");
     fluid_.mu = config.real("fluid.viscosity");
     fluid_.solver = fluid::SolverKind::krylov;
+    fluid_.subsolver =
+        config.string("fluid.subsolver") == "fft" ? fluid::SubsolverKind::fft : fluid::SubsolverKind::amg;
+    fluid_.rtol = config.real("fluid.rtol");
+    fluid_.max_iterations = static_cast<PetscInt>(config.integer("fluid.max_iterations"));
 
     geometry_.tube_radius = config.real("mesh.tube_radius");
     geometry_.tube_wall = config.real("mesh.tube_wall");
