@@ -2,9 +2,15 @@
 // level of ratio 4 placed around an aortic-valve-sized bounding box ([-1.4, 1.4]^2 x [-1, 1.2] cm, margin 4
 // fine cells), against one uniform grid of the finest spacing (80 x 80 x 128). For each it prints the
 // composite cells, operator assembly time, CG + BoomerAMG set-up and solve times and iterations for a
-// smooth right side (rtol 1e-8, Neumann sides), and peak memory over all ranks. Never fails on time.
+// smooth right side (rtol 1e-8, Neumann sides), and peak memory over all ranks. Then the Navier–Stokes
+// time step: NestedNavierStokes (fluid/nested_navier_stokes.hpp) on the two levels against the single-level
+// NavierStokes (Krylov solver, BoomerAMG sub-solves, the model's default for walled boxes) on the uniform
+// grid, both closed boxes with no-slip walls, rho = 1, mu = 0.04 (blood, CGS), a swirling flow of 50 cm/s
+// driven by a body force, dt = 0.2 h_finest / 50 cm/s; set-up time, time per step and its parts,
+// iterations and peak memory. Never fails on time.
 //
-//   mpiexec -n R bench_nested [divisor=1]   (divisor 2 halves every cell count per direction)
+//   mpiexec -n R bench_nested [divisor=1] [steps=4] [uniform=1]
+//   (divisor 2 halves every cell count per direction; uniform=0 skips the uniform grid's time steps)
 #include <sys/resource.h>
 
 #include <chrono>
@@ -16,6 +22,8 @@
 #include <petscsys.h>
 
 #include "fluid/composite_poisson.hpp"
+#include "fluid/navier_stokes.hpp"
+#include "fluid/nested_navier_stokes.hpp"
 #include "io/config.hpp"
 #include "io/petsc_check.hpp"
 
@@ -65,6 +73,119 @@ void run(const char* name, const GridHierarchy& hierarchy, int rank)
   PETSC_CHECK(VecDestroy(&x));
 }
 
+double peak_memory_mb()
+{
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  double peak = static_cast<double>(usage.ru_maxrss) / 1024.0;
+  MPI_Allreduce(MPI_IN_PLACE, &peak, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  return peak;
+}
+
+// A swirl about the z axis inside |r| < 2 cm, 50 cm/s at its edge: u(x) and the force that drives it.
+Real3 swirl(const Real3& x, double)
+{
+  const double r2 = x[0] * x[0] + x[1] * x[1], envelope = std::exp(-r2 / 2.0 - x[2] * x[2] / 8.0);
+  return {-25.0 * x[1] * envelope, 25.0 * x[0] * envelope, 0.0};
+}
+
+void nested_steps(const GridHierarchy& hierarchy, int steps, int rank)
+{
+  MPI_Barrier(PETSC_COMM_WORLD);
+  auto start = std::chrono::steady_clock::now();
+  NestedFluidSettings settings;
+  settings.rho = 1.0;
+  settings.mu = 0.04;
+  settings.velocity_rtol = settings.pressure_rtol = 1e-10;
+  NestedNavierStokes fluid(PETSC_COMM_WORLD, hierarchy, {}, settings);
+  fluid.set_initial_condition(swirl, {}, 0.0);
+  fluid.set_body_force(
+      [](const Real3& x, double t) {
+        const Real3 u = swirl(x, t);
+        return Real3{0.5 * u[0], 0.5 * u[1], 0.0};
+      },
+      0.0);
+  const double setup = seconds_since(start);
+  const double dt = 0.2 * hierarchy.h(hierarchy.finest(), 0) / 50.0;
+  fluid.step(dt); // the first step (Heun: two solves, AMG set-ups)
+  const NestedStepStatistics first = fluid.statistics();
+  start = std::chrono::steady_clock::now();
+  PetscInt velocity = 0, pressure = 0;
+  for (int s = 0; s < steps; ++s) {
+    fluid.step(dt);
+    velocity = std::max(velocity, fluid.statistics().velocity_iterations);
+    pressure = std::max(pressure, fluid.statistics().pressure_iterations);
+  }
+  const double per_step = seconds_since(start) / steps;
+  const NestedStepStatistics& s = fluid.statistics();
+  const auto divergence = fluid.max_divergence_by_level();
+  const double peak = peak_memory_mb();
+  PetscInt faces = 0;
+  PETSC_CHECK(VecGetSize(fluid.velocity(), &faces));
+  if (rank == 0) {
+    std::printf("NestedNavierStokes, %d levels, %d composite cells, %d composite faces\n", hierarchy.levels(),
+                static_cast<int>(fluid.operators().cells().size()), static_cast<int>(faces));
+    std::printf("  set-up (operators, ghost maps)  %.3f s\n", setup);
+    std::printf("  first step (Heun, AMG set-ups)  %.3f s\n", first.seconds_total);
+    std::printf("  time per step                   %.3f s (convection %.3f, viscous %.3f, projection %.3f)\n",
+                per_step, (s.seconds_convection - first.seconds_convection) / steps,
+                (s.seconds_velocity - first.seconds_velocity) / steps,
+                (s.seconds_pressure - first.seconds_pressure) / steps);
+    std::printf("  iterations per step             viscous %d (GMRES + BoomerAMG), projection %d (GMRES + "
+                "BoomerAMG)\n",
+                static_cast<int>(velocity), static_cast<int>(pressure));
+    std::printf("  max |D u| per level            ");
+    for (const double d : divergence) std::printf(" %.1e", d);
+    std::printf("\n  peak memory so far              %.1f MB (all ranks)\n", peak);
+  }
+}
+
+void uniform_steps(const BoxGeometry& box, int steps, int rank)
+{
+  MPI_Barrier(PETSC_COMM_WORLD);
+  auto start = std::chrono::steady_clock::now();
+  BoundaryConditions bc;
+  for (int side = 0; side < 6; ++side) bc.side(side).kind = SideKind::velocity;
+  FluidSettings settings;
+  settings.rho = 1.0;
+  settings.mu = 0.04;
+  settings.solver = SolverKind::krylov;
+  settings.subsolver = SubsolverKind::amg;
+  settings.rtol = 1e-10;
+  NavierStokes fluid(PETSC_COMM_WORLD, box, bc, settings);
+  fluid.set_initial_condition(
+      swirl, [](const Real3&, double) { return 0.0; }, 0.0);
+  fluid.set_body_force(
+      [](const Real3& x, double t) {
+        const Real3 u = swirl(x, t);
+        return Real3{0.5 * u[0], 0.5 * u[1], 0.0};
+      },
+      0.0);
+  const double setup = seconds_since(start);
+  const double dt = 0.2 * box.spacing(0) / 50.0;
+  start = std::chrono::steady_clock::now();
+  fluid.step(dt);
+  const double first = seconds_since(start);
+  start = std::chrono::steady_clock::now();
+  PetscInt iterations = 0;
+  for (int s = 0; s < steps; ++s) {
+    fluid.step(dt);
+    iterations = std::max(iterations, fluid.last_solve().iterations);
+  }
+  const double per_step = seconds_since(start) / steps;
+  const double peak = peak_memory_mb();
+  if (rank == 0) {
+    std::printf("NavierStokes (one level, Krylov + AMG sub-solves), %d x %d x %d cells\n",
+                static_cast<int>(box.cells[0]), static_cast<int>(box.cells[1]),
+                static_cast<int>(box.cells[2]));
+    std::printf("  set-up                          %.3f s\n", setup);
+    std::printf("  first step                      %.3f s\n", first);
+    std::printf("  time per step                   %.3f s\n", per_step);
+    std::printf("  FGMRES iterations per step      %d\n", static_cast<int>(iterations));
+    std::printf("  peak memory so far              %.1f MB (all ranks)\n", peak);
+  }
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -97,6 +218,10 @@ int main(int argc, char** argv)
     BoxGeometry uniform_box = box;
     for (int d = 0; d < 3; ++d) uniform_box.cells[d] *= 4;
     run("uniform finest", GridHierarchy(uniform_box, {}), rank);
+    const int steps = argc > 2 ? std::atoi(argv[2]) : 4;
+    const bool uniform = argc > 3 ? std::atoi(argv[3]) != 0 : true;
+    nested_steps(nested, steps, rank);
+    if (uniform) uniform_steps(uniform_box, steps, rank);
   }
   PetscFinalize();
   return 0;
