@@ -19,6 +19,7 @@
 #include <mpi.h>
 
 #include "app/fluid_box.hpp"
+#include "app/ibfe_fields.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
 #include "app/version.hpp"
@@ -57,6 +58,11 @@ void add_aortic_valve_schema(io::Schema& s)
       .unit("s")
       .defaults(5e-5)
       .positive();
+  s.add_real("output.fields_interval",
+             "simulated time between field snapshots (fields/*.h5 + fields.xdmf for ParaView); 0 = none")
+      .unit("s")
+      .defaults(0.02)
+      .non_negative();
   s.add_integer("output.every", "write a time-series row every this many steps")
       .defaults(std::int64_t{10})
       .at_least(1);
@@ -230,6 +236,11 @@ class AorticValveRun : public PreparedRun {
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
     cycles_ = config.integer("time.cycles");
     every_ = config.integer("output.every");
+    const double fields_interval = config.real("output.fields_interval");
+    fields_every_ = fields_interval > 0
+                        ? std::max<long>(1, std::lround(fields_interval *
+                                                        static_cast<double>(steps_per_cycle_) / period_))
+                        : 0;
     const double nadir = geometry_.valve_base, top = nadir + geometry_.commissure_height;
     flow_plane_z_ = nadir - config.real("probes.flow_plane_offset");
     near_lv_z_ = nadir - config.real("probes.offset");
@@ -331,6 +342,8 @@ class AorticValveRun : public PreparedRun {
     const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
     long first_step = 0;
     std::int64_t rows = 0;
+    if (fields_every_ > 0) create_fields_directory(context.comm, directory);
+    io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     if (context.restart) {
       const io::CheckpointHeader header =
           restart_from_latest(checkpoints, context, cycles_ * steps_per_cycle_, [&](const io::Hdf5File& h5) {
@@ -346,6 +359,7 @@ class AorticValveRun : public PreparedRun {
             ibfe.restore(h5, "ibfe");
           });
       first_step = static_cast<long>(header.step);
+      if (fields_every_ > 0) series.resume(ibfe.time());
       rows = header.timeseries_rows;
     }
     auto save = [&](long n) {
@@ -382,7 +396,10 @@ class AorticValveRun : public PreparedRun {
     RunSummary summary;
     const long steps = cycles_ * steps_per_cycle_;
     log.start_clock();
-    if (!context.restart) record();
+    if (!context.restart) {
+      record();
+      if (fields_every_ > 0) write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, 0);
+    }
     const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     for (long n = first_step + 1; n <= last_step; ++n) {
       try {
@@ -395,6 +412,8 @@ class AorticValveRun : public PreparedRun {
       outlet_flow = fluid::volume_flux(fluid, outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
+      if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps))
+        write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, n);
       log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();
@@ -447,7 +466,7 @@ class AorticValveRun : public PreparedRun {
   fibers::FiberRule rule_ = fibers::FiberRule::FD1;
   ib::IbfeSettings ib_;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
-  long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1;
+  long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
   bool plots_ = true;
