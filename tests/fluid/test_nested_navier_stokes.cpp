@@ -55,6 +55,7 @@ GridHierarchy make_hierarchy(PetscInt n0, PetscInt ratio)
 
 struct Result {
   double l2 = 0.0, max = 0.0;
+  double pressure_l2 = 0.0; // p^{n-1/2} against p(t - dt/2), both with zero mean (volume-weighted)
   double divergence = 0.0;  // largest over steps and levels of max|D u| h_l / max|u|
   double closed_flux = 0.0; // |net outflow| / sum of |side fluxes| of the closed box, largest over steps
   PetscInt velocity_iterations = 0, pressure_iterations = 0;
@@ -118,6 +119,22 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
   PETSC_CHECK(VecDot(squared, ops.weights(), &weighted));
   PETSC_CHECK(VecSum(ops.weights(), &total));
   r.l2 = std::sqrt(weighted / total);
+  {
+    Vec p = ops.create_cell_vector();
+    ops.sample([&](const Real3& x) { return taylor_green_pressure(x, fluid.pressure_time()); }, p);
+    PETSC_CHECK(VecAXPY(p, -1.0, fluid.pressure()));
+    double volume = 0.0, mean = 0.0;
+    PETSC_CHECK(VecSum(ops.volumes(), &volume));
+    PETSC_CHECK(VecDot(p, ops.volumes(), &mean));
+    PETSC_CHECK(VecShift(p, -mean / volume));
+    Vec p2 = ops.create_cell_vector();
+    PETSC_CHECK(VecPointwiseMult(p2, p, p));
+    double integral = 0.0;
+    PETSC_CHECK(VecDot(p2, ops.volumes(), &integral));
+    r.pressure_l2 = std::sqrt(integral / volume);
+    PETSC_CHECK(VecDestroy(&p));
+    PETSC_CHECK(VecDestroy(&p2));
+  }
   if (gather) r.u = fluid.composite_velocity().gather(fluid.velocity());
   PETSC_CHECK(VecDestroy(&exact));
   PETSC_CHECK(VecDestroy(&squared));
@@ -131,17 +148,21 @@ void convergence(PetscInt ratio, PressureCoupling coupling, const char* name, do
   for (const PetscInt n0 : {8, 16, 32}) {
     r.push_back(run(PETSC_COMM_WORLD, n0, ratio, coupling));
     const Result& x = r.back();
-    report("%s N0=%d: L2 %.3e max %.3e; divergence %.1e; closed-box flux %.1e; iterations velocity %d "
+    report("%s N0=%d: L2 %.3e max %.3e; pressure L2 %.3e; divergence %.1e; closed-box flux %.1e; iterations "
+           "velocity %d "
            "pressure %d; %.2f s (convection %.2f, viscous %.2f, projection %.2f)\n",
-           name, static_cast<int>(n0), x.l2, x.max, x.divergence, x.closed_flux,
+           name, static_cast<int>(n0), x.l2, x.max, x.pressure_l2, x.divergence, x.closed_flux,
            static_cast<int>(x.velocity_iterations), static_cast<int>(x.pressure_iterations), x.seconds,
            x.convection, x.viscous, x.projection);
   }
   const auto order = [&](double Result::*e, int a) { return std::log2(r[a].*e / r[a + 1].*e); };
-  report("%s orders: L2 %.2f, %.2f; max %.2f, %.2f\n", name, order(&Result::l2, 0), order(&Result::l2, 1),
-         order(&Result::max, 0), order(&Result::max, 1));
+  report("%s orders: L2 %.2f, %.2f; max %.2f, %.2f; pressure L2 %.2f, %.2f\n", name, order(&Result::l2, 0),
+         order(&Result::l2, 1), order(&Result::max, 0), order(&Result::max, 1),
+         order(&Result::pressure_l2, 0), order(&Result::pressure_l2, 1));
   EXPECT_GE(order(&Result::l2, 1), l2_order) << name;
   EXPECT_GE(order(&Result::max, 1), max_order) << name;
+  // The pressure p^{n-1/2} of the pressure-increment scheme (measured 1.99, 1.99 for ratio 2).
+  EXPECT_GE(order(&Result::pressure_l2, 1), 1.8) << name;
   for (const Result& x : r) {
     EXPECT_LT(x.divergence, 1e-10) << name;
     EXPECT_LT(x.closed_flux, 1e-10) << name;
@@ -176,6 +197,13 @@ TEST(NestedNavierStokes, AdjointPairIsFirstOrderInMaxNormAndLeaksThroughSurfaces
   EXPECT_GT(leak_order, 1.7);
   EXPECT_GT(r[1].closed_flux, 1e-6);
   for (const Result& x : r) EXPECT_LT(x.divergence, 1e-10);
+}
+
+// Ratio 4 (nightly: ctest fluid_nested_navier_stokes_ratio4_nightly, about 2 minutes on 2 ranks). Measured
+// L2 6.9e-4, 1.5e-4, 3.5e-5 (orders 2.20, 2.10), max 4.8e-3, 1.1e-3, 2.0e-4 (2.17, 2.41).
+TEST(NestedNavierStokes, DISABLED_TaylorGreenRatio4)
+{
+  convergence(4, PressureCoupling::consistent, "ratio 4, consistent", 1.9, 1.5);
 }
 
 TEST(NestedNavierStokes, OneRankAndTwoRanksAgree)
