@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "io/petsc_check.hpp"
 
@@ -15,6 +16,18 @@ void initialise_fftw_mpi()
     fftw_mpi_init();
     initialised = true;
   }
+}
+
+unsigned fftw_planner_flags()
+{
+  char value[32] = "measure";
+  PetscBool set = PETSC_FALSE;
+  PETSC_CHECK(PetscOptionsGetString(nullptr, nullptr, "-fluid_fftw_planner", value, sizeof value, &set));
+  const std::string planner = value;
+  if (planner == "estimate") return FFTW_ESTIMATE;
+  if (planner == "measure") return FFTW_MEASURE;
+  if (planner == "patient") return FFTW_PATIENT;
+  throw std::invalid_argument("-fluid_fftw_planner: \"" + planner + "\" is not estimate, measure or patient");
 }
 
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells)
@@ -55,9 +68,9 @@ FftStokesSolver::FftStokesSolver(const StaggeredGrid& grid) : grid_(grid)
   real_ = fftw_alloc_real(static_cast<std::size_t>(2 * alloc_));
   for (auto& s : spectra_) s = fftw_alloc_complex(static_cast<std::size_t>(alloc_));
   forward_[0] = fftw_mpi_plan_dft_r2c_3d(nz, ny, nx, real_, spectra_[0], grid.comm(),
-                                         FFTW_MEASURE | FFTW_MPI_TRANSPOSED_OUT);
+                                         fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT);
   backward_[0] = fftw_mpi_plan_dft_c2r_3d(nz, ny, nx, spectra_[0], real_, grid.comm(),
-                                          FFTW_MEASURE | FFTW_MPI_TRANSPOSED_IN);
+                                          fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN);
   if (!forward_[0] || !backward_[0]) throw std::runtime_error("fluid fft solver: FFTW could not plan");
   for (int d = 0; d < 3; ++d) {
     const PetscInt n = grid.cells(d);

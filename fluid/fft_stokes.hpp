@@ -11,6 +11,12 @@ namespace ibvalve::fluid {
 
 /// fftw_mpi_init() once per process (every FFTW-MPI user in fluid/ calls this first).
 void initialise_fftw_mpi();
+/// FFTW's planner rigor for the fluid solvers' transforms: the PETSc option -fluid_fftw_planner
+/// estimate|measure|patient (default measure). `measure` and `patient` time candidate algorithms when
+/// a solver is built, so two processes may choose different plans and then differ in round-off;
+/// `estimate` chooses by rule, so every run of a case, restarted or not, computes the same bits (the
+/// restart tests use it).
+unsigned fftw_planner_flags();
 
 /// The z-slab decomposition FFTW-MPI uses for a box of `cells`, to build the grid with.
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells);

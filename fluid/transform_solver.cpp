@@ -84,8 +84,8 @@ SeparableTransformSolver::SeparableTransformSolver(MPI_Comm comm, const std::arr
     local_n1_ = n[1];
     data_ = fftw_alloc_real(static_cast<std::size_t>(n[0] * n[1] * n[2]));
     const int m[3] = {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])};
-    forward_ = fftw_plan_r2r(3, m, data_, data_, forward, FFTW_MEASURE);
-    backward_ = fftw_plan_r2r(3, m, data_, data_, backward, FFTW_MEASURE);
+    forward_ = fftw_plan_r2r(3, m, data_, data_, forward, fftw_planner_flags());
+    backward_ = fftw_plan_r2r(3, m, data_, data_, backward, fftw_planner_flags());
   } else {
     // Coefficients stay in the transposed layout [y local][z][x] (y split, z whole): one global
     // transpose saved each way.
@@ -93,8 +93,10 @@ SeparableTransformSolver::SeparableTransformSolver(MPI_Comm comm, const std::arr
     const ptrdiff_t alloc =
         fftw_mpi_local_size_transposed(3, n, comm, &local_n0_, &local_0_start_, &local_n1_, &local_1_start_);
     data_ = fftw_alloc_real(static_cast<std::size_t>(alloc > 0 ? alloc : 1));
-    forward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, forward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_OUT);
-    backward_ = fftw_mpi_plan_r2r(3, n, data_, data_, comm, backward, FFTW_MEASURE | FFTW_MPI_TRANSPOSED_IN);
+    forward_ =
+        fftw_mpi_plan_r2r(3, n, data_, data_, comm, forward, fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT);
+    backward_ =
+        fftw_mpi_plan_r2r(3, n, data_, data_, comm, backward, fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN);
   }
   if (!forward_ || !backward_) {
     this->~SeparableTransformSolver();
