@@ -477,10 +477,8 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
             const FaceValue* v = finest_values_[slot];
             a(i, j, k, g.face_slot(d)) = v ? CompositeVelocity::evaluate(*v, all, data) : 0.0;
           }
-          const PetscInt c = h.levels() > 0
-                                 ? operators_->cells().index(
-                                       h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k})
-                                 : -1;
+          const PetscInt c =
+              operators_->cells().index(h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k});
           a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
         }
   }
