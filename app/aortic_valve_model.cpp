@@ -18,6 +18,7 @@
 
 #include <mpi.h>
 
+#include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
 #include "app/model.hpp"
@@ -291,6 +292,7 @@ class AorticValveRun : public PreparedRun {
     bc.side(2, 1).pressure = [&outlet_pressure, rout](const fluid::Real3& x, double) {
       return std::hypot(x[0], x[1]) < rout ? outlet_pressure : 0.0;
     };
+    if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
     fluid::NavierStokes fluid(context.comm, box_, bc, fluid_);
     fluid.set_initial_condition(
         [](const fluid::Real3&, double) {
@@ -363,6 +365,7 @@ class AorticValveRun : public PreparedRun {
       rows = header.timeseries_rows;
     }
     auto save = [&](long n) {
+      save_fftw_plans(context);
       return checkpoints.write({n, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
         fluid.save(h5, "fluid");
         ibfe.save(h5, "ibfe");

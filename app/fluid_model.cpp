@@ -12,6 +12,7 @@
 
 #include <mpi.h>
 
+#include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
@@ -203,6 +204,7 @@ class FluidRun : public PreparedRun {
   {
     auto& log = io::Logger::global();
     std::unique_ptr<fluid::NavierStokes> fluid;
+    if (context.restart) load_fftw_plans(context);
     try {
       fluid = std::make_unique<fluid::NavierStokes>(context.comm, box_, bc_, settings_);
     } catch (const std::invalid_argument& e) {
@@ -312,6 +314,7 @@ class FluidRun : public PreparedRun {
       }
     };
     auto save = [&](long step) {
+      save_fftw_plans(context);
       return checkpoints.write({step, fluid->time(), rows}, [&](io::Hdf5File& h5) {
         fluid->save(h5, "fluid");
         const std::array<std::int64_t, 1> written{fields_written};

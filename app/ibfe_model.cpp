@@ -13,6 +13,7 @@
 
 #include <mpi.h>
 
+#include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
@@ -222,6 +223,7 @@ class IbfeRun : public PreparedRun {
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
+    if (context.restart) load_fftw_plans(context);
     fluid::NavierStokes fluid(context.comm, box_, bc, fluid_settings_);
     fluid.set_initial_condition(
         [](const fluid::Real3&, double) {
@@ -281,6 +283,7 @@ class IbfeRun : public PreparedRun {
         write_fields(context.comm, directory, series, fluid, ibfe, step);
     };
     auto save = [&](long step) {
+      save_fftw_plans(context);
       return checkpoints.write({step, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
         fluid.save(h5, "fluid");
         ibfe.save(h5, "ibfe");
