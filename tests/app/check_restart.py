@@ -13,6 +13,10 @@
      with the same bits: the whole state (fluid, structure, outlet) continued exactly, not only what
      the time series prints;
    - every field file (fields/*.h5) both wrote holds the same bits, and fields.xdmf is the same text.
+With --from K instead of --stop: the whole run's own folder, copied and cut back to its checkpoint at
+step K, is restarted to the end and compared the same way. Both halves then run in different processes
+with FFTW plans timed in the first (the default -fluid_fftw_planner measure): the restart must load
+those plans (<run>/fftw_wisdom.txt) to compute the same bits.
 Prints what it compared; exits 1 on the first difference.
 """
 import argparse
@@ -72,7 +76,8 @@ def main():
     parser.add_argument("case")
     parser.add_argument("work")
     parser.add_argument("--every", type=int, required=True, help="checkpoint.every of both runs")
-    parser.add_argument("--stop", type=int, required=True, help="--stop-after-steps of the split run")
+    parser.add_argument("--stop", type=int, help="--stop-after-steps of the split run")
+    parser.add_argument("--from", dest="start", type=int, help="restart a copy of the whole run from step K")
     parser.add_argument("--steps", type=int, default=0, help="compare the first N steps only")
     parser.add_argument("--set", action="append", default=[], help="extra overrides of both runs")
     args = parser.parse_args()
@@ -85,11 +90,24 @@ def main():
     overrides = [f"--set=checkpoint.every={args.every}"] + [f"--set={s}" for s in args.set]
     until = [f"--stop-after-steps={args.steps}"] if args.steps else []
     run(launch + [args.case, "-o", str(whole), "-q"] + overrides + until)
-    run(launch + [args.case, "-o", str(split), "-q", f"--stop-after-steps={args.stop}"] + overrides)
+    if args.start is not None:
+        # The whole run's folder as it was at its checkpoint of step K: later checkpoints gone.
+        args.stop = args.start
+        shutil.copytree(whole, split)
+        for p in (split / "checkpoints").glob("step_*.h5"):
+            if int(p.stem[5:]) > args.start:
+                p.unlink()
+        for p in (split / "fields").glob("*_*.h5") if (split / "fields").is_dir() else []:
+            if int(p.stem.rsplit("_", 1)[1]) > args.start:
+                p.unlink()  # field files are named <what>_<step>.h5
+    else:
+        run(launch + [args.case, "-o", str(split), "-q", f"--stop-after-steps={args.stop}"] + overrides)
     stop_checkpoint = split / "checkpoints" / f"step_{args.stop:09d}.h5"
     if not stop_checkpoint.exists():
         sys.exit(f"FAIL: the stopped run left no checkpoint {stop_checkpoint}")
-    stopped_rows = len((split / "timeseries.csv").read_text().splitlines())
+    stopped_rows = 0
+    if args.start is None:
+        stopped_rows = len((split / "timeseries.csv").read_text().splitlines())
     until = [f"--stop-after-steps={args.steps - args.stop}"] if args.steps else []
     output = run(launch + ["--restart", str(split)] + until)
     if f"restarting from {stop_checkpoint}" not in output:
@@ -104,7 +122,10 @@ def main():
                 sys.exit(f"FAIL: timeseries.csv differs first at line {i + 1}:\n  whole: {x}\n  split: {y}")
         sys.exit(f"FAIL: timeseries.csv has {len(a)} lines whole, {len(b)} split")
     rows = len(series_whole.decode().splitlines()) - 1
-    print(f"timeseries.csv: {rows} rows identical byte for byte ({stopped_rows - 1} written before the stop)")
+    if args.start is None:
+        print(f"timeseries.csv: {rows} rows identical byte for byte ({stopped_rows - 1} written before the stop)")
+    else:
+        print(f"timeseries.csv: {rows} rows identical byte for byte (cut back to step {args.start} and rewritten)")
 
     later = sorted(p.name for p in (split / "checkpoints").glob("step_*.h5")
                    if int(p.stem[5:]) > args.stop and (whole / "checkpoints" / p.name).exists())
