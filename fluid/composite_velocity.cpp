@@ -30,6 +30,36 @@ std::vector<double> lagrange(const std::vector<double>& s, double x)
   return w;
 }
 
+} // namespace
+
+/// Windows of consecutive sample indices in [0, top] around the position s (in sample units), best first:
+/// the three nearest (centred), the other three holding s, those shifted inside [0, top] (one-sided near a
+/// wall, extrapolating by less than a cell), then two points, then one.
+std::vector<std::vector<PetscInt>> sample_windows(double s, PetscInt top)
+{
+  const PetscInt k0 = static_cast<PetscInt>(std::floor(s));
+  std::vector<PetscInt> starts = {k0 - 1, k0};
+  if (s - static_cast<double>(k0) > 0.5) std::swap(starts[0], starts[1]);
+  std::vector<std::vector<PetscInt>> out;
+  auto push = [&](std::vector<PetscInt> w) {
+    if (w.front() < 0 || w.back() > top) return;
+    for (const auto& v : out)
+      if (v == w) return;
+    out.push_back(std::move(w));
+  };
+  for (const PetscInt a : starts) push({a, a + 1, a + 2});
+  for (const PetscInt a : starts) {
+    const PetscInt b = std::clamp<PetscInt>(a, 0, top - 2);
+    push({b, b + 1, b + 2});
+  }
+  const PetscInt b = std::clamp<PetscInt>(k0, 0, top - 1);
+  push({b, b + 1});
+  push({std::clamp<PetscInt>(static_cast<PetscInt>(std::lround(s)), 0, top)});
+  return out;
+}
+
+namespace {
+
 Index3 unit(int d)
 {
   Index3 e{0, 0, 0};
@@ -298,12 +328,7 @@ FaceValue CompositeVelocity::interpolate(int level, int normal, const Real3& x, 
       windows[e].push_back({static_cast<PetscInt>(nearest)});
       continue;
     }
-    const PetscInt k0 = static_cast<PetscInt>(std::floor(s));
-    std::vector<std::vector<PetscInt>> c = {{k0 - 1, k0, k0 + 1}, {k0, k0 + 1, k0 + 2}};
-    if (s - static_cast<double>(k0) > 0.5) std::swap(c[0], c[1]);
-    c.push_back({k0, k0 + 1});
-    for (auto& w : c)
-      if (w.front() >= 0 && w.back() <= top) windows[e].push_back(w);
+    windows[e] = sample_windows(s, top);
   }
   auto allowed = [&](Kind kind, bool relaxed) {
     if (kind == Kind::unknown || kind == Kind::wall || kind == Kind::covered) return true;
@@ -332,7 +357,10 @@ FaceValue CompositeVelocity::interpolate(int level, int normal, const Real3& x, 
           return v;
         }
   }
-  throw std::logic_error("composite velocity: no interpolation stencil on level " + std::to_string(level));
+  throw std::logic_error("composite velocity: no interpolation stencil on level " + std::to_string(level) +
+                         " for the normal-" + std::to_string(normal) + " velocity at (" +
+                         std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " + std::to_string(x[2]) +
+                         ")");
 }
 
 std::vector<double> CompositeVelocity::data_values(const VelocityFunction& wall_velocity, double t) const

@@ -54,6 +54,10 @@ struct FaceValue {
   void compress();
 };
 
+/// Candidate windows of consecutive sample indices in [0, top] for interpolating at position s (in sample
+/// units): the centred three, the other three holding s, three shifted inside [0, top], two, one; best first.
+std::vector<std::vector<PetscInt>> sample_windows(double s, PetscInt top);
+
 class CompositeVelocity {
  public:
   enum class Kind { unknown, wall, covered, outside_level, outside_domain };

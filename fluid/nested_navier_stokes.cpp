@@ -31,22 +31,6 @@ std::array<double, 3> derivative_weights(const std::array<double, 3>& s)
   return w;
 }
 
-/// Candidate index windows (best first) around the position s (in sample units) within [0, top].
-std::vector<std::vector<PetscInt>> windows_around(double s, PetscInt top)
-{
-  const double nearest = std::round(s);
-  if (std::abs(s - nearest) < 1e-8) return {{static_cast<PetscInt>(nearest)}};
-  const PetscInt k0 = static_cast<PetscInt>(std::floor(s));
-  std::vector<std::vector<PetscInt>> c = {{k0 - 1, k0, k0 + 1}, {k0, k0 + 1, k0 + 2}};
-  if (s - static_cast<double>(k0) > 0.5) std::swap(c[0], c[1]);
-  c.push_back({k0, k0 + 1});
-  c.push_back({s - static_cast<double>(k0) > 0.5 ? k0 + 1 : k0});
-  std::vector<std::vector<PetscInt>> out;
-  for (auto& w : c)
-    if (w.front() >= 0 && w.back() <= top) out.push_back(w);
-  return out;
-}
-
 std::vector<double> lagrange(const std::vector<PetscInt>& nodes, double x)
 {
   std::vector<double> w(nodes.size(), 1.0);
@@ -119,7 +103,7 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity)
           continue;
         }
         target[e] = (x[e] - h.domain().lower[e]) / h.h(l - 1, e) - 0.5;
-        windows[e] = windows_around(target[e], h.domain_cells(l - 1)[e] - 1);
+        windows[e] = sample_windows(target[e], h.domain_cells(l - 1)[e] - 1);
       }
       bool found = false;
       std::vector<std::pair<PetscInt, double>> interpolated;

@@ -93,13 +93,30 @@ void report(const char* format, Args... args)
   if (rank == 0) std::printf(format, args...);
 }
 
-GridHierarchy make_hierarchy(PetscInt n0, PetscInt ratio)
+enum class Layout { one_box, three_levels, l_shaped };
+
+/// Level 1 [2/8, 5/8] x [3/8, 6/8] x [2/8, 4/8] with ratio `ratio`; `three_levels` adds level 2 (ratio 2) as
+/// level 1 shrunk by 1/16 of the cube on every side; `l_shaped` makes level 1 two adjacent boxes, the second
+/// [5/8, 1] x [3/8, 5/8] x [2/8, 4/8] reaching the wall x = 1.
+GridHierarchy make_hierarchy(PetscInt n0, PetscInt ratio, Layout layout = Layout::one_box)
 {
   BoxGeometry box;
   box.cells = {n0, n0, n0};
   box.periodic = {false, false, false};
-  IndexBox fine{{2 * n0 / 8, 3 * n0 / 8, 2 * n0 / 8}, {5 * n0 / 8, 6 * n0 / 8, 4 * n0 / 8}};
-  return GridHierarchy(box, {FinerLevel{ratio, {fine.refined(ratio)}}});
+  const auto eighths = [&](Index3 lower, Index3 upper, PetscInt cells) {
+    IndexBox b;
+    for (int d = 0; d < 3; ++d) {
+      b.lower[d] = lower[d] * cells / 8;
+      b.upper[d] = upper[d] * cells / 8;
+    }
+    return b;
+  };
+  std::vector<FinerLevel> finer{FinerLevel{ratio, {eighths({2, 3, 2}, {5, 6, 4}, n0 * ratio)}}};
+  if (layout == Layout::l_shaped) finer[0].boxes.push_back(eighths({5, 3, 2}, {8, 5, 4}, n0 * ratio));
+  if (layout == Layout::three_levels)
+    finer.push_back(
+        FinerLevel{2, {eighths({2, 3, 2}, {5, 6, 4}, n0 * ratio * 2).grown(-n0 * ratio * 2 / 16)}});
+  return GridHierarchy(box, finer);
 }
 
 struct Result {
@@ -129,9 +146,9 @@ double closed_box_net_flux(const NestedNavierStokes& fluid, double* scale)
 }
 
 Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling, bool gather = false,
-           double end = 0.125, const Problem& problem = {})
+           double end = 0.125, const Problem& problem = {}, Layout layout = Layout::one_box)
 {
-  const GridHierarchy h = make_hierarchy(n0, ratio);
+  const GridHierarchy h = make_hierarchy(n0, ratio, layout);
   NestedFluidSettings settings;
   settings.rho = 1.0;
   settings.mu = nu;
@@ -192,11 +209,12 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
 }
 
 void convergence(PetscInt ratio, PressureCoupling coupling, const char* name, double l2_order,
-                 double max_order, const Problem& problem = {})
+                 double max_order, const Problem& problem = {}, Layout layout = Layout::one_box,
+                 std::vector<PetscInt> grids = {8, 16, 32})
 {
   std::vector<Result> r;
-  for (const PetscInt n0 : {8, 16, 32}) {
-    r.push_back(run(PETSC_COMM_WORLD, n0, ratio, coupling, false, 0.125, problem));
+  for (const PetscInt n0 : grids) {
+    r.push_back(run(PETSC_COMM_WORLD, n0, ratio, coupling, false, 0.125, problem, layout));
     const Result& x = r.back();
     report("%s N0=%d: L2 %.3e max %.3e; pressure L2 %.3e; divergence %.1e; closed-box flux %.1e; iterations "
            "velocity %d "
@@ -206,20 +224,28 @@ void convergence(PetscInt ratio, PressureCoupling coupling, const char* name, do
            x.convection, x.viscous, x.projection);
   }
   const auto order = [&](double Result::*e, int a) { return std::log2(r[a].*e / r[a + 1].*e); };
+  const int last = static_cast<int>(r.size()) - 2; // the finest pair
   report("%s orders: L2 %.2f, %.2f; max %.2f, %.2f; pressure L2 %.2f, %.2f\n", name, order(&Result::l2, 0),
-         order(&Result::l2, 1), order(&Result::max, 0), order(&Result::max, 1),
-         order(&Result::pressure_l2, 0), order(&Result::pressure_l2, 1));
-  EXPECT_GE(order(&Result::l2, 1), l2_order) << name;
-  EXPECT_GE(order(&Result::max, 1), max_order) << name;
+         order(&Result::l2, last), order(&Result::max, 0), order(&Result::max, last),
+         order(&Result::pressure_l2, 0), order(&Result::pressure_l2, last));
+  EXPECT_GE(order(&Result::l2, last), l2_order) << name;
+  EXPECT_GE(order(&Result::max, last), max_order) << name;
   // The pressure p^{n-1/2} of the pressure-increment scheme (measured 1.99, 1.99 for ratio 2).
-  EXPECT_GE(order(&Result::pressure_l2, 1), 1.8) << name;
+  EXPECT_GE(order(&Result::pressure_l2, last), 1.8) << name;
   for (const Result& x : r) {
     EXPECT_LT(x.divergence, 1e-10) << name;
     EXPECT_LT(x.closed_flux, 1e-10) << name;
   }
 }
 
+// Taylor–Green on N0 = 8, 16 here (orders 2.20 L2, 2.39 max); on 8, 16, 32 in the nightly run (2.05, 2.09
+// from 16 to 32). The 3D manufactured flow below runs on three grids in every ctest run.
 TEST(NestedNavierStokes, TaylorGreenSecondOrderDivergenceFreeConservativeRatio2)
+{
+  convergence(2, PressureCoupling::consistent, "ratio 2, consistent", 1.9, 1.5, {}, Layout::one_box, {8, 16});
+}
+
+TEST(NestedNavierStokes, DISABLED_TaylorGreenThreeGridsRatio2)
 {
   convergence(2, PressureCoupling::consistent, "ratio 2, consistent", 1.9, 1.5);
 }
@@ -228,6 +254,15 @@ TEST(NestedNavierStokes, ManufacturedThreeDimensionalFlowSecondOrderRatio2)
 {
   convergence(2, PressureCoupling::consistent, "3D manufactured, ratio 2", 1.9, 1.5,
               Problem{manufactured, manufactured_pressure, manufactured_force});
+}
+
+TEST(NestedNavierStokes, ThreeLevelsAndAnLShapedLevel)
+{
+  const Problem problem{manufactured, manufactured_pressure, manufactured_force};
+  convergence(2, PressureCoupling::consistent, "3D manufactured, three levels", 1.9, 1.5, problem,
+              Layout::three_levels, {8, 16});
+  convergence(2, PressureCoupling::consistent, "3D manufactured, L-shaped level 1", 1.9, 1.5, problem,
+              Layout::l_shaped, {8, 16});
 }
 
 // The symmetric adjoint pair (tangential-linear gradient, its adjoint divergence): divergence-free too, but
@@ -255,7 +290,7 @@ TEST(NestedNavierStokes, AdjointPairIsFirstOrderInMaxNormAndLeaksThroughSurfaces
   for (const Result& x : r) EXPECT_LT(x.divergence, 1e-10);
 }
 
-// Ratio 4 (nightly: ctest fluid_nested_navier_stokes_ratio4_nightly, about 2 minutes on 2 ranks). Measured
+// Ratio 4 (nightly: ctest fluid_nested_navier_stokes_nightly, about 2 minutes on 2 ranks). Measured
 // L2 6.9e-4, 1.5e-4, 3.5e-5 (orders 2.20, 2.10), max 4.8e-3, 1.1e-3, 2.0e-4 (2.17, 2.41).
 TEST(NestedNavierStokes, DISABLED_TaylorGreenRatio4)
 {
