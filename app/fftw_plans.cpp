@@ -1,6 +1,7 @@
 #include "app/fftw_plans.hpp"
 
 #include <filesystem>
+#include <string>
 
 #include <mpi.h>
 
@@ -12,33 +13,43 @@ namespace ibvalve::app {
 
 namespace {
 
+/// This rank's file: every rank times its own serial transforms and may choose differently, so each
+/// keeps its own plans (for a restart on the same number of ranks).
 std::filesystem::path wisdom_file(const RunContext& context)
 {
-  return context.run_directory / "fftw_wisdom.txt";
+  int rank = 0, size = 1;
+  MPI_Comm_rank(context.comm, &rank);
+  MPI_Comm_size(context.comm, &size);
+  return context.run_directory / "fftw_wisdom" /
+         ("rank" + std::to_string(rank) + "of" + std::to_string(size) + ".txt");
 }
 
 } // namespace
 
 void load_fftw_plans(const RunContext& context)
 {
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
-  int present = rank == 0 && std::filesystem::is_regular_file(wisdom_file(context)) ? 1 : 0;
-  MPI_Bcast(&present, 1, MPI_INT, 0, context.comm);
-  if (!present) return; // a run of an older build: the plans are timed anew (round-off differences)
-  const std::string wisdom = rank == 0 ? io::read_text_file(wisdom_file(context)) : std::string();
-  if (!fluid::import_fftw_wisdom(context.comm, wisdom))
-    io::Logger::global().warn(wisdom_file(context).string() +
-                              ": FFTW did not accept these plans (another FFTW build?); the transforms are "
-                              "planned anew and the restart agrees with the run to round-off only");
+  const std::filesystem::path file = wisdom_file(context);
+  int present = std::filesystem::is_regular_file(file) ? 1 : 0, everywhere = 0;
+  MPI_Allreduce(&present, &everywhere, 1, MPI_INT, MPI_MIN, context.comm);
+  // None for another rank count or a run of an older build: the plans are timed anew, and the
+  // restart agrees with the run to round-off.
+  if (!everywhere) return;
+  int accepted = fluid::import_fftw_wisdom(io::read_text_file(file)) ? 1 : 0, all = 0;
+  MPI_Allreduce(&accepted, &all, 1, MPI_INT, MPI_MIN, context.comm);
+  if (!all)
+    io::Logger::global().warn(
+        file.parent_path().string() +
+        ": FFTW did not accept the run's plans (another FFTW build?); the transforms are "
+        "planned anew and the restart agrees with the run to round-off only");
 }
 
 void save_fftw_plans(const RunContext& context)
 {
-  const std::string wisdom = fluid::export_fftw_wisdom(context.comm);
   int rank = 0;
   MPI_Comm_rank(context.comm, &rank);
-  if (rank == 0) io::write_file_atomically(wisdom_file(context), wisdom);
+  if (rank == 0) std::filesystem::create_directories(context.run_directory / "fftw_wisdom");
+  MPI_Barrier(context.comm);
+  io::write_file_atomically(wisdom_file(context), fluid::export_fftw_wisdom());
 }
 
 } // namespace ibvalve::app

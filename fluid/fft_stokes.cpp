@@ -30,28 +30,18 @@ unsigned fftw_planner_flags()
   throw std::invalid_argument("-fluid_fftw_planner: \"" + planner + "\" is not estimate, measure or patient");
 }
 
-std::string export_fftw_wisdom(MPI_Comm comm)
+std::string export_fftw_wisdom()
 {
-  initialise_fftw_mpi();
-  fftw_mpi_gather_wisdom(comm);
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  if (rank != 0) return {};
   char* text = fftw_export_wisdom_to_string();
   std::string wisdom = text ? text : "";
   fftw_free(text);
   return wisdom;
 }
 
-bool import_fftw_wisdom(MPI_Comm comm, const std::string& wisdom)
+bool import_fftw_wisdom(const std::string& wisdom)
 {
-  initialise_fftw_mpi();
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  int accepted = rank == 0 ? fftw_import_wisdom_from_string(wisdom.c_str()) : 0;
-  MPI_Bcast(&accepted, 1, MPI_INT, 0, comm);
-  fftw_mpi_broadcast_wisdom(comm);
-  return accepted != 0;
+  initialise_fftw_mpi(); // the MPI plans' wisdom names solvers that fftw_mpi_init registers
+  return fftw_import_wisdom_from_string(wisdom.c_str()) != 0;
 }
 
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells)

@@ -18,13 +18,13 @@ void initialise_fftw_mpi();
 /// `estimate` chooses by rule, so every run of a case, restarted or not, computes the same bits (the
 /// restart tests use it).
 unsigned fftw_planner_flags();
-/// The plans FFTW has chosen so far in this process (every rank's, gathered), as FFTW's wisdom text
-/// on rank 0 of `comm` (empty elsewhere). A run keeps it so that its restart times nothing anew.
-std::string export_fftw_wisdom(MPI_Comm comm);
-/// Makes the plans of `wisdom` (export_fftw_wisdom's text, read on rank 0) known on every rank of
-/// `comm`: solvers built afterwards take these plans instead of timing candidates, so a restarted
-/// run computes the interrupted run's bits. False when FFTW does not accept the text.
-bool import_fftw_wisdom(MPI_Comm comm, const std::string& wisdom);
+/// The plans FFTW has chosen so far in this process, as FFTW's wisdom text. Each rank times its own
+/// serial pieces and may choose differently, so a run keeps every rank's text for its restart.
+std::string export_fftw_wisdom();
+/// Makes the plans of `wisdom` (this rank's export_fftw_wisdom text of an earlier process) known:
+/// solvers built afterwards take them instead of timing candidates, so a restarted run on the same
+/// ranks computes the interrupted run's bits. False when FFTW does not accept the text.
+bool import_fftw_wisdom(const std::string& wisdom);
 
 /// The z-slab decomposition FFTW-MPI uses for a box of `cells`, to build the grid with.
 Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells);

@@ -110,6 +110,8 @@ def main():
         stopped_rows = len((split / "timeseries.csv").read_text().splitlines())
     until = [f"--stop-after-steps={args.steps - args.stop}"] if args.steps else []
     output = run(launch + ["--restart", str(split)] + until)
+    if "FFTW did not accept" in output:
+        sys.exit("FAIL: the restart could not load the run's FFTW plans:\n" + output)
     if f"restarting from {stop_checkpoint}" not in output:
         sys.exit("FAIL: the restart did not start from the stop checkpoint:\n" + output)
 
