@@ -397,6 +397,53 @@ double NestedNavierStokes::flux(const PlaneRegion& region) const
   return composite_flux(*operators_, u_, region);
 }
 
+std::vector<Real3> NestedNavierStokes::velocity_at(const std::vector<Real3>& points) const
+{
+  const GridHierarchy& h = *hierarchy_;
+  // Per point and component the eight face values and their trilinear weights (built before the wall data
+  // are evaluated: building them may name new wall points).
+  std::vector<std::array<std::array<std::pair<const FaceValue*, double>, 8>, 3>> stencils(points.size());
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const Real3& x = points[p];
+    int level = 0;
+    for (int l = h.finest(); l > 0 && level == 0; --l) {
+      Index3 cell;
+      for (int e = 0; e < 3; ++e)
+        cell[e] = static_cast<PetscInt>(std::floor((x[e] - h.domain().lower[e]) / h.h(l, e)));
+      if (h.box_containing(l, cell) >= 0) level = l;
+    }
+    const Index3& n = h.domain_cells(level);
+    for (int d = 0; d < 3; ++d) {
+      Index3 base;
+      std::array<double, 3> t{};
+      for (int e = 0; e < 3; ++e) {
+        const double s = (x[e] - h.domain().lower[e]) / h.h(level, e) - (e == d ? 0.0 : 0.5);
+        // base + 1 is at most n: the last face, or a ghost mirrored at the wall.
+        base[e] = std::clamp<PetscInt>(static_cast<PetscInt>(std::floor(s)), e == d ? 0 : -1, n[e] - 1);
+        t[e] = s - static_cast<double>(base[e]);
+      }
+      for (int c = 0; c < 8; ++c) {
+        Index3 index = base;
+        double w = 1.0;
+        for (int e = 0; e < 3; ++e) {
+          const int bit = (c >> e) & 1;
+          index[e] += bit;
+          w *= bit ? t[e] : 1.0 - t[e];
+        }
+        stencils[p][d][c] = {&velocity_ops_->value({level, d, index}), w};
+      }
+    }
+  }
+  const std::vector<double> all = velocity_ops_->gather(u_);
+  const std::vector<double> data = velocity_ops_->data_values(wall_velocity_, time_);
+  std::vector<Real3> values(points.size(), Real3{0.0, 0.0, 0.0});
+  for (std::size_t p = 0; p < points.size(); ++p)
+    for (int d = 0; d < 3; ++d)
+      for (const auto& [value, w] : stencils[p][d])
+        values[p][d] += w * CompositeVelocity::evaluate(*value, all, data);
+  return values;
+}
+
 void NestedNavierStokes::build_finest_level()
 {
   const GridHierarchy& h = *hierarchy_;

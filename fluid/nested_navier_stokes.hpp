@@ -98,6 +98,9 @@ class NestedNavierStokes {
   std::vector<double> max_divergence_by_level() const;
   /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).
   double flux(const PlaneRegion& region) const;
+  /// u^n at the points `x` (probes): trilinear interpolation of each component from the faces of the finest
+  /// level holding the point, ghost faces as in CompositeVelocity. Collective; the same values on every rank.
+  std::vector<Real3> velocity_at(const std::vector<Real3>& x) const;
 
   /// The finest level as one StaggeredGrid (non-periodic, its own box; throws std::invalid_argument when
   /// the finest level has several boxes).

@@ -384,6 +384,16 @@ TEST(NestedNavierStokes, FinestLevelGridForTheImmersedBoundary)
   MPI_Allreduce(&mismatch, &global_mismatch, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
   EXPECT_LT(global_mismatch, 1e-14);
   PETSC_CHECK(VecDestroy(&local));
+
+  // Probes: inside level 1, on level 0, straddling the interface, next to a wall; trilinear, so O(h^2).
+  const std::vector<Real3> probes{{0.4, 0.45, 0.3}, {0.8, 0.2, 0.7}, {0.25, 0.5, 0.26}, {0.02, 0.98, 0.5}};
+  const std::vector<Real3> u = fluid.velocity_at(probes);
+  double probe_error = 0.0;
+  for (std::size_t p = 0; p < probes.size(); ++p)
+    for (int d = 0; d < 3; ++d)
+      probe_error = std::max(probe_error, std::abs(u[p][d] - taylor_green(probes[p], 0.0)[d]));
+  report("probes: max error %.1e\n", probe_error);
+  EXPECT_LT(probe_error, 0.25 * 0.0625 * 0.0625 * pi * pi); // h0^2 |d2u| / 4 with h0 = 1/16
 }
 
 } // namespace
