@@ -44,6 +44,12 @@ double BoundaryConditions::pressure(int s, const Real3& x, double t) const
   return b.pressure(x, t);
 }
 
+bool BoundaryConditions::traction_at(int s, const Real3& x) const
+{
+  const BoundarySide& b = sides_[s];
+  return b.kind == SideKind::traction && !(b.wall && b.wall(x));
+}
+
 namespace {
 
 /// Calls f(i, j, k) over the ghosted range of the two directions other than `a`, with index `ia`
@@ -72,12 +78,13 @@ void set_boundary_normal_velocity(const StaggeredGrid& grid, const BoundaryCondi
     if (bc.periodic(a)) continue;
     for (int upper = 0; upper < 2; ++upper) {
       const int s = side_index(a, upper);
-      if (bc.side(s).kind != SideKind::velocity) continue;
+      const BoundarySide& side = bc.side(s);
+      if (side.kind == SideKind::periodic || (side.kind == SideKind::traction && !side.wall)) continue;
       if (upper ? !grid.owns_upper(a) : !grid.owns_lower(a)) continue;
       const PetscInt ia = upper ? grid.cells(a) : 0;
       for_plane(grid, a, ia, [&](const Index3& i) {
         const Real3 x = grid.face_position(a, i[0], i[1], i[2]);
-        u(i[0], i[1], i[2], grid.face_slot(a)) = bc.velocity(s, x, t)[a];
+        if (!bc.traction_at(s, x)) u(i[0], i[1], i[2], grid.face_slot(a)) = bc.velocity(s, x, t)[a];
       });
     }
   }
@@ -120,10 +127,10 @@ void fill_ghosts(const StaggeredGrid& grid, const BoundaryConditions& bc, Vec lo
             }
           }
           const double p_in = u(in[0], in[1], in[2], ps);
-          if (traction) {
-            Real3 x = grid.cell_center(g[0], g[1], g[2]);
-            x[a] = wall;
-            u(g[0], g[1], g[2], ps) = 2.0 * bc.pressure(s, x, t) - p_in;
+          Real3 xc = grid.cell_center(g[0], g[1], g[2]);
+          xc[a] = wall;
+          if (traction && bc.traction_at(s, xc)) {
+            u(g[0], g[1], g[2], ps) = 2.0 * bc.pressure(s, xc, t) - p_in;
           } else {
             u(g[0], g[1], g[2], ps) = p_in;
           }
@@ -138,7 +145,9 @@ void fill_ghosts(const StaggeredGrid& grid, const BoundaryConditions& bc, Vec lo
           w[a] = wall_face;
           const double inside = u(in[0], in[1], in[2], grid.face_slot(a));
           const double on_wall = u(w[0], w[1], w[2], grid.face_slot(a));
-          u(g[0], g[1], g[2], grid.face_slot(a)) = traction ? inside : 2.0 * on_wall - inside;
+          Real3 xw = grid.face_position(a, w[0], w[1], w[2]);
+          const bool free = traction && bc.traction_at(s, xw);
+          u(g[0], g[1], g[2], grid.face_slot(a)) = free ? inside : 2.0 * on_wall - inside;
         });
       }
     }

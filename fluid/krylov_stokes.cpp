@@ -74,9 +74,10 @@ bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, do
   const PetscInt n_d = grid_.cells(d);
   if (grid_.is_boundary_face(d, idx[d])) {
     const int s = side_index(d, idx[d] == 0 ? 0 : 1);
-    if (bc_.side(s).kind == SideKind::velocity) {
+    const Real3 x = grid_.face_position(d, idx[0], idx[1], idx[2]);
+    if (!bc_.traction_at(s, x)) {
       entries.push_back({face_stencil(d, idx), 1.0});
-      constant = bc_.velocity(s, grid_.face_position(d, idx[0], idx[1], idx[2]), t_new)[d];
+      constant = bc_.velocity(s, x, t_new)[d];
       return true;
     }
   }
