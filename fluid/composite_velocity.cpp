@@ -189,17 +189,27 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     if (inserted) convection_values_.push_back(value(key));
     return it->second;
   };
+  const auto clamped = [&](FaceKey key) {
+    // The second neighbour of a face beside a wall lies two cells out: take the nearest face that has a value
+    // (only the limiter's upwind reconstruction reads it, and the carrier on the wall side is zero).
+    const Index3& n = h.domain_cells(key.level);
+    for (int e = 0; e < 3; ++e)
+      key.index[e] = std::clamp<PetscInt>(key.index[e], e == key.normal ? 0 : -1, n[e]);
+    return key;
+  };
   for (const FaceKey& k : owned_keys_) {
-    std::array<PetscInt, 18> s{};
+    std::array<PetscInt, 24> s{};
     const int d = k.normal;
     for (int e = 0; e < 3; ++e) {
       const Index3 I = k.index, ee = unit(e), ed = unit(d);
-      s[6 * e + 0] = slot_of({k.level, d, plus(I, ee, -1)});
-      s[6 * e + 1] = slot_of({k.level, d, plus(I, ee)});
-      s[6 * e + 2] = slot_of({k.level, e, plus(I, ee)});               // +e/2 edge, upper d side
-      s[6 * e + 3] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)}); // +e/2 edge, lower d side
-      s[6 * e + 4] = slot_of({k.level, e, I});                         // -e/2 edge, upper d side
-      s[6 * e + 5] = slot_of({k.level, e, plus(I, ed, -1)});           // -e/2 edge, lower d side
+      s[8 * e + 0] = slot_of(clamped({k.level, d, plus(I, ee, -2)}));
+      s[8 * e + 1] = slot_of({k.level, d, plus(I, ee, -1)});
+      s[8 * e + 2] = slot_of({k.level, d, plus(I, ee)});
+      s[8 * e + 3] = slot_of(clamped({k.level, d, plus(I, ee, 2)}));
+      s[8 * e + 4] = slot_of({k.level, e, plus(I, ee)});               // +e/2 edge, upper d side
+      s[8 * e + 5] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)}); // +e/2 edge, lower d side
+      s[8 * e + 6] = slot_of({k.level, e, I});                         // -e/2 edge, upper d side
+      s[8 * e + 7] = slot_of({k.level, e, plus(I, ed, -1)});           // -e/2 edge, lower d side
     }
     convection_stencils_.push_back(s);
   }
@@ -406,12 +416,14 @@ double CompositeVelocity::evaluate(const FaceValue& value, const std::vector<dou
   return s;
 }
 
-void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec out) const
+void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec out,
+                                   ConvectionScheme scheme) const
 {
   const std::vector<double> all = gather(u);
   std::vector<double> v(convection_values_.size());
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = evaluate(convection_values_[i], all, data);
   const GridHierarchy& h = hierarchy();
+  const bool limited = scheme == ConvectionScheme::limited_upwind;
   PetscScalar* a = nullptr;
   PETSC_CHECK(VecGetArray(out, &a));
   for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
@@ -420,10 +432,16 @@ void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec o
     const double self = all[static_cast<std::size_t>(index(k))];
     double n = 0.0;
     for (int e = 0; e < 3; ++e) {
-      const auto at = [&](int j) { return v[static_cast<std::size_t>(s[6 * e + j])]; };
-      // (u_e u_d) on the momentum cell's +e and -e sides: u_d averaged along e, u_e along d.
-      const double up = 0.5 * (self + at(1)), down = 0.5 * (at(0) + self);
-      const double carrier_up = 0.5 * (at(2) + at(3)), carrier_down = 0.5 * (at(4) + at(5));
+      const auto at = [&](int j) { return v[static_cast<std::size_t>(s[8 * e + j])]; };
+      // u_e on the momentum cell's +e and -e sides, averaged along d (the carrier), times u_d there: averaged
+      // along e (centred) or reconstructed from the upwind side (limited kappa = 1/3, fluid/convection.hpp).
+      const double mm = at(0), m = at(1), p = at(2), pp = at(3);
+      const double carrier_up = 0.5 * (at(4) + at(5)), carrier_down = 0.5 * (at(6) + at(7));
+      double up = 0.5 * (self + p), down = 0.5 * (m + self);
+      if (limited) {
+        up = carrier_up >= 0.0 ? limited_face_value(m, self, p, pp) : limited_face_value(pp, p, self, m);
+        down = carrier_down >= 0.0 ? limited_face_value(mm, m, self, p) : limited_face_value(p, self, m, mm);
+      }
       n += (carrier_up * up - carrier_down * down) / h.h(k.level, e);
     }
     a[f] = n;

@@ -35,6 +35,7 @@
 
 #include "fluid/boundary.hpp"
 #include "fluid/composite_poisson.hpp"
+#include "fluid/convection.hpp"
 
 namespace ibvalve::fluid {
 
@@ -91,8 +92,11 @@ class CompositeVelocity {
   Mat laplacian() const { return laplacian_; }
   /// out = b(g): the wall-data part of the Laplacian on the owned faces.
   void laplacian_data(const std::vector<double>& data, Vec out) const;
-  /// out = N(u) = div(u u) (centred, conservative on each level) on the owned faces; u a face vector.
-  void convection(Vec u, const std::vector<double>& data, Vec out) const;
+  /// out = N(u) = div(u u) (conservative on each level) on the owned faces; u a face vector. The advected
+  /// velocity on a momentum-cell side is the centred average or the limited upwind-biased reconstruction
+  /// of fluid/convection.hpp (`limited_face_value`), from the same ghost values.
+  void convection(Vec u, const std::vector<double>& data, Vec out,
+                  ConvectionScheme scheme = ConvectionScheme::centered) const;
   /// Every rank's copy of the whole face vector `u` (collective).
   std::vector<double> gather(Vec u) const;
   /// Evaluates a FaceValue against a gathered vector and wall data.
@@ -113,9 +117,9 @@ class CompositeVelocity {
   std::vector<FaceKey> owned_keys_;
   Mat laplacian_ = nullptr;
   std::vector<std::vector<std::pair<PetscInt, double>>> laplacian_data_;
-  // Convection: for each owned face, the 18 positions (into convection_values_) it reads.
+  // Convection: for each owned face, the 24 positions (into convection_values_) it reads.
   std::vector<FaceValue> convection_values_;
-  std::vector<std::array<PetscInt, 18>> convection_stencils_;
+  std::vector<std::array<PetscInt, 24>> convection_stencils_;
   VecScatter gather_ = nullptr;
   Vec gathered_ = nullptr;
 };

@@ -332,7 +332,8 @@ void NestedNavierStokes::step(double dt)
   io::Stopwatch total(stats_.seconds_total);
   {
     io::Stopwatch watch(stats_.seconds_convection);
-    velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_);
+    velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_,
+                              settings_.convection);
   }
   Vec half = operators_->create_face_vector();
   if (have_old_convection_) {
@@ -349,7 +350,8 @@ void NestedNavierStokes::step(double dt)
     advance(dt, convection_);
     {
       io::Stopwatch watch(stats_.seconds_convection);
-      velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_ + dt), half);
+      velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_ + dt), half,
+                                settings_.convection);
     }
     PETSC_CHECK(VecAXPBY(half, 0.5, 0.5, convection_));
     PETSC_CHECK(VecCopy(u0, u_));
