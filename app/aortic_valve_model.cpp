@@ -133,15 +133,23 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_real("tether.attachment_damping", "dashpot per area on the attachments").defaults(0.0).non_negative();
 
   windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg");
-  s.add_real("inlet.radius", "radius of the inlet pressure disk (0 = the tube radius)")
+  s.add_real("inlet.radius", "radius of the inlet pressure disk (0 = the middle of the tube wall)")
       .unit("cm")
       .defaults(0.0)
       .non_negative();
+  s.add_string("inlet.outside",
+               "the inlet side outside its disk: zero-pressure (the study) or wall (no slip, closes the "
+               "space around the tube's end)")
+      .choices({"zero-pressure", "wall"})
+      .defaults(std::string("zero-pressure"));
   windkessel::add_schema(s, "windkessel");
-  s.add_real("outlet.radius", "radius of the Windkessel disk (0 = the tube radius)")
+  s.add_real("outlet.radius", "radius of the Windkessel disk (0 = the middle of the tube wall)")
       .unit("cm")
       .defaults(0.0)
       .non_negative();
+  s.add_string("outlet.outside", "the outlet side outside its disk: zero-pressure (the study) or wall")
+      .choices({"zero-pressure", "wall"})
+      .defaults(std::string("zero-pressure"));
   s.add_real("probes.offset", "P_nlv / P_nao: on the axis this far below the nadir / above the commissures")
       .unit("cm")
       .defaults(1.0)
@@ -229,8 +237,14 @@ class AorticValveRun : public PreparedRun {
                              config.real("tether.attachment_damping")});
 
     const double r = geometry_.tube_radius;
-    inlet_radius_ = config.real("inlet.radius") > 0 ? config.real("inlet.radius") : r;
-    outlet_radius_ = config.real("outlet.radius") > 0 ? config.real("outlet.radius") : r;
+    // The disks end in the middle of the tube wall by default: the jump of the boundary pressure then
+    // sits inside the structure, which holds it, and not in the fluid at the tube's end (docs: the
+    // example's README, "Boundary").
+    const double mid_wall = r + 0.5 * geometry_.tube_wall;
+    inlet_radius_ = config.real("inlet.radius") > 0 ? config.real("inlet.radius") : mid_wall;
+    outlet_radius_ = config.real("outlet.radius") > 0 ? config.real("outlet.radius") : mid_wall;
+    inlet_walled_ = config.string("inlet.outside") == "wall";
+    outlet_walled_ = config.string("outlet.outside") == "wall";
     period_ = lv_.period();
     if (std::abs(report_.period - period_) > 1e-9 * period_)
       config.fail("report.period", "differs from the LV pressure table's period");
@@ -281,7 +295,8 @@ class AorticValveRun : public PreparedRun {
                          context.comm);
     solid.set_fibers(frames);
 
-    // Boundary: every side a traction side; zero pressure except the inlet and outlet disks.
+    // Boundary: every side a traction side; zero pressure except the inlet and outlet disks, and the
+    // inlet/outlet sides outside their disks walled when asked (fluid/boundary.hpp).
     double outlet_pressure = outlet_parameters_.initial_pressure;
     fluid::BoundaryConditions bc;
     for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::traction;
@@ -292,6 +307,10 @@ class AorticValveRun : public PreparedRun {
     bc.side(2, 1).pressure = [&outlet_pressure, rout](const fluid::Real3& x, double) {
       return std::hypot(x[0], x[1]) < rout ? outlet_pressure : 0.0;
     };
+    if (inlet_walled_)
+      bc.side(2, 0).wall = [rin](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rin; };
+    if (outlet_walled_)
+      bc.side(2, 1).wall = [rout](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rout; };
     if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
     fluid::NavierStokes fluid(context.comm, box_, bc, fluid_);
     fluid.set_initial_condition(
@@ -468,6 +487,7 @@ class AorticValveRun : public PreparedRun {
   materials::MaterialSettings leaflet_material_, tube_material_;
   fibers::FiberRule rule_ = fibers::FiberRule::FD1;
   ib::IbfeSettings ib_;
+  bool inlet_walled_ = false, outlet_walled_ = false;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
   long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
