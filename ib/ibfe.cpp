@@ -55,22 +55,34 @@ std::vector<double> tether_weights(const fe::Mesh& mesh, const std::string& name
 } // namespace
 
 IbfeIntegrator::IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings)
-    : fluid_(fluid), solid_(solid), settings_(std::move(settings)),
-      interaction_(fluid.grid(), settings_.kernel), points_(solid.mesh(), settings_.points),
-      velocity_mass_(solid.mesh(), settings_.velocity_projection, fluid.grid().comm(), "ib_velocity_mass_"),
+    : IbfeIntegrator(std::make_unique<UniformFluid>(fluid), nullptr, solid, std::move(settings))
+{
+}
+
+IbfeIntegrator::IbfeIntegrator(EulerianFluid& fluid, const fe::SolidModel& solid, IbfeSettings settings)
+    : IbfeIntegrator(nullptr, &fluid, solid, std::move(settings))
+{
+}
+
+IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFluid* fluid,
+                               const fe::SolidModel& solid, IbfeSettings settings)
+    : owned_fluid_(std::move(owned)), fluid_(fluid ? *fluid : *owned_fluid_), solid_(solid),
+      settings_(std::move(settings)), interaction_(fluid_.grid(), settings_.kernel),
+      points_(solid.mesh(), settings_.points),
+      velocity_mass_(solid.mesh(), settings_.velocity_projection, fluid_.grid().comm(), "ib_velocity_mass_"),
       displacement_(solid.num_dofs(), 0.0), velocity_(solid.num_dofs(), 0.0), forces_(solid.num_dofs(), 0.0)
 {
   if (settings_.force_projection != settings_.velocity_projection)
-    force_mass_ = std::make_unique<NodalMass>(solid.mesh(), settings_.force_projection, fluid.grid().comm(),
+    force_mass_ = std::make_unique<NodalMass>(solid.mesh(), settings_.force_projection, fluid_.grid().comm(),
                                               "ib_force_mass_");
   for (const Tether& t : settings_.tethers) {
     if (t.stiffness < 0.0 || t.damping < 0.0)
       throw InputError("ib: tether '" + t.group + "': stiffness and damping must be non-negative");
-    tethers_.emplace_back(tether_weights(solid.mesh(), t.group, fluid.grid().comm()), t);
+    tethers_.emplace_back(tether_weights(solid.mesh(), t.group, fluid_.grid().comm()), t);
   }
-  h_min_ = std::min({fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
-  velocity_old_ = fluid.grid().create_local();
-  velocity_mid_ = fluid.grid().create_local();
+  h_min_ = std::min({fluid_.grid().h(0), fluid_.grid().h(1), fluid_.grid().h(2)});
+  velocity_old_ = fluid_.grid().create_local();
+  velocity_mid_ = fluid_.grid().create_local();
   place_points(displacement_);
 
   const StabilityEstimate s = stability_estimate();
@@ -92,7 +104,17 @@ void IbfeIntegrator::set_displacement(std::vector<double> displacement)
   if (displacement.size() != solid_.num_dofs())
     throw std::invalid_argument("ib: displacement has the wrong size");
   displacement_ = std::move(displacement);
+  require_inside(displacement_);
   place_points(displacement_);
+}
+
+void IbfeIntegrator::require_inside(std::span<const double> displacement) const
+{
+  const auto& X = solid_.mesh().nodes();
+  std::vector<Vec3> x(X.size());
+  for (std::size_t n = 0; n < X.size(); ++n)
+    x[n] = X[n] + Vec3(displacement[3 * n], displacement[3 * n + 1], displacement[3 * n + 2]);
+  fluid_.require_inside(x, (interaction_.kernel().support() + 1) / 2);
 }
 
 std::vector<Vec3> IbfeIntegrator::positions() const
@@ -182,7 +204,8 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
       f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
     point_forces[i] = f * points_.weight(q);
   }
-  interaction_.spread(owned_positions_, point_forces, fluid_.body_force());
+  interaction_.spread(owned_positions_, point_forces, fluid_.force());
+  fluid_.apply_force();
 }
 
 void IbfeIntegrator::step(double dt)
@@ -197,21 +220,22 @@ void IbfeIntegrator::step(double dt)
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.
   place_points(displacement_);
-  const std::vector<double> U_n = project_velocity(fluid_.state(), 0);
+  const std::vector<double> U_n = project_velocity(fluid_.velocity(), 0);
   std::vector<double> u_half(dofs);
   for (std::size_t i = 0; i < dofs; ++i) u_half[i] = displacement_[i] + 0.5 * dt * U_n[i];
+  require_inside(u_half);
   // 2. Forces at chi^{n+1/2}, spread from the points placed there.
   place_points(u_half);
   forces_ = structure_forces(u_half, U_n);
   spread_force_density(forces_);
   // 3. The fluid step, keeping u^n.
-  PETSC_CHECK(VecCopy(fluid_.state(), velocity_old_));
+  PETSC_CHECK(VecCopy(fluid_.velocity(), velocity_old_));
   {
     Stopwatch watch(timings_.fluid);
     fluid_.step(dt);
   }
   // 4. U^{n+1/2} from (u^n + u^{n+1})/2 at the same points, and the full position update.
-  PETSC_CHECK(VecAXPBYPCZ(velocity_mid_, 0.5, 0.5, 0.0, velocity_old_, fluid_.state()));
+  PETSC_CHECK(VecAXPBYPCZ(velocity_mid_, 0.5, 0.5, 0.0, velocity_old_, fluid_.velocity()));
   velocity_ = project_velocity(velocity_mid_, 1);
   for (std::size_t i = 0; i < dofs; ++i) {
     displacement_[i] += dt * velocity_[i];
@@ -219,6 +243,7 @@ void IbfeIntegrator::step(double dt)
       throw RunError("ib: the structure's position became non-finite at t = " + format(fluid_.time()) +
                      " s (the time step is probably above the stable limit)");
   }
+  require_inside(displacement_);
   ++timings_.steps;
 }
 
@@ -247,6 +272,7 @@ void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
   forces_ = read("nodal_forces");
   velocity_mass_.restore(file, group + "/velocity_mass");
   if (force_mass_) force_mass_->restore(file, group + "/force_mass");
+  require_inside(displacement_);
   place_points(displacement_);
 }
 
@@ -280,7 +306,7 @@ StabilityEstimate IbfeIntegrator::stability_estimate() const
   for (const auto& [w, t] : tethers_)
     for (double wa : w) s.tether_stiffness = std::max(s.tether_stiffness, t.stiffness * wa);
   s.length = std::max(h_min_, solid_.mesh().edge_length_range().first);
-  const double rho = fluid_.settings().rho, mu = fluid_.settings().mu, h = s.length;
+  const double rho = fluid_.density(), mu = fluid_.viscosity(), h = s.length;
   const double omega2 = 12.0 * s.modulus / (rho * h * h) + s.tether_stiffness / (rho * h * h * h);
   const double gamma = 12.0 * mu / (rho * h * h);
   s.inertial_dt = omega2 > 0.0 ? 2.0 / std::sqrt(omega2) : 1e300;

@@ -14,6 +14,8 @@
 //   2. f^{n+1/2} = S[chi^{n+1/2}] M^{-1} F(chi^{n+1/2}, U^n)
 //   3. (u^{n+1}, p^{n+1/2}) from the Navier–Stokes step with body force f^{n+1/2}
 //   4. U^{n+1/2} = P_h J[chi^{n+1/2}] (u^n + u^{n+1})/2,   chi^{n+1} = chi^n + dt U^{n+1/2}
+// The fluid is an ib::EulerianFluid (ib/eulerian_fluid.hpp): one uniform grid, or the finest level of
+// nested grids.
 // Spreading (2) and the interpolation of (4) use the same points, so the power the structure puts
 // into the fluid equals the power it receives (the operators are adjoint).
 //
@@ -30,6 +32,7 @@
 #include "fe/solid.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "ib/coupling_points.hpp"
+#include "ib/eulerian_fluid.hpp"
 #include "ib/interaction.hpp"
 #include "ib/nodal_mass.hpp"
 
@@ -80,7 +83,11 @@ struct StabilityEstimate {
 
 class IbfeIntegrator {
  public:
+  /// The structure on one uniform grid (fluid::NavierStokes, used through UniformFluid).
   IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings);
+  /// The structure on any EulerianFluid, e.g. the finest level of nested grids (NestedFluid), which
+  /// must outlive the integrator.
+  IbfeIntegrator(EulerianFluid& fluid, const fe::SolidModel& solid, IbfeSettings settings);
   ~IbfeIntegrator();
   IbfeIntegrator(const IbfeIntegrator&) = delete;
   IbfeIntegrator& operator=(const IbfeIntegrator&) = delete;
@@ -92,7 +99,7 @@ class IbfeIntegrator {
   void step(double dt);
 
   double time() const { return fluid_.time(); }
-  const fluid::NavierStokes& fluid() const { return fluid_; }
+  const EulerianFluid& fluid() const { return fluid_; }
   const fe::SolidModel& solid() const { return solid_; }
   const IbfeSettings& settings() const { return settings_; }
   /// u = chi - X at the nodes (replicated, interlaced).
@@ -123,14 +130,20 @@ class IbfeIntegrator {
   std::vector<double> nodal_velocity(Vec velocity, std::span<const double> displacement);
 
  private:
+  IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFluid* fluid, const fe::SolidModel& solid,
+                 IbfeSettings settings);
   void place_points(std::span<const double> displacement);
+  /// The fluid's check that the nodes at X + `displacement` are where the IB can follow them
+  /// (EulerianFluid::require_inside with the kernel's reach); RunError otherwise.
+  void require_inside(std::span<const double> displacement) const;
   /// `guess_slot`: which earlier solution the consistent mass solve starts from (ib/nodal_mass.hpp).
   std::vector<double> project_velocity(Vec velocity, int guess_slot);
   std::vector<double> structure_forces(std::span<const double> displacement,
                                        std::span<const double> velocity);
   void spread_force_density(std::span<const double> nodal_forces);
 
-  fluid::NavierStokes& fluid_;
+  std::unique_ptr<EulerianFluid> owned_fluid_; // the UniformFluid made by the NavierStokes constructor
+  EulerianFluid& fluid_;
   const fe::SolidModel& solid_;
   IbfeSettings settings_;
   GridInteraction interaction_;
