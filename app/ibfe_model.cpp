@@ -15,13 +15,17 @@
 
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
+#include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
+#include "fluid/hierarchy.hpp"
 #include "fluid/navier_stokes.hpp"
+#include "fluid/nested_navier_stokes.hpp"
 #include "fluid/queries.hpp"
+#include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
 #include "ib/shapes.hpp"
 #include "io/checkpoint.hpp"
@@ -143,6 +147,8 @@ void add_ibfe_schema(io::Schema& s)
       .non_negative();
   s.add_table_list("ib.tether", tether, "tethers pulling groups of nodes back to their reference positions");
   io::add_checkpoint_schema(s);
+  // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
+  s.merge(fluid::nested_schema());
 }
 
 fe::MassKind mass_kind(const std::string& name)
@@ -211,6 +217,7 @@ class IbfeRun : public PreparedRun {
         if (!box_.periodic[d] && !(x > box_.lower[d] && x < box_.upper[d]))
           config.fail("structure.shape", "the structure must lie inside the walled box");
       }
+    if (!config.integers("nested.ratios").empty()) read_levels(config);
     end_ = config.real("time.end");
     dt_ = config.real("time.step");
     every_ = config.integer("output.every");
@@ -223,7 +230,11 @@ class IbfeRun : public PreparedRun {
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
+    if (hierarchy_ && (context.restart || context.stop_after_steps > 0))
+      throw InputError(std::string(context.restart ? "--restart" : "--stop-after-steps") +
+                       ": a run on nested grid levels (nested.ratios) does not checkpoint yet");
     if (context.restart) load_fftw_plans(context);
+    if (hierarchy_) return run_nested(context);
     fluid::NavierStokes fluid(context.comm, box_, bc, fluid_settings_);
     fluid.set_initial_condition(
         [](const fluid::Real3&, double) {
@@ -318,6 +329,53 @@ class IbfeRun : public PreparedRun {
   }
 
  private:
+  // Nested grid levels (docs/nested.md, "IB on the finest level"): walls only, the finest level one box
+  // holding the structure's starting configuration with room for the kernel's reach.
+  void read_levels(const io::Config& config)
+  {
+    if (box_.periodic[0])
+      config.fail(
+          "nested.ratios",
+          "nested grid levels need fluid.boundary = \"walls\" (the composite solver has no periodic box)");
+    if (config.integer("checkpoint.every") > 0)
+      config.fail("checkpoint.every", "a run on nested grid levels (nested.ratios) does not checkpoint yet");
+    fluid::PhysicalBox bounds;
+    for (int d = 0; d < 3; ++d) {
+      bounds.lower[d] = 1e300;
+      bounds.upper[d] = -1e300;
+    }
+    for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) {
+        const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
+        bounds.lower[d] = std::min(bounds.lower[d], x);
+        bounds.upper[d] = std::max(bounds.upper[d], x);
+      }
+    const int reach = (ib::DeltaKernel(settings_.kernel).support() + 1) / 2;
+    hierarchy_ = std::make_unique<fluid::GridHierarchy>(
+        fluid::read_hierarchy(config, box_, bounds, "structure.shape", reach));
+    if (hierarchy_->boxes(hierarchy_->finest()).size() != 1)
+      config.fail("nested.box", "the finest level must be one box: the structure lives on it");
+    nested_settings_.rho = fluid_settings_.rho;
+    nested_settings_.mu = fluid_settings_.mu;
+  }
+
+  RunSummary run_nested(const RunContext& context) const
+  {
+    NestedIbfeCase c;
+    c.hierarchy = hierarchy_.get();
+    c.fluid = nested_settings_;
+    c.mesh = &mesh_;
+    c.parts = &parts_;
+    c.fibers = &fibers_;
+    c.quadrature_degree = static_cast<int>(config_.integer("structure.quadrature_degree"));
+    c.ib = settings_;
+    c.initial_displacement = initial_;
+    c.end = end_;
+    c.dt = dt_;
+    c.output_every = every_;
+    return run_ibfe_on_nested_levels(context, c);
+  }
+
   static materials::FiberFrame fiber_frame(const io::Config& config, const std::string& key)
   {
     const auto f = config.reals(key);
@@ -448,6 +506,8 @@ class IbfeRun : public PreparedRun {
   double inner_radius_ = 0.0, inflated_ = 0.0, end_ = 0.0, dt_ = 0.0;
   long every_ = 1;
   io::CheckpointSettings checkpoint_settings_;
+  std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
+  fluid::NestedFluidSettings nested_settings_;
 };
 
 } // namespace

@@ -1,0 +1,153 @@
+#include "app/ibfe_nested_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+
+#include <mpi.h>
+
+#include "fe/element.hpp"
+#include "fluid/composite_output.hpp"
+#include "ib/eulerian_fluid.hpp"
+#include "io/files.hpp"
+#include "io/hdf5.hpp"
+#include "io/logger.hpp"
+#include "io/petsc_check.hpp"
+#include "io/xdmf.hpp"
+
+namespace ibvalve::app {
+
+namespace {
+
+// 1/2 rho sum_f W_f u_f^2 over the composite faces (W_f the face weights of the composite operators:
+// each face's share of the volume, h^3 on one level).
+double composite_kinetic_energy(const fluid::NestedNavierStokes& fluid)
+{
+  Vec squared = nullptr;
+  PETSC_CHECK(VecDuplicate(fluid.velocity(), &squared));
+  PETSC_CHECK(VecPointwiseMult(squared, fluid.velocity(), fluid.velocity()));
+  double sum = 0.0;
+  PETSC_CHECK(VecDot(squared, fluid.operators().weights(), &sum));
+  PETSC_CHECK(VecDestroy(&squared));
+  return 0.5 * fluid.settings().rho * sum;
+}
+
+void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+                  const fluid::NestedNavierStokes& fluid, const fe::Mesh& mesh,
+                  const ib::IbfeIntegrator& ibfe, long step)
+{
+  char name[64];
+  std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
+  const std::string file = name;
+  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
+  // The fluid: composite cell pressure on every level box (covered cells averaged from the finer level).
+  std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
+      h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_");
+  // The structure (replicated): current coordinates, displacement and velocity.
+  const std::size_t nodes = mesh.num_nodes(), elements = mesh.num_elements();
+  const std::size_t per_element = static_cast<std::size_t>(mesh.nodes_per_element());
+  std::vector<std::int64_t> connectivity(mesh.connectivity().begin(), mesh.connectivity().end());
+  std::vector<double> coordinates(3 * nodes);
+  const auto x = ibfe.positions();
+  for (std::size_t i = 0; i < nodes; ++i)
+    for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
+  const std::vector<hsize_t> node_vector{nodes, 3}, cell_nodes{elements, per_element};
+  h5.write_root("mesh/connectivity", connectivity, cell_nodes);
+  h5.write_root("mesh/coordinates", coordinates, node_vector);
+  h5.write_root("mesh/displacement", ibfe.displacement(), node_vector);
+  h5.write_root("mesh/velocity", ibfe.velocity(), node_vector);
+  auto structure = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh.shape()), elements, per_element,
+                                      file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
+  structure.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
+      .add_field("velocity", io::Center::node, {nodes, 3}, file + ":/mesh/velocity");
+  grids.push_back(structure);
+  series.add_step(ibfe.time(), grids);
+}
+
+} // namespace
+
+RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfeCase& c)
+{
+  auto& log = io::Logger::global();
+  const fluid::GridHierarchy& hierarchy = *c.hierarchy;
+  fluid::NestedNavierStokes fluid(context.comm, hierarchy, {}, c.fluid);
+  fluid.set_initial_condition(
+      [](const fluid::Real3&, double) {
+        return fluid::Real3{0.0, 0.0, 0.0};
+      },
+      [](const fluid::Real3&, double) { return 0.0; }, 0.0);
+  ib::NestedFluid finest(fluid);
+  fe::SolidModel solid(*c.mesh, *c.parts, c.quadrature_degree, context.comm);
+  solid.set_fibers(*c.fibers);
+  ib::IbfeIntegrator ibfe(finest, solid, c.ib);
+  ibfe.set_displacement(c.initial_displacement);
+  {
+    std::ostringstream s;
+    s.precision(4);
+    PetscInt cells = 0;
+    for (int l = 0; l < hierarchy.levels(); ++l) cells += hierarchy.uncovered_cells(l);
+    const fluid::BoxGeometry& box = finest.grid().box();
+    s << "nested levels: " << hierarchy.levels() << " levels, " << cells
+      << " composite cells; the structure on "
+      << "level " << hierarchy.finest() << " (spacing " << finest.grid().h(0) << " cm, box [" << box.lower[0]
+      << ", " << box.upper[0] << "] x [" << box.lower[1] << ", " << box.upper[1] << "] x [" << box.lower[2]
+      << ", " << box.upper[2] << "] cm)";
+    log.info(s.str());
+  }
+  log.info("structure: " + std::to_string(c.mesh->num_elements()) + " elements, " +
+           std::to_string(c.mesh->num_nodes()) + " nodes, volume " + std::to_string(c.mesh->volume()) +
+           " cm^3");
+
+  const std::filesystem::path directory = context.run_directory;
+  int rank = 0;
+  MPI_Comm_rank(context.comm, &rank);
+  if (rank == 0) std::filesystem::create_directories(directory / "fields");
+  MPI_Barrier(context.comm);
+  io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
+  io::CsvWriter csv;
+  if (rank == 0)
+    csv = io::CsvWriter(directory / "timeseries.csv", {"t", "volume", "volume_change", "max_node_speed",
+                                                       "max_displacement", "kinetic_energy"});
+  const long steps = std::max(1L, std::lround(c.end / c.dt));
+  const double V0 = c.mesh->volume();
+  auto record = [&](long step) {
+    double speed = 0.0, displacement = 0.0;
+    for (std::size_t n = 0; n < c.mesh->num_nodes(); ++n) {
+      speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
+      displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
+    }
+    const double volume = ibfe.volume(), energy = composite_kinetic_energy(fluid);
+    if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+    if (step % c.output_every == 0 || step == steps)
+      write_fields(context.comm, directory, series, fluid, *c.mesh, ibfe, step);
+  };
+  log.start_clock();
+  record(0);
+  for (long step = 1; step <= steps; ++step) {
+    ibfe.step(c.dt);
+    record(step);
+    log.progress({step, ibfe.time(), steps * c.dt});
+  }
+  log.finish_progress();
+  RunSummary summary;
+  const ib::IbfeTimings& t = ibfe.timings();
+  std::ostringstream timing;
+  timing.precision(3);
+  timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
+         << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
+         << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps
+         << "); fluid iterations: velocity " << fluid.statistics().velocity_iterations << ", pressure "
+         << fluid.statistics().pressure_iterations;
+  summary.lines.push_back(timing.str());
+  summary.lines.push_back("structure volume change " + std::to_string(100.0 * (ibfe.volume() / V0 - 1.0)) +
+                          " %");
+  summary.lines.push_back("fields: " + (directory / "fields.xdmf").string() + " (" +
+                          std::to_string(series.steps()) +
+                          " outputs), time series: " + (directory / "timeseries.csv").string());
+  return summary;
+}
+
+} // namespace ibvalve::app

@@ -1,0 +1,34 @@
+#pragma once
+// The `ibfe` model on nested grid levels (nested.ratios non-empty, walled box): the fluid is
+// fluid::NestedNavierStokes on the levels of the case's hierarchy and the structure lives on the finest
+// level (ib::NestedFluid; docs/nested.md, "IB on the finest level"). Output: timeseries.csv with the
+// columns of the uniform run, and fields/*.h5 + fields.xdmf with the composite pressure of every level
+// box and the structure's current mesh. A structure node leaving the finest level stops the run (exit 3,
+// the output written so far kept). No checkpoints yet.
+#include <vector>
+
+#include "app/model.hpp"
+#include "fe/mesh.hpp"
+#include "fe/solid.hpp"
+#include "fluid/hierarchy.hpp"
+#include "fluid/nested_navier_stokes.hpp"
+#include "ib/ibfe.hpp"
+
+namespace ibvalve::app {
+
+struct NestedIbfeCase {
+  const fluid::GridHierarchy* hierarchy = nullptr;
+  fluid::NestedFluidSettings fluid;
+  const fe::Mesh* mesh = nullptr;
+  const std::vector<fe::BodyPart>* parts = nullptr;
+  const std::vector<materials::FiberFrame>* fibers = nullptr;
+  int quadrature_degree = 2;
+  ib::IbfeSettings ib;
+  std::vector<double> initial_displacement;
+  double end = 0.0, dt = 0.0;
+  long output_every = 1;
+};
+
+RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfeCase& c);
+
+} // namespace ibvalve::app
