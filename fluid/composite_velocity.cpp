@@ -189,23 +189,15 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     if (inserted) convection_values_.push_back(value(key));
     return it->second;
   };
-  const auto clamped = [&](FaceKey key) {
-    // The second neighbour of a face beside a wall lies two cells out: take the nearest face that has a value
-    // (only the limiter's upwind reconstruction reads it, and the carrier on the wall side is zero).
-    const Index3& n = h.domain_cells(key.level);
-    for (int e = 0; e < 3; ++e)
-      key.index[e] = std::clamp<PetscInt>(key.index[e], e == key.normal ? 0 : -1, n[e]);
-    return key;
-  };
   for (const FaceKey& k : owned_keys_) {
     std::array<PetscInt, 24> s{};
     const int d = k.normal;
     for (int e = 0; e < 3; ++e) {
       const Index3 I = k.index, ee = unit(e), ed = unit(d);
-      s[8 * e + 0] = slot_of(clamped({k.level, d, plus(I, ee, -2)}));
+      s[8 * e + 0] = slot_of({k.level, d, plus(I, ee, -2)});
       s[8 * e + 1] = slot_of({k.level, d, plus(I, ee, -1)});
       s[8 * e + 2] = slot_of({k.level, d, plus(I, ee)});
-      s[8 * e + 3] = slot_of(clamped({k.level, d, plus(I, ee, 2)}));
+      s[8 * e + 3] = slot_of({k.level, d, plus(I, ee, 2)});
       s[8 * e + 4] = slot_of({k.level, e, plus(I, ee)});               // +e/2 edge, upper d side
       s[8 * e + 5] = slot_of({k.level, e, plus(plus(I, ee), ed, -1)}); // +e/2 edge, lower d side
       s[8 * e + 6] = slot_of({k.level, e, I});                         // -e/2 edge, upper d side
@@ -301,24 +293,44 @@ FaceValue CompositeVelocity::compute(const FaceKey& k) const
   case Kind::outside_domain:
     break;
   }
-  // Half a cell outside a wall (tangential component): (8 g - 6 u_1 + u_2) / 3, quadratic through the wall.
+  // Outside a wall: quadratic extrapolation through the wall value (the convective term's upwind stencil
+  // reaches two faces out, the Laplacian one).
   const Index3& n = h.domain_cells(k.level);
+  const int d = k.normal;
+  if (k.index[d] < 0 || k.index[d] > n[d]) {
+    // Normal component beyond a wall: the quadratic through the wall face and the next two, at -h.
+    if (k.index[d] != -1 && k.index[d] != n[d] + 1)
+      throw std::logic_error("composite velocity: a ghost more than one face beyond a wall");
+    const bool low = k.index[d] < 0;
+    FaceKey wall = k, u1 = k, u2 = k;
+    wall.index[d] = low ? 0 : n[d];
+    u1.index[d] = low ? 1 : n[d] - 1;
+    u2.index[d] = low ? 2 : n[d] - 2;
+    v.add(value(wall), 3.0);
+    v.add(value(u1), -3.0);
+    v.add(value(u2), 1.0);
+    return v;
+  }
   for (int t = 0; t < 3; ++t) {
-    if (t == k.normal || (k.index[t] >= 0 && k.index[t] < n[t])) continue;
-    if (k.index[t] != -1 && k.index[t] != n[t])
-      throw std::logic_error("composite velocity: a ghost more than one cell outside the domain");
+    if (t == d || (k.index[t] >= 0 && k.index[t] < n[t])) continue;
+    // Tangential component half a cell (1.5 cells) outside: the quadratic through the wall value g and the
+    // first two faces inside, (8 g - 6 u_1 + u_2)/3 (8 g - 9 u_1 + 2 u_2).
     const bool low = k.index[t] < 0;
+    const PetscInt out = low ? -k.index[t] : k.index[t] - n[t] + 1; // 1 or 2 faces out
+    if (out > 2) throw std::logic_error("composite velocity: a ghost more than two cells outside the domain");
     FaceKey u1 = k, u2 = k;
     u1.index[t] = low ? 0 : n[t] - 1;
     u2.index[t] = low ? 1 : n[t] - 2;
     Real3 wall = position(k);
     wall[t] = low ? h.domain().lower[t] : h.domain().upper[t];
-    v.data.emplace_back(data_point(wall, k.normal), 8.0 / 3.0);
-    v.add(value(u1), -2.0);
-    v.add(value(u2), 1.0 / 3.0);
+    const std::array<double, 3> w =
+        out == 1 ? std::array<double, 3>{8.0 / 3.0, -2.0, 1.0 / 3.0} : std::array<double, 3>{8.0, -9.0, 2.0};
+    v.data.emplace_back(data_point(wall, d), w[0]);
+    v.add(value(u1), w[1]);
+    v.add(value(u2), w[2]);
     return v;
   }
-  throw std::logic_error("composite velocity: a normal-velocity ghost beyond a wall");
+  throw std::logic_error("composite velocity: unclassified face");
 }
 
 FaceValue CompositeVelocity::interpolate(int level, int normal, const Real3& x, Mode mode) const

@@ -19,10 +19,10 @@
 // J. Comput. Phys. 127:158, here written as one point interpolation per ghost).
 //
 // The viscous operator L (each component's 7-point Laplacian on the composite faces, ghosts as above) is
-// an assembled PETSc matrix plus a wall-data part; the convective term N(u) = div(u u) is the centred,
-// conservative MAC form evaluated level by level with the same ghost values. Neither is refluxed at
-// coarse-fine interfaces (momentum is conserved there to truncation error); mass is conserved exactly by the
-// projection (fluid/nested_navier_stokes.hpp).
+// an assembled PETSc matrix plus a wall-data part; the convective term N(u) = div(u u) is the conservative
+// MAC form (limited upwind-biased or centred face values) evaluated level by level with the same ghosts.
+// Neither is refluxed at coarse-fine interfaces (momentum is conserved there to truncation error); mass is
+// conserved exactly by the projection (fluid/nested_navier_stokes.hpp).
 //
 // The ghost maps are replicated on every rank (like CompositeCells): convection gathers the whole
 // composite velocity on each rank (interim, see docs/nested.md).

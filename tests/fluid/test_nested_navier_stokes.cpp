@@ -3,8 +3,8 @@
 // y) F(t)^2, F = exp(-2 pi^2 nu t), an exact solution in the closed unit cube (u.n = 0 on every side, the
 // tangential wall velocity given). A refined box [2/8, 5/8] x [3/8, 6/8] x [2/8, 4/8] straddles the vortex
 // off-centre; level 0 has N0 = 8, 16, 32 cells per side, so the interfaces move with the refinement, and
-// dt = h0/4 to t = 1/8 (errors O(h^2) in space and O(dt^2) in time together); limited upwind convection (the
-// default) unless a test says centred. Measured:
+// dt = h0/4 to t = 1/8 (errors O(h^2) in space and O(dt^2) in time together); centred convection (the
+// default) unless a test says limited. Measured:
 //  - velocity error orders (L2 weighted by the faces' dual volumes, and max over all composite faces);
 //  - the divergence after every step on every level, relative to max|u|/h of that level;
 //  - the net volume flux out of a closed box whose sides cross the coarse-fine interface;
@@ -84,7 +84,7 @@ struct Problem {
   VelocityFunction velocity = taylor_green;
   ScalarFunction pressure = taylor_green_pressure;
   VelocityFunction force; // empty: none
-  ConvectionScheme convection = ConvectionScheme::limited_upwind;
+  ConvectionScheme convection = ConvectionScheme::centered;
 };
 
 template <class... Args>
@@ -268,11 +268,15 @@ TEST(NestedNavierStokes, ThreeLevelsAndAnLShapedLevel)
               Layout::l_shaped, {8, 16});
 }
 
-TEST(NestedNavierStokes, CentredConvection)
+// The limited upwind-biased scheme (fluid/convection.hpp) on the composite grid: second order on this flow
+// (measured 8 -> 16 -> 32: L2 2.23, 2.04; max 2.05, 1.88); on Taylor-Green its limiter clips the smooth
+// extrema (L2 1.94, 1.79; max 2.35, 1.51), which is why centred is the default (docs/nested.md).
+TEST(NestedNavierStokes, LimitedUpwindConvection)
 {
-  convergence(2, PressureCoupling::consistent, "3D manufactured, centred convection", 1.9, 1.5,
-              Problem{manufactured, manufactured_pressure, manufactured_force, ConvectionScheme::centered},
-              Layout::one_box, {8, 16});
+  convergence(
+      2, PressureCoupling::consistent, "3D manufactured, limited upwind", 1.9, 1.5,
+      Problem{manufactured, manufactured_pressure, manufactured_force, ConvectionScheme::limited_upwind},
+      Layout::one_box, {8, 16});
 }
 
 // The symmetric adjoint pair (tangential-linear gradient, its adjoint divergence): divergence-free too, but
@@ -283,11 +287,9 @@ TEST(NestedNavierStokes, CentredConvection)
 TEST(NestedNavierStokes, AdjointPairIsFirstOrderInMaxNormAndLeaksThroughSurfacesCrossingTheInterface)
 {
   std::vector<Result> r;
-  // To t = 1/4 (the error grows with the number of steps), centred convection (its errors are larger than
-  // the limited scheme's on the coarse grids, which hides less of the interface error).
+  // To t = 1/4: the error grows with the number of steps.
   for (const PetscInt n0 : {8, 16})
-    r.push_back(run(PETSC_COMM_WORLD, n0, 2, PressureCoupling::adjoint, false, 0.25,
-                    Problem{taylor_green, taylor_green_pressure, {}, ConvectionScheme::centered}));
+    r.push_back(run(PETSC_COMM_WORLD, n0, 2, PressureCoupling::adjoint, false, 0.25));
   const double max_order = std::log2(r[0].max / r[1].max), l2_order = std::log2(r[0].l2 / r[1].l2);
   const double leak_order = std::log2(r[0].closed_flux / r[1].closed_flux);
   report(
