@@ -32,6 +32,9 @@ unsigned fftw_planner_flags()
 
 std::string export_fftw_wisdom()
 {
+  // The text's header names FFTW's set of algorithms, which fftw_mpi_init extends: export and import
+  // with it called, or FFTW refuses the text of a run that planned nothing (an AMG-only run).
+  initialise_fftw_mpi();
   char* text = fftw_export_wisdom_to_string();
   std::string wisdom = text ? text : "";
   fftw_free(text);
