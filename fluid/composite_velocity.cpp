@@ -183,14 +183,15 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
 
   // Convection stencils: for face (l, d, I) and each direction e, the d-values at I +- e and the e-values
   // at the edges +- e/2 (faces I + e, I + e - e_d and I, I - e_d normal to e).
-  std::unordered_map<std::uint64_t, PetscInt> slot;
+  std::unordered_map<std::uint64_t, std::int32_t> slot;
   auto slot_of = [&](const FaceKey& key) {
-    const auto [it, inserted] = slot.try_emplace(pack(key), static_cast<PetscInt>(convection_values_.size()));
-    if (inserted) convection_values_.push_back(value(key));
+    const auto [it, inserted] =
+        slot.try_emplace(pack(key), static_cast<std::int32_t>(convection_values_.size()));
+    if (inserted) convection_values_.push_back(&value(key)); // memoised: the reference stays valid
     return it->second;
   };
   for (const FaceKey& k : owned_keys_) {
-    std::array<PetscInt, 24> s{};
+    std::array<std::int32_t, 24> s{};
     const int d = k.normal;
     for (int e = 0; e < 3; ++e) {
       const Index3 I = k.index, ee = unit(e), ed = unit(d);
@@ -433,7 +434,7 @@ void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec o
 {
   const std::vector<double> all = gather(u);
   std::vector<double> v(convection_values_.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = evaluate(convection_values_[i], all, data);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = evaluate(*convection_values_[i], all, data);
   const GridHierarchy& h = hierarchy();
   const bool limited = scheme == ConvectionScheme::limited_upwind;
   PetscScalar* a = nullptr;

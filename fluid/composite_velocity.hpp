@@ -118,8 +118,8 @@ class CompositeVelocity {
   Mat laplacian_ = nullptr;
   std::vector<std::vector<std::pair<PetscInt, double>>> laplacian_data_;
   // Convection: for each owned face, the 24 positions (into convection_values_) it reads.
-  std::vector<FaceValue> convection_values_;
-  std::vector<std::array<PetscInt, 24>> convection_stencils_;
+  std::vector<const FaceValue*> convection_values_;
+  std::vector<std::array<std::int32_t, 24>> convection_stencils_;
   VecScatter gather_ = nullptr;
   Vec gathered_ = nullptr;
 };
