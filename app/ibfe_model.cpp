@@ -15,6 +15,7 @@
 
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
+#include "app/ibfe_fields.hpp"
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
@@ -256,8 +257,7 @@ class IbfeRun : public PreparedRun {
     const std::filesystem::path directory = context.run_directory;
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
-    if (rank == 0) std::filesystem::create_directories(directory / "fields");
-    MPI_Barrier(context.comm);
+    create_fields_directory(context.comm, directory);
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
     const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
@@ -291,7 +291,7 @@ class IbfeRun : public PreparedRun {
       if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
       ++rows;
       if (step % every_ == 0 || step == steps)
-        write_fields(context.comm, directory, series, fluid, ibfe, step);
+        write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, step);
     };
     auto save = [&](long step) {
       save_fftw_plans(context);
@@ -435,63 +435,6 @@ class IbfeRun : public PreparedRun {
       for (int d = 0; d < 3; ++d) u[3 * n + d] = x[d] - mesh_.nodes()[n][d];
     }
     return u;
-  }
-
-  void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                    const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe, long step) const
-  {
-    char name[64];
-    std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
-    const std::string file = name;
-    io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-    // The grid: cell-centred velocity, vorticity (3 each) and pressure, each rank its block.
-    const fluid::CellFields cells = fluid::cell_fields(fluid);
-    const std::array<std::size_t, 3> n{static_cast<std::size_t>(box_.cells[0]),
-                                       static_cast<std::size_t>(box_.cells[1]),
-                                       static_cast<std::size_t>(box_.cells[2])};
-    const std::vector<hsize_t> scalar_dims{n[2], n[1], n[0]}, vector_dims{n[2], n[1], n[0], 3};
-    const std::vector<hsize_t> offset{static_cast<hsize_t>(cells.begin[2]),
-                                      static_cast<hsize_t>(cells.begin[1]),
-                                      static_cast<hsize_t>(cells.begin[0]), 0};
-    const std::vector<hsize_t> count{static_cast<hsize_t>(cells.count[2]),
-                                     static_cast<hsize_t>(cells.count[1]),
-                                     static_cast<hsize_t>(cells.count[0]), 3};
-    h5.write_block("fluid/velocity", cells.velocity, vector_dims, offset, count);
-    h5.write_block("fluid/vorticity", cells.vorticity, vector_dims, offset, count);
-    h5.write_block("fluid/pressure", cells.pressure, scalar_dims, std::span(offset).first(3),
-                   std::span(count).first(3));
-    // The mesh (replicated): current coordinates, nodal and element fields.
-    const std::size_t nodes = mesh_.num_nodes(), elements = mesh_.num_elements();
-    const std::size_t per_element = static_cast<std::size_t>(mesh_.nodes_per_element());
-    std::vector<std::int64_t> connectivity(mesh_.connectivity().begin(), mesh_.connectivity().end());
-    std::vector<double> coordinates(3 * nodes);
-    const auto x = ibfe.positions();
-    for (std::size_t i = 0; i < nodes; ++i)
-      for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
-    const fe::ElementFields ef = ibfe.solid().element_fields(ibfe.displacement());
-    const std::vector<hsize_t> node_vector{nodes, 3}, cell_scalar{elements},
-        cell_nodes{elements, per_element};
-    h5.write_root("mesh/connectivity", connectivity, cell_nodes);
-    h5.write_root("mesh/coordinates", coordinates, node_vector);
-    h5.write_root("mesh/displacement", ibfe.displacement(), node_vector);
-    h5.write_root("mesh/velocity", ibfe.velocity(), node_vector);
-    h5.write_root("mesh/J", ef.J, cell_scalar);
-    h5.write_root("mesh/fiber_strain", ef.fiber_strain, cell_scalar);
-    h5.write_root("mesh/fiber_stress", ef.fiber_stress, cell_scalar);
-
-    auto grid = io::XdmfGrid::regular("fluid", n, {box_.lower[0], box_.lower[1], box_.lower[2]},
-                                      {fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
-    grid.add_field("velocity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/velocity")
-        .add_field("vorticity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/vorticity")
-        .add_field("pressure", io::Center::cell, {n[2], n[1], n[0]}, file + ":/fluid/pressure");
-    auto mesh = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh_.shape()), elements, per_element,
-                                   file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
-    mesh.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
-        .add_field("velocity", io::Center::node, {nodes, 3}, file + ":/mesh/velocity")
-        .add_field("J", io::Center::cell, {elements}, file + ":/mesh/J")
-        .add_field("fiber_strain", io::Center::cell, {elements}, file + ":/mesh/fiber_strain")
-        .add_field("fiber_stress", io::Center::cell, {elements}, file + ":/mesh/fiber_stress");
-    series.add_step(ibfe.time(), {grid, mesh});
   }
 
   io::Config config_;
