@@ -8,8 +8,9 @@
 //
 // L is the composite face Laplacian and N the convective term (centred by default, or limited upwind-biased)
 // of fluid/composite_velocity.hpp; Crank–Nicolson and Adams–Bashforth 2 as on one level
-// (fluid/navier_stokes.hpp; the first step is a Heun predictor-corrector). The velocity unknowns are the composite faces of CompositeOperators; the box is
-// closed (u.n = 0 on every side, any tangential wall velocity g(x, t)).
+// (fluid/navier_stokes.hpp; the first step is a Heun predictor-corrector). The velocity unknowns are the
+// composite faces of CompositeOperators; the box is closed (u.n = 0 on every side, any tangential wall
+// velocity g(x, t)).
 //
 // The pressure coupling (PressureCoupling):
 //  - `consistent` (default): D is the refluxed (two-point) composite divergence, exactly conservative
