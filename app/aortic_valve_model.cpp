@@ -420,7 +420,7 @@ class AorticValveRun : public PreparedRun {
     log.start_clock();
     if (!context.restart) {
       record();
-      if (fields_every_ > 0) write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, 0);
+      if (fields_every_ > 0) write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, 0);
     }
     const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     for (long n = first_step + 1; n <= last_step; ++n) {
@@ -435,7 +435,7 @@ class AorticValveRun : public PreparedRun {
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
       if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps))
-        write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, n);
+        write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, n);
       log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();

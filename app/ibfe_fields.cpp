@@ -1,12 +1,10 @@
 #include "app/ibfe_fields.hpp"
 
 #include <cstdio>
-#include <string>
 #include <vector>
 
 #include "fe/element.hpp"
-#include "fluid/queries.hpp"
-#include "io/hdf5.hpp"
+#include "fluid/output.hpp"
 
 namespace ibvalve::app {
 
@@ -18,30 +16,17 @@ void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directo
   MPI_Barrier(comm);
 }
 
-void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fluid::BoxGeometry& box, const fe::Mesh& mesh, const fluid::NavierStokes& fluid,
-                       const ib::IbfeIntegrator& ibfe, long step)
+std::string fields_file_name(long step)
 {
   char name[64];
   std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
-  const std::string file = name;
-  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The grid: cell-centred velocity, vorticity (3 each) and pressure, each rank its block.
-  const fluid::CellFields cells = fluid::cell_fields(fluid);
-  const std::array<std::size_t, 3> n{static_cast<std::size_t>(box.cells[0]),
-                                     static_cast<std::size_t>(box.cells[1]),
-                                     static_cast<std::size_t>(box.cells[2])};
-  const std::vector<hsize_t> scalar_dims{n[2], n[1], n[0]}, vector_dims{n[2], n[1], n[0], 3};
-  const std::vector<hsize_t> offset{static_cast<hsize_t>(cells.begin[2]),
-                                    static_cast<hsize_t>(cells.begin[1]),
-                                    static_cast<hsize_t>(cells.begin[0]), 0};
-  const std::vector<hsize_t> count{static_cast<hsize_t>(cells.count[2]), static_cast<hsize_t>(cells.count[1]),
-                                   static_cast<hsize_t>(cells.count[0]), 3};
-  h5.write_block("fluid/velocity", cells.velocity, vector_dims, offset, count);
-  h5.write_block("fluid/vorticity", cells.vorticity, vector_dims, offset, count);
-  h5.write_block("fluid/pressure", cells.pressure, scalar_dims, std::span(offset).first(3),
-                 std::span(count).first(3));
-  // The mesh (replicated): current coordinates, nodal and element fields.
+  return name;
+}
+
+io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
+                                    const std::string& file)
+{
+  // The mesh is replicated on every rank: current coordinates, nodal and element fields.
   const std::size_t nodes = mesh.num_nodes(), elements = mesh.num_elements();
   const std::size_t per_element = static_cast<std::size_t>(mesh.nodes_per_element());
   std::vector<std::int64_t> connectivity(mesh.connectivity().begin(), mesh.connectivity().end());
@@ -58,12 +43,6 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   h5.write_root("mesh/J", ef.J, cell_scalar);
   h5.write_root("mesh/fiber_strain", ef.fiber_strain, cell_scalar);
   h5.write_root("mesh/fiber_stress", ef.fiber_stress, cell_scalar);
-
-  auto grid = io::XdmfGrid::regular("fluid", n, {box.lower[0], box.lower[1], box.lower[2]},
-                                    {fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
-  grid.add_field("velocity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/velocity")
-      .add_field("vorticity", io::Center::cell, {n[2], n[1], n[0], 3}, file + ":/fluid/vorticity")
-      .add_field("pressure", io::Center::cell, {n[2], n[1], n[0]}, file + ":/fluid/pressure");
   auto structure = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh.shape()), elements, per_element,
                                       file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
   structure.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
@@ -71,6 +50,18 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
       .add_field("J", io::Center::cell, {elements}, file + ":/mesh/J")
       .add_field("fiber_strain", io::Center::cell, {elements}, file + ":/mesh/fiber_strain")
       .add_field("fiber_stress", io::Center::cell, {elements}, file + ":/mesh/fiber_stress");
+  return structure;
+}
+
+void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+                       const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
+                       long step)
+{
+  const std::string file = fields_file_name(step);
+  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
+  // The grid: cell-centred velocity, vorticity and pressure (fluid/output.hpp).
+  io::XdmfGrid grid = fluid::write_fields(h5, fluid, "fluid", file);
+  io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
   series.add_step(ibfe.time(), {grid, structure});
 }
 

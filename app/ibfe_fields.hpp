@@ -1,16 +1,17 @@
 #pragma once
-// Field snapshots of an IB/FE run (the ibfe and aortic-valve models): one HDF5 file per snapshot,
-// <run>/fields/step_<n>.h5, with the fluid's cell-centred velocity, vorticity and pressure (each rank
-// writes its block) and the structure's current mesh with its displacement, velocity, J and fiber strain
-// and stress, plus one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both together.
+// Field snapshots of an IB/FE run (the ibfe and aortic-valve models, on one level or nested levels): one
+// HDF5 file per snapshot, <run>/fields/step_<n>.h5, with the fluid's fields (each rank writes its block)
+// and the structure's current mesh with its displacement, velocity, J and fiber strain and stress, plus
+// one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both together.
 #include <filesystem>
+#include <string>
 
 #include <mpi.h>
 
 #include "fe/mesh.hpp"
-#include "fluid/grid.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "ib/ibfe.hpp"
+#include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {
@@ -18,9 +19,17 @@ namespace ibvalve::app {
 /// Creates <directory>/fields (collective).
 void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directory);
 
-/// Writes the snapshot of step `step` and adds it to `series` (collective).
+/// "fields/step_<n>.h5": the snapshot file of step n, relative to the run folder.
+std::string fields_file_name(long step);
+
+/// Writes the structure's mesh/* datasets into `h5` (rank 0 writes; collective) and returns their XDMF
+/// grid; `file` is the HDF5 file as the XDMF file names it.
+io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
+                                    const std::string& file);
+
+/// Writes the snapshot of step `step` of a run on one grid level and adds it to `series` (collective).
 void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fluid::BoxGeometry& box, const fe::Mesh& mesh, const fluid::NavierStokes& fluid,
-                       const ib::IbfeIntegrator& ibfe, long step);
+                       const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
+                       long step);
 
 } // namespace ibvalve::app

@@ -291,7 +291,7 @@ class IbfeRun : public PreparedRun {
       if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
       ++rows;
       if (step % every_ == 0 || step == steps)
-        write_ibfe_fields(context.comm, directory, series, box_, mesh_, fluid, ibfe, step);
+        write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, step);
     };
     auto save = [&](long step) {
       save_fftw_plans(context);

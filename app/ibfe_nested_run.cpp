@@ -9,7 +9,7 @@
 
 #include <mpi.h>
 
-#include "fe/element.hpp"
+#include "app/ibfe_fields.hpp"
 #include "fluid/composite_output.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "io/files.hpp"
@@ -39,31 +39,12 @@ void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::Xdm
                   const fluid::NestedNavierStokes& fluid, const fe::Mesh& mesh,
                   const ib::IbfeIntegrator& ibfe, long step)
 {
-  char name[64];
-  std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
-  const std::string file = name;
+  const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
   // The fluid: composite cell pressure on every level box (covered cells averaged from the finer level).
   std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
       h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_");
-  // The structure (replicated): current coordinates, displacement and velocity.
-  const std::size_t nodes = mesh.num_nodes(), elements = mesh.num_elements();
-  const std::size_t per_element = static_cast<std::size_t>(mesh.nodes_per_element());
-  std::vector<std::int64_t> connectivity(mesh.connectivity().begin(), mesh.connectivity().end());
-  std::vector<double> coordinates(3 * nodes);
-  const auto x = ibfe.positions();
-  for (std::size_t i = 0; i < nodes; ++i)
-    for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
-  const std::vector<hsize_t> node_vector{nodes, 3}, cell_nodes{elements, per_element};
-  h5.write_root("mesh/connectivity", connectivity, cell_nodes);
-  h5.write_root("mesh/coordinates", coordinates, node_vector);
-  h5.write_root("mesh/displacement", ibfe.displacement(), node_vector);
-  h5.write_root("mesh/velocity", ibfe.velocity(), node_vector);
-  auto structure = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh.shape()), elements, per_element,
-                                      file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
-  structure.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
-      .add_field("velocity", io::Center::node, {nodes, 3}, file + ":/mesh/velocity");
-  grids.push_back(structure);
+  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   series.add_step(ibfe.time(), grids);
 }
 
@@ -104,8 +85,7 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
   const std::filesystem::path directory = context.run_directory;
   int rank = 0;
   MPI_Comm_rank(context.comm, &rank);
-  if (rank == 0) std::filesystem::create_directories(directory / "fields");
-  MPI_Barrier(context.comm);
+  create_fields_directory(context.comm, directory);
   io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
   io::CsvWriter csv;
   if (rank == 0)
