@@ -9,6 +9,7 @@
 
 #include "fluid/queries.hpp"
 #include "tests/fluid/exact_solutions.hpp"
+#include "tests/fluid/gather_fields.hpp"
 
 namespace ibvalve::fluid {
 namespace {
@@ -20,27 +21,7 @@ int world_rank()
   return r;
 }
 
-/// The whole grid's cell-centred velocity, vorticity and pressure on rank 0 of `comm`.
-std::vector<double> gather_fields(const NavierStokes& fluid)
-{
-  const StaggeredGrid& grid = fluid.grid();
-  const CellFields mine = cell_fields(fluid);
-  const PetscInt nx = grid.cells(0), ny = grid.cells(1), nz = grid.cells(2);
-  std::vector<double> all(static_cast<std::size_t>(7 * nx * ny * nz), 0.0);
-  std::size_t c = 0;
-  for (PetscInt k = mine.begin[2]; k < mine.begin[2] + mine.count[2]; ++k)
-    for (PetscInt j = mine.begin[1]; j < mine.begin[1] + mine.count[1]; ++j)
-      for (PetscInt i = mine.begin[0]; i < mine.begin[0] + mine.count[0]; ++i, ++c) {
-        const auto cell = static_cast<std::size_t>((k * ny + j) * nx + i);
-        for (int q = 0; q < 3; ++q) {
-          all[7 * cell + q] = mine.velocity[3 * c + q];
-          all[7 * cell + 3 + q] = mine.vorticity[3 * c + q];
-        }
-        all[7 * cell + 6] = mine.pressure[c];
-      }
-  MPI_Allreduce(MPI_IN_PLACE, all.data(), static_cast<int>(all.size()), MPI_DOUBLE, MPI_SUM, grid.comm());
-  return all;
-}
+using testing::gather_fields;
 
 using FlowSetup = std::function<std::unique_ptr<NavierStokes>(MPI_Comm)>;
 
