@@ -20,17 +20,10 @@
 #include "fluid/queries.hpp"
 #include "io/hdf5.hpp"
 #include "tests/fluid/exact_solutions.hpp"
-#include "tests/fluid/gather_fields.hpp"
+#include "tests/fluid/whole_flows.hpp"
 
 namespace ibvalve::fluid {
 namespace {
-
-int world_rank()
-{
-  int r = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
-  return r;
-}
 
 /// A file name every rank of the world agrees on (rank 0's process id), with a tag.
 std::filesystem::path shared_path(const std::string& tag)
@@ -42,49 +35,19 @@ std::filesystem::path shared_path(const std::string& tag)
 }
 
 using testing::gather_fields;
+using testing::world_rank;
 
 using FlowSetup = std::function<std::unique_ptr<NavierStokes>(MPI_Comm)>;
 
 std::unique_ptr<NavierStokes> abc_flow(MPI_Comm comm)
 {
-  const testing::AbcFlow abc;
-  BoxGeometry box;
-  box.cells = {8, 8, 8};
-  FluidSettings settings;
-  settings.mu = abc.mu;
-  auto fluid = std::make_unique<NavierStokes>(comm, box, BoundaryConditions::all_periodic(), settings);
-  fluid->set_initial_condition([abc](const Real3& x, double t) { return abc.velocity(x, t); },
-                               [abc](const Real3& x, double t) { return abc.pressure(x, t); }, 0.0);
-  return fluid;
+  return testing::abc_flow(comm, 8);
 }
 
-/// A jet through a disk of x = 0, traction at x = 2, walls elsewhere, and a swirling body force
-/// (kept between steps, so the checkpoint must carry it).
+/// The jet with a traction outflow; its body force is kept between steps, so the checkpoint must carry it.
 std::unique_ptr<NavierStokes> jet_in_a_box(MPI_Comm comm)
 {
-  BoxGeometry box;
-  box.upper = {2.0, 1.0, 1.0};
-  box.cells = {12, 6, 6};
-  box.periodic = {false, false, false};
-  BoundaryConditions bc;
-  for (int d = 1; d < 3; ++d)
-    for (int upper = 0; upper < 2; ++upper) bc.side(d, upper).kind = SideKind::velocity;
-  bc.side(0, 0).kind = SideKind::velocity;
-  bc.side(0, 0).velocity = [](const Real3& x, double t) {
-    const double r2 = (x[1] - 0.5) * (x[1] - 0.5) + (x[2] - 0.5) * (x[2] - 0.5);
-    const double profile = r2 < 0.09 ? std::pow(1.0 - r2 / 0.09, 2) : 0.0;
-    return Real3{profile * std::min(1.0, 20.0 * t + 0.2), 0.0, 0.0};
-  };
-  bc.side(0, 1).kind = SideKind::traction;
-  FluidSettings settings;
-  settings.mu = 0.02;
-  settings.solver = SolverKind::krylov;
-  settings.rtol = 1e-13;
-  settings.atol = 1e-15;
-  auto fluid = std::make_unique<NavierStokes>(comm, box, bc, settings);
-  fluid->set_initial_condition([](const Real3&, double) { return Real3{0.0, 0.0, 0.0}; }, nullptr, 0.0);
-  fluid->set_body_force([](const Real3& x, double) { return Real3{0.0, -(x[2] - 0.5), (x[1] - 0.5)}; }, 0.0);
-  return fluid;
+  return testing::jet_in_a_box(comm, {12, 6, 6}, false);
 }
 
 /// Uninterrupted for 2n steps vs. n steps, save, restore into a new solver, n more: the same bits.

@@ -9,19 +9,13 @@
 
 #include "fluid/queries.hpp"
 #include "tests/fluid/exact_solutions.hpp"
-#include "tests/fluid/gather_fields.hpp"
+#include "tests/fluid/whole_flows.hpp"
 
 namespace ibvalve::fluid {
 namespace {
 
-int world_rank()
-{
-  int r = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
-  return r;
-}
-
 using testing::gather_fields;
+using testing::world_rank;
 
 using FlowSetup = std::function<std::unique_ptr<NavierStokes>(MPI_Comm)>;
 
@@ -57,58 +51,14 @@ void expect_same_on_one_and_two_ranks(const FlowSetup& setup, int steps, double 
 
 TEST(Ranks, PeriodicFftRunAgreesOnOneAndTwoRanks)
 {
-  const testing::AbcFlow abc;
-  FlowSetup setup = [abc](MPI_Comm comm) {
-    BoxGeometry box;
-    box.cells = {16, 16, 16};
-    FluidSettings settings;
-    settings.mu = abc.mu;
-    auto fluid = std::make_unique<NavierStokes>(comm, box, BoundaryConditions::all_periodic(), settings);
-    fluid->set_initial_condition([abc](const Real3& x, double t) { return abc.velocity(x, t); },
-                                 [abc](const Real3& x, double t) { return abc.pressure(x, t); }, 0.0);
-    return fluid;
-  };
+  FlowSetup setup = [](MPI_Comm comm) { return testing::abc_flow(comm, 16); };
   expect_same_on_one_and_two_ranks(setup, 8, 0.0625 / 16, "ABC fft 16^3");
 }
 
-/// Flow into a box: a smooth jet through a disk of the x = 0 side, traction (p = 0) at x = 2,
-/// no-slip walls elsewhere; a body force that swirls it.
+/// The jet of whole_flows.hpp on 16 x 8 x 8 cells.
 std::unique_ptr<NavierStokes> jet_in_a_box(MPI_Comm comm, bool outflow_by_velocity)
 {
-  BoxGeometry box;
-  box.upper = {2.0, 1.0, 1.0};
-  box.cells = {16, 8, 8};
-  box.periodic = {false, false, false};
-  BoundaryConditions bc;
-  for (int d = 1; d < 3; ++d)
-    for (int upper = 0; upper < 2; ++upper) bc.side(d, upper).kind = SideKind::velocity;
-  auto jet = [](const Real3& x, double t) {
-    const double r2 = (x[1] - 0.5) * (x[1] - 0.5) + (x[2] - 0.5) * (x[2] - 0.5);
-    const double profile = r2 < 0.09 ? std::pow(1.0 - r2 / 0.09, 2) : 0.0;
-    return Real3{profile * std::min(1.0, 20.0 * t + 0.2), 0.0, 0.0};
-  };
-  bc.side(0, 0).kind = SideKind::velocity;
-  bc.side(0, 0).velocity = jet;
-  if (outflow_by_velocity) {
-    // A closed box with velocity on every side: out through the whole x = 2 side, uniformly.
-    bc.side(0, 1).kind = SideKind::velocity;
-    bc.side(0, 1).velocity = [](const Real3&, double t) {
-      // The jet's flux (about pi 0.09 / 3) spread over the unit side.
-      return Real3{std::acos(-1.0) * 0.09 / 3.0 * std::min(1.0, 20.0 * t + 0.2), 0.0, 0.0};
-    };
-  } else {
-    bc.side(0, 1).kind = SideKind::traction;
-  }
-  FluidSettings settings;
-  settings.rho = 1.0;
-  settings.mu = 0.02;
-  settings.solver = SolverKind::krylov;
-  settings.rtol = 1e-13;
-  settings.atol = 1e-15;
-  auto fluid = std::make_unique<NavierStokes>(comm, box, bc, settings);
-  fluid->set_initial_condition([](const Real3&, double) { return Real3{0.0, 0.0, 0.0}; }, nullptr, 0.0);
-  fluid->set_body_force([](const Real3& x, double) { return Real3{0.0, -(x[2] - 0.5), (x[1] - 0.5)}; }, 0.0);
-  return fluid;
+  return testing::jet_in_a_box(comm, {16, 8, 8}, outflow_by_velocity);
 }
 
 TEST(Ranks, KrylovRunWithTractionAndWallsAgreesOnOneAndTwoRanks)
