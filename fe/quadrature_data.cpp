@@ -43,6 +43,34 @@ QuadratureData::QuadratureData(const Mesh& mesh, int degree)
   }
 }
 
+QuadratureData QuadratureData::element_means(const QuadratureData& rule)
+{
+  QuadratureData mean;
+  mean.degree_ = 1;
+  mean.points_ = 1;
+  mean.nodes_ = rule.nodes_;
+  mean.elements_ = rule.elements_;
+  const int n = rule.nodes_;
+  // Mean of N_a over the reference cell: 1/n for hex8 and tet4 (partition of unity, equivalent nodes).
+  mean.values_.assign(n, 1.0 / n);
+  mean.jxw_.assign(mean.elements_, 0.0);
+  mean.gradients_.assign(mean.elements_ * n, Vec3::Zero());
+  mean.points_X_.assign(mean.elements_, Vec3::Zero());
+  for (std::size_t e = 0; e < mean.elements_; ++e) {
+    double volume = 0.0;
+    for (int q = 0; q < rule.points_; ++q) {
+      const double w = rule.JxW(e, q);
+      volume += w;
+      mean.points_X_[e] += w * rule.point(e, q);
+      for (int a = 0; a < n; ++a) mean.gradients_[e * n + a] += w * rule.gradient(e, q, a);
+    }
+    mean.jxw_[e] = volume;
+    mean.points_X_[e] /= volume;
+    for (int a = 0; a < n; ++a) mean.gradients_[e * n + a] /= volume;
+  }
+  return mean;
+}
+
 std::pair<std::size_t, std::size_t> local_range(std::size_t count, MPI_Comm comm)
 {
   int size = 1, rank = 0;

@@ -20,6 +20,16 @@ class QuadratureData {
   /// element has a non-positive Jacobian (inverted or degenerate) at a quadrature point.
   QuadratureData(const Mesh& mesh, int degree);
 
+  /// One "point" per element carrying the element means of `rule`: weight V_e = sum_q w_q det J_q,
+  /// gradient (1/V_e) sum_q grad_X N_a w_q det J_q, value 1/n (the reference-cell mean of N_a on hex8
+  /// and tet4), position the centroid.
+  /// With a rule exact for det J grad_X N_a (degree >= 2 on trilinear hexes, any on linear tets) the
+  /// gradients are the exact means (Flanagan & Belytschko 1981, IJNME 17:679, "uniform gradient"), so
+  /// F = I + sum_a u_a (x) grad_X N_a at this point is the element's mean deformation gradient, and it
+  /// equals the one-point rule at the element centre whenever the element is a parallelepiped.
+  /// degree() is 1.
+  static QuadratureData element_means(const QuadratureData& rule);
+
   int degree() const { return degree_; }
   int points_per_element() const { return points_; }
   int nodes_per_element() const { return nodes_; }
@@ -41,6 +51,8 @@ class QuadratureData {
   const Vec3& point(std::size_t e, int q) const { return points_X_[e * points_ + q]; }
 
  private:
+  QuadratureData() = default;
+
   int degree_ = 2;
   int points_ = 0;
   int nodes_ = 0;

@@ -1,5 +1,6 @@
 #include "fe/solid.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -8,14 +9,28 @@
 
 namespace ibvalve::fe {
 
+namespace {
+
+using Laws = std::vector<std::shared_ptr<const materials::StrainEnergy>>;
+
+bool any_centre_laws(const std::vector<BodyPart>& parts)
+{
+  return std::any_of(parts.begin(), parts.end(), [](const BodyPart& p) { return !p.centre_laws.empty(); });
+}
+
+} // namespace
+
 SolidModel::SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadrature_degree, MPI_Comm comm)
     : mesh_(mesh), parts_(std::move(parts)), quadrature_(mesh, quadrature_degree), comm_(comm),
       fibers_(mesh.num_elements())
 {
+  // The element means of the 2x2x2 Gauss rule, which integrates det J grad_X N_a of a trilinear hex
+  // exactly (the cofactors of J are of degree <= 2 in each reference coordinate).
+  if (any_centre_laws(parts_)) centre_ = QuadratureData::element_means(QuadratureData(mesh, 2));
   std::vector<std::pair<int, int>> items;
   std::vector<char> seen(mesh.num_elements(), 0);
   for (std::size_t p = 0; p < parts_.size(); ++p) {
-    if (parts_[p].laws.empty())
+    if (parts_[p].laws.empty() && parts_[p].centre_laws.empty())
       throw InputError("solid: body part '" + parts_[p].name + "' has no material law");
     for (int e : parts_[p].elements) {
       if (e < 0 || static_cast<std::size_t>(e) >= mesh.num_elements())
@@ -32,11 +47,25 @@ SolidModel::SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadra
 void SolidModel::set_fibers(std::vector<materials::FiberFrame> fibers)
 {
   const std::size_t per_element = mesh_.num_elements();
-  const std::size_t per_point = per_element * quadrature_.points_per_element();
+  const int points = quadrature_.points_per_element();
+  const std::size_t per_point = per_element * points;
   if (fibers.size() != per_element && fibers.size() != per_point)
     throw std::invalid_argument("solid: fibers must be given per element or per quadrature point");
   fibers_per_point_ = fibers.size() == per_point && per_point != per_element;
   fibers_ = std::move(fibers);
+  centre_fibers_.clear();
+  if (fibers_per_point_ && centre_) {
+    centre_fibers_.resize(per_element);
+    for (std::size_t e = 0; e < per_element; ++e) {
+      Vec3 f0 = Vec3::Zero(), s0 = Vec3::Zero();
+      for (int q = 0; q < points; ++q) {
+        f0 += quadrature_.JxW(e, q) * fibers_[e * points + q].f0;
+        s0 += quadrature_.JxW(e, q) * fibers_[e * points + q].s0;
+      }
+      if (f0.norm() > 0) centre_fibers_[e].f0 = f0.normalized();
+      if (s0.norm() > 0) centre_fibers_[e].s0 = s0.normalized();
+    }
+  }
 }
 
 const materials::FiberFrame& SolidModel::fibers(std::size_t e, int q) const
@@ -44,11 +73,28 @@ const materials::FiberFrame& SolidModel::fibers(std::size_t e, int q) const
   return fibers_per_point_ ? fibers_[e * quadrature_.points_per_element() + q] : fibers_[e];
 }
 
+const materials::FiberFrame& SolidModel::centre_fibers(std::size_t e) const
+{
+  return centre_fibers_.empty() ? fibers_[fibers_per_point_ ? e * quadrature_.points_per_element() : e]
+                                : centre_fibers_[e];
+}
+
+const materials::FiberFrame& SolidModel::frame(const QuadratureData& rule, std::size_t e, int q) const
+{
+  return &rule == &quadrature_ ? fibers(e, q) : centre_fibers(e);
+}
+
 Mat3 SolidModel::deformation_gradient(std::span<const double> u, std::size_t e, int q) const
+{
+  return deformation_gradient(quadrature_, u, e, q);
+}
+
+Mat3 SolidModel::deformation_gradient(const QuadratureData& rule, std::span<const double> u, std::size_t e,
+                                      int q) const
 {
   Mat3 F = Mat3::Identity();
   const auto element = mesh_.element(e);
-  const auto gradients = quadrature_.gradients(e, q);
+  const auto gradients = rule.gradients(e, q);
   for (std::size_t a = 0; a < element.size(); ++a) {
     const Vec3 ua(u[3 * element[a]], u[3 * element[a] + 1], u[3 * element[a] + 2]);
     F.noalias() += ua * gradients[a].transpose();
@@ -56,73 +102,111 @@ Mat3 SolidModel::deformation_gradient(std::span<const double> u, std::size_t e, 
   return F;
 }
 
+void SolidModel::add_element_forces(const QuadratureData& rule, const Laws& laws, std::size_t e,
+                                    const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
+                                    Eigen::Matrix<double, 3, Eigen::Dynamic>& element_forces) const
+{
+  if (laws.empty()) return;
+  const int n = mesh_.nodes_per_element();
+  // Per point F = I + U G^T and f_e -= P G w det J with G the 3 x n matrix of grad_X N_a (stored
+  // contiguously).
+  for (int q = 0; q < rule.points_per_element(); ++q) {
+    const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> G(rule.gradients(e, q).data()->data(), 3,
+                                                                       n);
+    const Mat3 F = Mat3::Identity() + U * G.transpose();
+    Mat3 P = Mat3::Zero();
+    for (const auto& law : laws) P += law->stress(F, frame(rule, e, q));
+    element_forces.noalias() -= (rule.JxW(e, q) * P) * G;
+  }
+}
+
 void SolidModel::forces(std::span<const double> u, std::span<double> forces) const
 {
   std::fill(forces.begin(), forces.end(), 0.0);
-  const int points = quadrature_.points_per_element();
   const int n = mesh_.nodes_per_element();
-  // Per element: gather the nodal displacements once (3 x n), then per point F = I + U G^T and
-  // f_e -= P G w det J with G the 3 x n matrix of grad_X N_a (stored contiguously), scatter once.
+  // Per element: gather the nodal displacements once (3 x n), sum both rules, scatter once.
   Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, n), element_forces(3, n);
   for (const auto& [p, e] : local_items_) {
     const auto element = mesh_.element(e);
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i) U(i, a) = u[3 * element[a] + i];
     element_forces.setZero();
-    for (int q = 0; q < points; ++q) {
-      const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> G(
-          quadrature_.gradients(e, q).data()->data(), 3, n);
-      const Mat3 F = Mat3::Identity() + U * G.transpose();
-      Mat3 P = Mat3::Zero();
-      for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
-      element_forces.noalias() -= (quadrature_.JxW(e, q) * P) * G;
-    }
+    add_element_forces(quadrature_, parts_[p].laws, e, U, element_forces);
+    if (centre_) add_element_forces(*centre_, parts_[p].centre_laws, e, U, element_forces);
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] += element_forces(i, a);
   }
   sum_over_ranks(forces, comm_);
 }
 
+double SolidModel::element_energy(const QuadratureData& rule, const Laws& laws, std::span<const double> u,
+                                  std::size_t e) const
+{
+  double total = 0.0;
+  if (laws.empty()) return total;
+  for (int q = 0; q < rule.points_per_element(); ++q) {
+    const Mat3 F = deformation_gradient(rule, u, e, q);
+    for (const auto& law : laws) total += law->energy(F, frame(rule, e, q)) * rule.JxW(e, q);
+  }
+  return total;
+}
+
 double SolidModel::energy(std::span<const double> u) const
 {
   double total = 0.0;
-  const int points = quadrature_.points_per_element();
-  for (const auto& [p, e] : local_items_)
-    for (int q = 0; q < points; ++q) {
-      const Mat3 F = deformation_gradient(u, e, q);
-      for (const auto& law : parts_[p].laws) total += law->energy(F, fibers(e, q)) * quadrature_.JxW(e, q);
-    }
+  for (const auto& [p, e] : local_items_) {
+    total += element_energy(quadrature_, parts_[p].laws, u, e);
+    if (centre_) total += element_energy(*centre_, parts_[p].centre_laws, u, e);
+  }
   sum_over_ranks(std::span<double>(&total, 1), comm_);
   return total;
 }
 
+void SolidModel::add_element_stiffness(const QuadratureData& rule, const Laws& laws,
+                                       std::span<const double> u, std::size_t e,
+                                       Eigen::MatrixXd& element_matrix) const
+{
+  if (laws.empty()) return;
+  const int n = mesh_.nodes_per_element();
+  std::vector<Eigen::Matrix<double, 9, 3>> M(n);
+  for (int q = 0; q < rule.points_per_element(); ++q) {
+    const Mat3 F = deformation_gradient(rule, u, e, q);
+    materials::Tangent T = materials::Tangent::Zero();
+    for (const auto& law : laws) T += law->tangent(F, frame(rule, e, q));
+    T *= rule.JxW(e, q);
+    const auto G = rule.gradients(e, q);
+    // K_ab(i, k) = sum_jl T(i + 3j, k + 3l) G_a(j) G_b(l): first M_b(:, k) = sum_l T(:, k + 3l) G_b(l).
+    for (int b = 0; b < n; ++b)
+      for (int k = 0; k < 3; ++k)
+        M[b].col(k) = T.col(k) * G[b][0] + T.col(k + 3) * G[b][1] + T.col(k + 6) * G[b][2];
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b)
+        for (int i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k)
+            element_matrix(3 * a + i, 3 * b + k) +=
+                M[b](i, k) * G[a][0] + M[b](i + 3, k) * G[a][1] + M[b](i + 6, k) * G[a][2];
+  }
+}
+
 void SolidModel::add_stiffness(std::span<const double> u, const NodalSystem& system, Mat K) const
 {
-  const int points = quadrature_.points_per_element();
   const int n = mesh_.nodes_per_element();
   Eigen::MatrixXd element_matrix(3 * n, 3 * n);
-  std::vector<Eigen::Matrix<double, 9, 3>> M(n);
   for (const auto& [p, e] : local_items_) {
     element_matrix.setZero();
-    for (int q = 0; q < points; ++q) {
-      const Mat3 F = deformation_gradient(u, e, q);
-      materials::Tangent T = materials::Tangent::Zero();
-      for (const auto& law : parts_[p].laws) T += law->tangent(F, fibers(e, q));
-      T *= quadrature_.JxW(e, q);
-      const auto G = quadrature_.gradients(e, q);
-      // K_ab(i, k) = sum_jl T(i + 3j, k + 3l) G_a(j) G_b(l): first M_b(:, k) = sum_l T(:, k + 3l) G_b(l).
-      for (int b = 0; b < n; ++b)
-        for (int k = 0; k < 3; ++k)
-          M[b].col(k) = T.col(k) * G[b][0] + T.col(k + 3) * G[b][1] + T.col(k + 6) * G[b][2];
-      for (int a = 0; a < n; ++a)
-        for (int b = 0; b < n; ++b)
-          for (int i = 0; i < 3; ++i)
-            for (int k = 0; k < 3; ++k)
-              element_matrix(3 * a + i, 3 * b + k) +=
-                  M[b](i, k) * G[a][0] + M[b](i + 3, k) * G[a][1] + M[b](i + 6, k) * G[a][2];
-    }
+    add_element_stiffness(quadrature_, parts_[p].laws, u, e, element_matrix);
+    if (centre_) add_element_stiffness(*centre_, parts_[p].centre_laws, u, e, element_matrix);
     system.add_element_matrix(K, mesh_.element(e), element_matrix);
   }
+}
+
+Mat3 SolidModel::centre_cauchy_stress(int p, std::span<const double> u, std::size_t e) const
+{
+  if (!centre_ || parts_[p].centre_laws.empty()) return Mat3::Zero();
+  const Mat3 F = deformation_gradient(*centre_, u, e, 0);
+  Mat3 P = Mat3::Zero();
+  for (const auto& law : parts_[p].centre_laws) P += law->stress(F, centre_fibers(e));
+  return P * F.transpose() / F.determinant();
 }
 
 ElementFields SolidModel::element_fields(std::span<const double> u) const
@@ -133,6 +217,7 @@ ElementFields SolidModel::element_fields(std::span<const double> u) const
   for (const auto& [p, e] : local_items_) {
     double volume = 0.0;
     double* out = &packed[6 * e];
+    const Mat3 centre_sigma = centre_cauchy_stress(p, u, e);
     for (int q = 0; q < points; ++q) {
       const double w = quadrature_.JxW(e, q);
       const Mat3 F = deformation_gradient(u, e, q);
@@ -144,7 +229,7 @@ ElementFields SolidModel::element_fields(std::span<const double> u) const
       Mat3 P = Mat3::Zero();
       for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
       const Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
-      const Mat3 sigma = P * F.transpose() / J;
+      const Mat3 sigma = P * F.transpose() / J + centre_sigma;
       const Vec3 f = (F * f0).normalized();
       out[1] += w * f0.dot(E * f0);
       out[2] += w * f.dot(sigma * f);
@@ -173,7 +258,8 @@ PointFields SolidModel::point_fields(std::span<const double> u) const
   const int points = quadrature_.points_per_element();
   const std::size_t count = mesh_.num_elements() * points;
   std::vector<double> packed(3 * count, 0.0);
-  for (const auto& [p, e] : local_items_)
+  for (const auto& [p, e] : local_items_) {
+    const Mat3 centre_sigma = centre_cauchy_stress(p, u, e);
     for (int q = 0; q < points; ++q) {
       const std::size_t k = e * points + q;
       const Mat3 F = deformation_gradient(u, e, q);
@@ -184,9 +270,10 @@ PointFields SolidModel::point_fields(std::span<const double> u) const
       Mat3 P = Mat3::Zero();
       for (const auto& law : parts_[p].laws) P += law->stress(F, fibers(e, q));
       const Vec3 f = (F * f0).normalized();
-      packed[count + k] = 0.5 * ((F * f0).squaredNorm() - f0.squaredNorm()); // f0 . E f0
-      packed[2 * count + k] = f.dot(P * F.transpose() * f) / J;              // f . sigma f
+      packed[count + k] = 0.5 * ((F * f0).squaredNorm() - f0.squaredNorm());     // f0 . E f0
+      packed[2 * count + k] = f.dot((P * F.transpose() / J + centre_sigma) * f); // f . sigma f
     }
+  }
   sum_over_ranks(packed, comm_);
   PointFields fields;
   fields.J.assign(packed.begin(), packed.begin() + count);

@@ -1,10 +1,13 @@
 // Nodal forces from the weak form: the patch test (a homogeneous deformation gives zero force at every
 // interior node of a distorted mesh, and Newton reproduces it exactly from boundary data), forces that
 // are minus the gradient of the energy, a stiffness that is the derivative of the forces, and
-// identical results on 1 and 2 ranks.
+// identical results on 1 and 2 ranks. Each with the law fully integrated and with selective reduced
+// integration (the volumetric term lambda/2 (ln J)^2 as a centre law, one point per element).
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <petscmat.h>
@@ -27,10 +30,19 @@ Mesh distorted_box(CellShape shape, std::array<int, 3> n = {4, 3, 3})
   return mesh;
 }
 
-std::vector<BodyPart> one_part(const Mesh& mesh)
+enum class Integration { full, selective };
+
+// The fixture's energy is linear in (mu, lambda): the selective split is the (mu, 0) part on the full
+// rule plus the (0, lambda) part, lambda/2 (ln J)^2, at the element centre.
+std::vector<BodyPart> one_part(const Mesh& mesh, Integration integration)
 {
-  BodyPart part{
-      "body", mesh.group("body").elements, {std::make_shared<fixtures::NeoHookeanFixture>(mu, lambda)}};
+  BodyPart part{"body", mesh.group("body").elements, {}};
+  if (integration == Integration::full) {
+    part.laws.push_back(std::make_shared<fixtures::NeoHookeanFixture>(mu, lambda));
+  } else {
+    part.laws.push_back(std::make_shared<fixtures::NeoHookeanFixture>(mu, 0.0));
+    part.centre_laws.push_back(std::make_shared<fixtures::NeoHookeanFixture>(0.0, lambda));
+  }
   return {part};
 }
 
@@ -63,12 +75,16 @@ std::vector<char> boundary_nodes(const Mesh& mesh)
 
 } // namespace
 
-class Assembly : public ::testing::TestWithParam<CellShape> {};
+class Assembly : public ::testing::TestWithParam<std::tuple<CellShape, Integration>> {
+ protected:
+  CellShape shape() const { return std::get<0>(GetParam()); }
+  std::vector<BodyPart> parts(const Mesh& mesh) const { return one_part(mesh, std::get<1>(GetParam())); }
+};
 
 TEST_P(Assembly, PatchTestInteriorForcesVanishForAHomogeneousDeformation)
 {
-  const Mesh mesh = distorted_box(GetParam());
-  const SolidModel solid(mesh, one_part(mesh), 2, PETSC_COMM_WORLD);
+  const Mesh mesh = distorted_box(shape());
+  const SolidModel solid(mesh, parts(mesh), 2, PETSC_COMM_WORLD);
   const std::vector<double> u = homogeneous_displacement(mesh);
   std::vector<double> f(u.size());
   solid.forces(u, f);
@@ -97,8 +113,8 @@ TEST_P(Assembly, PatchTestInteriorForcesVanishForAHomogeneousDeformation)
 
 TEST_P(Assembly, PatchTestNewtonReproducesTheHomogeneousDeformation)
 {
-  const Mesh mesh = distorted_box(GetParam());
-  const SolidModel solid(mesh, one_part(mesh), 2, PETSC_COMM_WORLD);
+  const Mesh mesh = distorted_box(shape());
+  const SolidModel solid(mesh, parts(mesh), 2, PETSC_COMM_WORLD);
   const std::vector<double> exact = homogeneous_displacement(mesh);
   const auto on_boundary = boundary_nodes(mesh);
   DirichletCondition boundary;
@@ -121,8 +137,8 @@ TEST_P(Assembly, PatchTestNewtonReproducesTheHomogeneousDeformation)
 
 TEST_P(Assembly, ForcesAreMinusTheEnergyGradientAndStiffnessTheirDerivative)
 {
-  const Mesh mesh = distorted_box(GetParam(), {2, 2, 2});
-  const SolidModel solid(mesh, one_part(mesh), 2, PETSC_COMM_WORLD);
+  const Mesh mesh = distorted_box(shape(), {2, 2, 2});
+  const SolidModel solid(mesh, parts(mesh), 2, PETSC_COMM_WORLD);
   std::vector<double> u = homogeneous_displacement(mesh);
   std::mt19937 generator(3);
   std::uniform_real_distribution<double> noise(-0.02, 0.02);
@@ -172,13 +188,13 @@ TEST_P(Assembly, ForcesAreMinusTheEnergyGradientAndStiffnessTheirDerivative)
 
 TEST_P(Assembly, AllRanksTogetherGiveTheOneRankForces)
 {
-  const Mesh mesh = distorted_box(GetParam());
+  const Mesh mesh = distorted_box(shape());
   std::vector<double> u = homogeneous_displacement(mesh);
   std::mt19937 generator(11);
   std::uniform_real_distribution<double> noise(-0.02, 0.02);
   for (double& v : u) v += noise(generator);
-  const SolidModel everyone(mesh, one_part(mesh), 2, PETSC_COMM_WORLD);
-  const SolidModel alone(mesh, one_part(mesh), 2, PETSC_COMM_SELF);
+  const SolidModel everyone(mesh, parts(mesh), 2, PETSC_COMM_WORLD);
+  const SolidModel alone(mesh, parts(mesh), 2, PETSC_COMM_SELF);
   std::vector<double> f_all(u.size()), f_one(u.size());
   everyone.forces(u, f_all);
   alone.forces(u, f_one);
@@ -192,4 +208,10 @@ TEST_P(Assembly, AllRanksTogetherGiveTheOneRankForces)
 }
 
 INSTANTIATE_TEST_SUITE_P(HexAndTet, Assembly,
-                         ::testing::Values(CellShape::hexahedron, CellShape::tetrahedron));
+                         ::testing::Combine(::testing::Values(CellShape::hexahedron, CellShape::tetrahedron),
+                                            ::testing::Values(Integration::full, Integration::selective)),
+                         [](const auto& info) {
+                           return std::string(std::get<0>(info.param) == CellShape::hexahedron ? "hex"
+                                                                                               : "tet") +
+                                  (std::get<1>(info.param) == Integration::full ? "Full" : "Selective");
+                         });
