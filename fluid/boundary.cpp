@@ -1,5 +1,7 @@
 #include "fluid/boundary.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace ibvalve::fluid {
@@ -40,8 +42,27 @@ Real3 BoundaryConditions::velocity(int s, const Real3& x, double t) const
 double BoundaryConditions::pressure(int s, const Real3& x, double t) const
 {
   const BoundarySide& b = sides_[s];
-  if (b.kind != SideKind::traction || !b.pressure) return 0.0;
-  return b.pressure(x, t);
+  if (b.kind != SideKind::traction) return 0.0;
+  return (b.pressure ? b.pressure(x, t) : 0.0) - backflow_drop(s, x);
+}
+
+void BoundaryConditions::set_backflow_drop(int s, const BoxGeometry& box, std::vector<double> drop)
+{
+  drop_box_ = box;
+  backflow_drop_[s] = std::move(drop);
+}
+
+double BoundaryConditions::backflow_drop(int s, const Real3& x) const
+{
+  const auto& drop = backflow_drop_[s];
+  if (drop.empty()) return 0.0;
+  const int a = s / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+  auto cell = [&](int d) {
+    const double h = drop_box_.spacing(d);
+    const auto i = static_cast<PetscInt>(std::floor((x[d] - drop_box_.lower[d]) / h));
+    return std::clamp<PetscInt>(i, 0, drop_box_.cells[d] - 1); // ghost points outside: the nearest face
+  };
+  return drop[static_cast<std::size_t>(cell(c) * drop_box_.cells[b] + cell(b))];
 }
 
 bool BoundaryConditions::traction_at(int s, const Real3& x) const

@@ -12,9 +12,19 @@
 // instead. A vessel whose lumen meets an inlet or outlet side gets its pressure in the lumen and a
 // closed side around it (the set-up of Griffith 2012, Int. J. Numer. Meth. Biomed. Engng. 28:317), so
 // no flow goes around the vessel's end.
+//
+// Backflow stabilization: a traction side with `backflow` = beta > 0 lowers its pressure where fluid
+// enters, p_b - beta rho/2 (u.n)^2 where u.n < 0 (n the outward normal), with u.n of the current
+// state. With the prescribed static pressure alone, fluid entering through a traction side brings its
+// kinetic energy in for free, and a thin fast inflow next to a slow outflow through the same side
+// grows without bound (backflow divergence, Esmaily Moghadam et al. 2011, Comput. Mech. 48:277; the
+// traction term beta rho/2 (u.n)_- u of Bazilevs et al. 2009, CMAME 198:3534, here for its normal
+// part). With beta = 1 the prescribed value is the total pressure of the inflow (Bernoulli from a
+// reservoir at rest).
 #include <array>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <petscvec.h>
 
@@ -32,6 +42,7 @@ struct BoundarySide {
   VelocityFunction velocity;                // velocity sides; empty = no slip
   ScalarFunction pressure;                  // traction sides: p_b = -n.sigma.n; empty = zero
   std::function<bool(const Real3& x)> wall; // traction sides: true where the side is a no-slip wall
+  double backflow = 0.0;                    // traction sides: backflow stabilization beta (0 = none)
 };
 
 /// The side index of direction d (0 = x, 1 = y, 2 = z), lower (0) or upper (1): 2 d + upper.
@@ -63,8 +74,18 @@ class BoundaryConditions {
   /// Whether the point x of side s carries a traction (a traction side, not walled there).
   bool traction_at(int s, const Real3& x) const;
 
+  /// The backflow pressure drop beta rho/2 (u.n)_-^2 of side s at each of its boundary faces (box
+  /// cells of the side's plane, index c * n_b + b with b = (a + 1) % 3, c = (a + 2) % 3 for the side's
+  /// direction a), subtracted from the side's pressure by pressure(). Set by the integrator from its
+  /// state; empty = none.
+  void set_backflow_drop(int s, const BoxGeometry& box, std::vector<double> drop);
+  /// The drop at the boundary point x of side s (0 without one).
+  double backflow_drop(int s, const Real3& x) const;
+
  private:
   std::array<BoundarySide, 6> sides_{};
+  std::array<std::vector<double>, 6> backflow_drop_{};
+  BoxGeometry drop_box_{};
 };
 
 /// Sets the normal velocity on the boundary faces of velocity sides (and of the walled parts of traction

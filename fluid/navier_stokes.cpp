@@ -175,7 +175,40 @@ void NavierStokes::exchange(double t)
   PETSC_CHECK(DMLocalToGlobal(grid_->dm(), state_, INSERT_VALUES, global));
   grid_->global_to_local(global, state_);
   PETSC_CHECK(DMRestoreGlobalVector(grid_->dm(), &global));
+  update_backflow_drop();
   fill_ghosts(*grid_, bc_, state_, t);
+}
+
+void NavierStokes::update_backflow_drop()
+{
+  // From the state's boundary normal velocities (owned faces), summed over the ranks so that every
+  // rank holds each side's whole plane; the next boundary terms and ghosts then use it. Computing it
+  // here, from the state alone, keeps a restarted run identical to the uninterrupted one.
+  for (int s = 0; s < 6; ++s) {
+    const BoundarySide& side = bc_.side(s);
+    if (side.kind != SideKind::traction || !(side.backflow > 0.0)) continue;
+    const int a = s / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    const bool upper = s % 2 == 1;
+    std::vector<double> drop(static_cast<std::size_t>(grid_->cells(b) * grid_->cells(c)), 0.0);
+    if (upper ? grid_->owns_upper(a) : grid_->owns_lower(a)) {
+      StagArray u(*grid_, state_, true);
+      const double coefficient = 0.5 * side.backflow * settings_.rho;
+      for (PetscInt ic = grid_->begin(c); ic < grid_->begin(c) + grid_->count(c); ++ic)
+        for (PetscInt ib = grid_->begin(b); ib < grid_->begin(b) + grid_->count(b); ++ib) {
+          Index3 idx{};
+          idx[a] = upper ? grid_->cells(a) : 0;
+          idx[b] = ib;
+          idx[c] = ic;
+          const double u_n = u(idx[0], idx[1], idx[2], grid_->face_slot(a));
+          const double outward = upper ? u_n : -u_n;
+          if (outward < 0.0)
+            drop[static_cast<std::size_t>(ic * grid_->cells(b) + ib)] = coefficient * outward * outward;
+        }
+    }
+    PETSC_CHECK(
+        MPI_Allreduce(MPI_IN_PLACE, drop.data(), static_cast<int>(drop.size()), MPI_DOUBLE, MPI_SUM, comm_));
+    bc_.set_backflow_drop(s, grid_->box(), std::move(drop));
+  }
 }
 
 void NavierStokes::explicit_rhs(Vec convection_half, double dt)

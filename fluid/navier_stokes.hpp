@@ -96,6 +96,8 @@ class NavierStokes {
 
  private:
   void exchange(double t);
+  /// The backflow pressure drops of the traction sides with backflow stabilization, from state_.
+  void update_backflow_drop();
   void explicit_rhs(Vec convection_half, double dt);
 
   MPI_Comm comm_;
@@ -108,7 +110,7 @@ class NavierStokes {
   double time_ = 0.0, pressure_time_ = 0.0, last_dt_ = 0.0;
   PetscInt steps_ = 0;
   bool have_old_convection_ = false;
-  StokesParameters parameters_{};
+  StokesParameters parameters_{0.0, 0.0, 0.0}; // dt 0: the first step sets the solver up
   StepTimings timings_;
   SolveStatistics last_solve_;
 };
