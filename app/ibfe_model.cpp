@@ -19,6 +19,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/structure_parts.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
@@ -110,6 +111,7 @@ void add_ibfe_schema(io::Schema& s)
   s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
       .defaults(std::int64_t{2})
       .at_least(1);
+  add_volumetric_integration_key(s, VolumetricIntegration::full);
   s.merge(materials::material_schema("structure.material"));
   s.add_real_list("structure.fiber_direction",
                   "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none")
@@ -252,7 +254,8 @@ class IbfeRun : public PreparedRun {
              " cm^3");
     for (const fe::BodyPart& p : parts_)
       log.info("  part " + p.name + ": " + std::to_string(p.elements.size()) + " elements, " +
-               p.laws.front()->name());
+               (p.laws.empty() ? p.centre_laws : p.laws).front()->name() +
+               (p.centre_laws.empty() ? "" : " + " + p.centre_laws.front()->name() + " penalty (reduced)"));
 
     const std::filesystem::path directory = context.run_directory;
     int rank = 0;
@@ -390,10 +393,13 @@ class IbfeRun : public PreparedRun {
   void read_parts(const io::Config& config)
   {
     fibers_.assign(mesh_.num_elements(), fiber_frame(config, "structure.fiber_direction"));
+    const VolumetricIntegration integration = read_volumetric_integration(config);
     if (!config.has("structure.part")) {
-      fe::BodyPart part{"structure", {}, {materials::read_material(config, "structure.material").build()}};
-      for (std::size_t e = 0; e < mesh_.num_elements(); ++e) part.elements.push_back(static_cast<int>(e));
-      parts_.push_back(std::move(part));
+      std::vector<int> all(mesh_.num_elements());
+      for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
+      parts_.push_back(material_part("structure", std::move(all),
+                                     materials::read_material(config, "structure.material").build(),
+                                     integration));
       return;
     }
     std::vector<int> owner(mesh_.num_elements(), -1);
@@ -401,8 +407,8 @@ class IbfeRun : public PreparedRun {
       const std::string group = p.string("group");
       if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
         p.fail("group", "the mesh has no volume group '" + group + "'");
-      fe::BodyPart part{
-          group, mesh_.group(group).elements, {materials::read_material(p, "material").build()}};
+      fe::BodyPart part = material_part(group, mesh_.group(group).elements,
+                                        materials::read_material(p, "material").build(), integration);
       const materials::FiberFrame frame = fiber_frame(p, "fiber_direction");
       for (int e : part.elements) {
         if (owner[e] >= 0) p.fail("group", "element " + std::to_string(e) + " is already in another part");

@@ -294,6 +294,7 @@ StabilityEstimate IbfeIntegrator::stability_estimate() const
     materials::Tangent T = materials::Tangent::Zero();
     const materials::FiberFrame& fibers = solid_.fibers(static_cast<std::size_t>(part.elements.front()), 0);
     for (const auto& law : part.laws) T += law->tangent(materials::Mat3::Identity(), fibers);
+    for (const auto& law : part.centre_laws) T += law->tangent(materials::Mat3::Identity(), fibers);
     // The fluid keeps the motion (nearly) isochoric, so volumetric modes are not excited: the
     // stiffness that matters is the tangent on trace-free perturbations of F.
     materials::Tangent deviatoric = materials::Tangent::Identity();
