@@ -92,6 +92,12 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_integer("fluid.max_iterations", "most FGMRES iterations per step")
       .defaults(std::int64_t{100})
       .at_least(1);
+  s.add_real("fluid.backflow_stabilization",
+             "beta: where fluid enters through the box's pressure sides, their pressure is lowered by "
+             "beta rho/2 (u.n)^2 (the LV pressure becomes a total pressure); 0 = plain static pressure, "
+             "which lets backflow grow")
+      .defaults(1.0)
+      .non_negative();
 
   s.add_string("mesh.file", "a Gmsh mesh with the groups of `ibvalve mesh aortic-valve`; unset = generate it")
       .file(true);
@@ -124,10 +130,15 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_string("fibers.rule", "leaflet fiber rule (docs/fibers.md)")
       .choices({"FD1", "FD2"})
       .defaults(std::string("FD1"));
-  s.add_real("tether.tube_stiffness", "spring per area holding tube_outer in place, dyn/cm^3")
+  s.add_string_list("tether.tube_surfaces",
+                    "the tube's surface groups held in place: tube_outer (the study), and its end faces "
+                    "tube_inlet, tube_outlet")
+      .choices({"tube_outer", "tube_inlet", "tube_outlet"})
+      .defaults(std::vector<std::string>{"tube_outer"});
+  s.add_real("tether.tube_stiffness", "spring per area holding the tube's surfaces in place, dyn/cm^3")
       .defaults(1e8)
       .non_negative();
-  s.add_real("tether.tube_damping", "dashpot per area on tube_outer").defaults(0.0).non_negative();
+  s.add_real("tether.tube_damping", "dashpot per area on the tube's surfaces").defaults(0.0).non_negative();
   s.add_real("tether.attachment_stiffness", "spring per area holding each leaflet's attachment, dyn/cm^3")
       .defaults(1e8)
       .non_negative();
@@ -195,6 +206,7 @@ class AorticValveRun : public PreparedRun {
         config.string("fluid.subsolver") == "fft" ? fluid::SubsolverKind::fft : fluid::SubsolverKind::amg;
     fluid_.rtol = config.real("fluid.rtol");
     fluid_.max_iterations = static_cast<PetscInt>(config.integer("fluid.max_iterations"));
+    backflow_ = config.real("fluid.backflow_stabilization");
 
     geometry_.tube_radius = config.real("mesh.tube_radius");
     geometry_.tube_wall = config.real("mesh.tube_wall");
@@ -234,8 +246,12 @@ class AorticValveRun : public PreparedRun {
     rule_ = fibers::parse_fiber_rule(config.string("fibers.rule"));
     ib_.kernel = *ib::find_kernel(config.string("ib.kernel"));
     ib_.points.spacing = config.real("ib.point_spacing");
-    ib_.tethers.push_back(
-        {"tube_outer", config.real("tether.tube_stiffness"), config.real("tether.tube_damping")});
+    for (const std::string& surface : config.strings("tether.tube_surfaces")) {
+      if (!mesh_.has_group(surface))
+        config.fail("tether.tube_surfaces", "the mesh has no group '" + surface + "'");
+      ib_.tethers.push_back(
+          {surface, config.real("tether.tube_stiffness"), config.real("tether.tube_damping")});
+    }
     for (int k = 1; k <= leaflet_count; ++k)
       ib_.tethers.push_back({leaflet(k) + "_attachment", config.real("tether.attachment_stiffness"),
                              config.real("tether.attachment_damping")});
@@ -305,7 +321,10 @@ class AorticValveRun : public PreparedRun {
     // inlet/outlet sides outside their disks walled when asked (fluid/boundary.hpp).
     double outlet_pressure = outlet_parameters_.initial_pressure;
     fluid::BoundaryConditions bc;
-    for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::traction;
+    for (int side = 0; side < 6; ++side) {
+      bc.side(side).kind = fluid::SideKind::traction;
+      bc.side(side).backflow = backflow_;
+    }
     const double rin = inlet_radius_, rout = outlet_radius_;
     bc.side(2, 0).pressure = [this, rin](const fluid::Real3& x, double t) {
       return std::hypot(x[0], x[1]) < rin ? lv_(t) : 0.0;
@@ -494,7 +513,7 @@ class AorticValveRun : public PreparedRun {
   fibers::FiberRule rule_ = fibers::FiberRule::FD1;
   ib::IbfeSettings ib_;
   bool inlet_walled_ = false, outlet_walled_ = false;
-  double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
+  double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8, backflow_ = 1.0;
   long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
