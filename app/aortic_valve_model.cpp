@@ -115,6 +115,11 @@ void add_aortic_valve_schema(io::Schema& s)
       .defaults(d.commissure_height)
       .positive();
   s.add_real("mesh.sag", "belly depth toward the ventricle").unit("cm").defaults(d.sag).non_negative();
+  s.add_real("mesh.free_edge_drop",
+             "how far the free edge descends from the commissures to the valve centre (slack for opening)")
+      .unit("cm")
+      .defaults(d.free_edge_drop)
+      .non_negative();
   s.add_real("mesh.free_edge_gap", "gap between closed free edges")
       .unit("cm")
       .defaults(d.free_edge_gap)
@@ -215,6 +220,7 @@ class AorticValveRun : public PreparedRun {
     geometry_.valve_base = config.real("mesh.valve_base");
     geometry_.commissure_height = config.real("mesh.commissure_height");
     geometry_.sag = config.real("mesh.sag");
+    geometry_.free_edge_drop = config.real("mesh.free_edge_drop");
     geometry_.free_edge_gap = config.real("mesh.free_edge_gap");
     geometry_.leaflet_across = static_cast<int>(config.integer("mesh.leaflet_across"));
     geometry_.leaflet_radial = static_cast<int>(config.integer("mesh.leaflet_radial"));

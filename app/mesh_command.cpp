@@ -63,6 +63,10 @@ void add_mesh_command(CLI::App& app, CommandAction& action)
   valve->add_option("--commissure-strip", p.commissure_strip, "attachment strip up the wall at commissures")
       ->capture_default_str();
   valve->add_option("--sag", p.sag, "belly depth toward the ventricle")->capture_default_str();
+  valve
+      ->add_option("--free-edge-drop", p.free_edge_drop,
+                   "how far the free edge descends from the commissures to the centre (slack for opening)")
+      ->capture_default_str();
   valve->add_option("--free-edge-gap", p.free_edge_gap, "gap between closed neighbouring leaflets")
       ->capture_default_str();
   valve->add_option("--leaflet-across", p.leaflet_across, "elements from commissure to commissure (even)")

@@ -85,7 +85,7 @@ class LeafletSurface {
     const double side = u < 0 ? -1.0 : 1.0;
     const Vec3 commissure = attachment_radius_ * unit_direction(centre_angle_ + side * half_angle_);
     const Vec3 point = centre + std::abs(u) * (commissure - centre);
-    return point + Vec3(0, 0, p_.valve_base + p_.commissure_height);
+    return point + Vec3(0, 0, p_.valve_base + p_.commissure_height - p_.free_edge_drop * (1.0 - std::abs(u)));
   }
 
   Vec3 point(double u, double s) const
@@ -214,6 +214,8 @@ void check(const ValveMeshParameters& p)
   positive(p.commissure_height, "commissure height");
   positive(p.commissure_strip, "commissure strip");
   if (p.sag < 0) throw std::invalid_argument("sag must be >= 0");
+  if (p.free_edge_drop < 0 || p.free_edge_drop >= p.commissure_height)
+    throw std::invalid_argument("free-edge drop must be >= 0 and below the commissure height");
   if (p.free_edge_gap < 0) throw std::invalid_argument("free-edge gap must be >= 0");
   if (p.commissure_strip >= p.commissure_height)
     throw std::invalid_argument("commissure strip must be below the commissure height");

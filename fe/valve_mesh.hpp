@@ -14,10 +14,13 @@
 //       (commissure_height - commissure_strip) u^2 (a scallop with its nadir at the leaflet's centre), plus a
 //       short strip up the wall at each commissure (u = +-1) so that no element degenerates;
 //     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
-//       a coaptation line (theta_k +- 60 degrees) at the height of the commissures and free_edge_gap / 2
-//       away from it, so that neighbouring free edges (mid-surface) are free_edge_gap apart: seen along
-//       the axis, the closed valve leaves three strips of that width open, an orifice of about
-//       3 tube_radius free_edge_gap (0.078 cm^2 by default) at most; near the free edge the leaflets
+//       a coaptation line (theta_k +- 60 degrees) in projection and free_edge_gap / 2 away from it,
+//       descending from the commissures' height by free_edge_drop (1 - |u|) toward the centre (0 by
+//       default: a level free edge; a drop lengthens the free edge, the slack an opening valve needs to
+//       reach the wall without stretching its fibers: 2 sqrt(c^2 + drop^2) against the level 2 c, c the
+//       commissure-to-centre distance), so that neighbouring free edges (mid-surface) are free_edge_gap
+//       apart: seen along the axis, the closed valve leaves three strips of that width open, an orifice of
+//       about 3 tube_radius free_edge_gap (0.078 cm^2 by default) at most; near the free edge the leaflets
 //       are tilted, so their thickness covers much of that in projection (neighbouring solids may
 //       touch there, which the IB method allows);
 //     P(u, s) = (1 - s) A(u) + s E(u) - sag sin(pi s) (1 - u^2) e_z: a belly bulging toward the
@@ -47,6 +50,7 @@ struct ValveMeshParameters {
   double commissure_height = 1.2;  ///< z of the commissures (and the closed free edge) above the nadir
   double commissure_strip = 0.1;   ///< height of the attachment strip up the wall at each commissure
   double sag = 0.25;               ///< belly depth toward the ventricle
+  double free_edge_drop = 0.0;     ///< how far the free edge descends from the commissures to the centre
   double free_edge_gap = 0.02;     ///< distance between neighbouring closed free edges (mid-surface)
   double first_leaflet_angle = 90; ///< degrees: direction of leaflet 1's centre about the axis
   // Resolution (elements).
