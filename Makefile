@@ -5,8 +5,9 @@ CMAKE_FLAGS ?=
 ifdef CI
 CMAKE_FLAGS += -DIBVALVE_WERROR=ON
 endif
-RUN_CASE ?= examples/lumped/default.toml
+RUN_CASE ?= examples/aortic_valve/default.toml
 RUN_DIR ?= runs/default
+RUN_RANKS ?= 2
 
 export OMPI_ALLOW_RUN_AS_ROOT = 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = 1
@@ -14,7 +15,7 @@ export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = 1
 .PHONY: run test nightly bench build deps configure format clean regression-reference
 
 run: build
-	mpiexec --oversubscribe -n 1 $(BUILD_DIR)/app/ibvalve run $(RUN_CASE) -o $(RUN_DIR) --overwrite
+	mpiexec --oversubscribe -n $(RUN_RANKS) $(BUILD_DIR)/app/ibvalve run $(RUN_CASE) -o $(RUN_DIR) --overwrite
 	@echo "Run folder: $(RUN_DIR)  (report: $(RUN_DIR)/report/report.html)"
 
 test: build
