@@ -1,6 +1,7 @@
 #include "app/ibfe_fields.hpp"
 
 #include <cstdio>
+#include <sstream>
 #include <vector>
 
 #include "fe/element.hpp"
@@ -63,6 +64,22 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   io::XdmfGrid grid = fluid::write_fields(h5, fluid, "fluid", file);
   io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
   series.add_step(ibfe.time(), {grid, structure});
+}
+
+std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,
+                                            const std::filesystem::path& directory, std::size_t outputs,
+                                            const std::string& after_parts)
+{
+  const ib::IbfeTimings& t = ibfe.timings();
+  std::ostringstream timing;
+  timing.precision(3);
+  timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
+         << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
+         << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")" << after_parts;
+  return {timing.str(),
+          "structure volume change " + std::to_string(100.0 * (ibfe.volume() / initial_volume - 1.0)) + " %",
+          "fields: " + (directory / "fields.xdmf").string() + " (" + std::to_string(outputs) +
+              " outputs), time series: " + (directory / "timeseries.csv").string()};
 }
 
 } // namespace ibvalve::app

@@ -5,6 +5,7 @@
 // one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both together.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <mpi.h>
 
@@ -31,5 +32,12 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
 void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
                        const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
                        long step);
+
+/// The closing lines of an IB/FE run's summary: time per coupled step and its parts (then `after_parts`,
+/// e.g. solver iterations), the structure's volume change from `initial_volume`, and where the fields
+/// (`outputs` snapshots) and the time series are.
+std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,
+                                            const std::filesystem::path& directory, std::size_t outputs,
+                                            const std::string& after_parts = "");
 
 } // namespace ibvalve::app

@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 
 #include <mpi.h>
 
@@ -316,18 +315,8 @@ class IbfeRun : public PreparedRun {
     RunSummary summary;
     if (last_step < steps)
       summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
-    const ib::IbfeTimings& t = ibfe.timings();
-    std::ostringstream timing;
-    timing.precision(3);
-    timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
-           << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
-           << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")";
-    summary.lines.push_back(timing.str());
-    summary.lines.push_back("structure volume change " + std::to_string(100.0 * (ibfe.volume() / V0 - 1.0)) +
-                            " %");
-    summary.lines.push_back("fields: " + (directory / "fields.xdmf").string() + " (" +
-                            std::to_string(series.steps()) +
-                            " outputs), time series: " + (directory / "timeseries.csv").string());
+    for (std::string& line : ibfe_summary_lines(ibfe, V0, directory, series.steps()))
+      summary.lines.push_back(std::move(line));
     return summary;
   }
 

@@ -113,20 +113,10 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
   }
   log.finish_progress();
   RunSummary summary;
-  const ib::IbfeTimings& t = ibfe.timings();
-  std::ostringstream timing;
-  timing.precision(3);
-  timing << "per coupled step: " << t.total / t.steps << " s (fluid " << t.fluid / t.steps
-         << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
-         << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps
-         << "); fluid iterations: velocity " << fluid.statistics().velocity_iterations << ", pressure "
-         << fluid.statistics().pressure_iterations;
-  summary.lines.push_back(timing.str());
-  summary.lines.push_back("structure volume change " + std::to_string(100.0 * (ibfe.volume() / V0 - 1.0)) +
-                          " %");
-  summary.lines.push_back("fields: " + (directory / "fields.xdmf").string() + " (" +
-                          std::to_string(series.steps()) +
-                          " outputs), time series: " + (directory / "timeseries.csv").string());
+  summary.lines = ibfe_summary_lines(
+      ibfe, V0, directory, series.steps(),
+      "; fluid iterations: velocity " + std::to_string(fluid.statistics().velocity_iterations) +
+          ", pressure " + std::to_string(fluid.statistics().pressure_iterations));
   return summary;
 }
 
