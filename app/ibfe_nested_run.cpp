@@ -41,9 +41,15 @@ void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::Xdm
 {
   const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The fluid: composite cell pressure on every level box (covered cells averaged from the finer level).
-  std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
-      h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_");
+  // The fluid: composite cell pressure and cell-centred velocity on every level box (covered cells
+  // averaged from the finer level).
+  std::array<Vec, 3> velocity{};
+  for (Vec& v : velocity) v = fluid.operators().create_cell_vector();
+  fluid.cell_velocity(velocity);
+  std::vector<io::XdmfGrid> grids =
+      fluid::write_composite_fields(h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid",
+                                    file, "fluid_", {{"velocity", velocity}});
+  for (Vec& v : velocity) PETSC_CHECK(VecDestroy(&v));
   grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   series.add_step(ibfe.time(), grids);
 }

@@ -53,7 +53,8 @@ std::vector<std::vector<std::vector<double>>> level_arrays(const CompositeCells&
 std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const CompositeCells& cells,
                                                  const std::vector<std::pair<std::string, Vec>>& fields,
                                                  const std::string& group, const std::string& file_reference,
-                                                 const std::string& grid_prefix)
+                                                 const std::string& grid_prefix,
+                                                 const std::vector<CompositeVectorField>& vector_fields)
 {
   const GridHierarchy& h = cells.hierarchy();
   std::vector<io::XdmfGrid> grids;
@@ -88,6 +89,32 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
                         arrays.empty() ? std::span<const double>{} : std::span<const double>(arrays[l][b]),
                         dims);
         grids[g].add_field(name, io::Center::cell, {dims[0], dims[1], dims[2]},
+                           file_reference + ":/" + dataset);
+      }
+    }
+  }
+  for (const auto& [name, components] : vector_fields) {
+    std::array<std::vector<std::vector<std::vector<double>>>, 3> arrays;
+    for (int d = 0; d < 3; ++d) arrays[d] = level_arrays(cells, components[d]);
+    std::size_t g = 0;
+    for (int l = 0; l < h.levels(); ++l) {
+      const auto boxes = h.boxes(l);
+      for (std::size_t b = 0; b < boxes.size(); ++b, ++g) {
+        const IndexBox& box = boxes[b];
+        const std::vector<hsize_t> dims{static_cast<hsize_t>(box.cells(2)),
+                                        static_cast<hsize_t>(box.cells(1)),
+                                        static_cast<hsize_t>(box.cells(0)), 3};
+        // Interleaved (x fastest over cells, then the component last), as ParaView reads a 3-vector.
+        std::vector<double> interleaved;
+        if (!arrays[0].empty()) {
+          interleaved.resize(3 * arrays[0][l][b].size());
+          for (std::size_t c = 0; c < arrays[0][l][b].size(); ++c)
+            for (int d = 0; d < 3; ++d) interleaved[3 * c + d] = arrays[d][l][b][c];
+        }
+        const std::string dataset =
+            group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
+        file.write_root(dataset, std::span<const double>(interleaved), dims);
+        grids[g].add_field(name, io::Center::cell, {dims[0], dims[1], dims[2], 3},
                            file_reference + ":/" + dataset);
       }
     }

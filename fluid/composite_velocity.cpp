@@ -407,6 +407,32 @@ void CompositeVelocity::laplacian_data(const std::vector<double>& data, Vec out)
   PETSC_CHECK(VecRestoreArray(out, &a));
 }
 
+void CompositeVelocity::cell_velocity(Vec u, const VelocityFunction& wall_velocity, double t,
+                                      const std::array<Vec, 3>& out) const
+{
+  const std::vector<double> all = gather(u);
+  PetscInt begin = 0, end = 0;
+  PETSC_CHECK(VecGetOwnershipRange(out[0], &begin, &end));
+  // The face values first: value() may add wall data points, which data_values() must then cover.
+  std::vector<std::array<const FaceValue*, 6>> faces(static_cast<std::size_t>(end - begin));
+  operators_->cells().for_each(begin, end, [&](PetscInt n, const CompositeCells::Cell& c) {
+    for (int d = 0; d < 3; ++d) {
+      Index3 upper = c.index;
+      ++upper[d];
+      faces[static_cast<std::size_t>(n - begin)][2 * d] = &value({c.level, d, c.index});
+      faces[static_cast<std::size_t>(n - begin)][2 * d + 1] = &value({c.level, d, upper});
+    }
+  });
+  const std::vector<double> data = data_values(wall_velocity, t);
+  for (int d = 0; d < 3; ++d) {
+    PetscScalar* a = nullptr;
+    PETSC_CHECK(VecGetArray(out[d], &a));
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      a[i] = 0.5 * (evaluate(*faces[i][2 * d], all, data) + evaluate(*faces[i][2 * d + 1], all, data));
+    PETSC_CHECK(VecRestoreArray(out[d], &a));
+  }
+}
+
 std::vector<double> CompositeVelocity::gather(Vec u) const
 {
   PETSC_CHECK(VecScatterBegin(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));

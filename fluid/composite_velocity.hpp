@@ -26,6 +26,7 @@
 //
 // The ghost maps are replicated on every rank (like CompositeCells): convection gathers the whole
 // composite velocity on each rank (interim, see docs/nested.md).
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <utility>
@@ -97,6 +98,12 @@ class CompositeVelocity {
   /// of fluid/convection.hpp (`limited_face_value`), from the same ghost values.
   void convection(Vec u, const std::vector<double>& data, Vec out,
                   ConvectionScheme scheme = ConvectionScheme::centered) const;
+  /// The cell-centred velocity of each composite cell, component d the mean of the cell's two d-normal
+  /// faces (unknowns, walls or coarse-fine ghosts as value() gives them) on the cell's own level: for
+  /// output (the second-order cell average of the MAC field, as on one level). `out[d]` are composite
+  /// cell vectors (CompositeOperators::create_cell_vector). Collective.
+  void cell_velocity(Vec u, const VelocityFunction& wall_velocity, double t,
+                     const std::array<Vec, 3>& out) const;
   /// Every rank's copy of the whole face vector `u` (collective).
   std::vector<double> gather(Vec u) const;
   /// Evaluates a FaceValue against a gathered vector and wall data.

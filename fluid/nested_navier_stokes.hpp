@@ -97,6 +97,12 @@ class NestedNavierStokes {
   Vec pressure() const { return p_; }
   const NestedStepStatistics& statistics() const { return stats_; }
 
+  /// The cell-centred velocity u^n (CompositeVelocity::cell_velocity) into three composite cell vectors
+  /// (operators().create_cell_vector()). Collective.
+  void cell_velocity(const std::array<Vec, 3>& out) const
+  {
+    velocity_ops_->cell_velocity(u_, wall_velocity_, time_, out);
+  }
   /// max |D u| over the composite cells of each level (D the projection's divergence).
   std::vector<double> max_divergence_by_level() const;
   /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).

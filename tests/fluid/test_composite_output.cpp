@@ -1,6 +1,7 @@
 // Composite cell fields written per level box (fluid/composite_output.hpp), read back on every rank:
 // uncovered cells hold the composite values, covered cells the volume average of the finer cells (exact for
 // a linear field; X^2 + (H/4)^2 for x^2 under one ratio-2 level), and the XDMF names one grid per level box.
+// The velocity of a MAC field is written at cell centres as the mean of each cell's two faces.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "fluid/composite_output.hpp"
+#include "fluid/composite_velocity.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::fluid {
@@ -89,6 +91,76 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
   }
   PETSC_CHECK(VecDestroy(&a));
   PETSC_CHECK(VecDestroy(&b));
+}
+
+// u = (x(1-x), 2 y(1-y), 0) on the unit box: its normal part is zero on every wall (a closed box), and the
+// mean of the two faces of a cell of width h is exact up to f''h^2/8: x(1-x) - h^2/4 for the first
+// component, 2 y(1-y) - h^2/2 for the second. A level-0 cell covered by level 1 only holds the mean of its
+// 8 fine cells (width h = H/2, centres X +- H/4): X(1-X) - H^2/16 - h^2/4 = X(1-X) - H^2/8.
+TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
+{
+  BoxGeometry box;
+  box.cells = {8, 8, 8};
+  box.periodic = {false, false, false};
+  const GridHierarchy h(box,
+                        {FinerLevel{2, {IndexBox{{4, 4, 4}, {8, 12, 12}}, IndexBox{{8, 4, 4}, {12, 12, 12}}}},
+                         FinerLevel{2, {IndexBox{{12, 12, 12}, {20, 20, 20}}}}});
+  const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::two_point, CompositeBoundary::neumann);
+  const CompositeVelocity velocity(ops);
+  auto field = [](const Real3& x) { return Real3{x[0] * (1.0 - x[0]), 2.0 * x[1] * (1.0 - x[1]), 0.0}; };
+  Vec u = ops.create_face_vector();
+  ops.sample_normal(field, u);
+  std::array<Vec, 3> cells{};
+  for (Vec& v : cells) v = ops.create_cell_vector();
+  velocity.cell_velocity(u, {}, 0.0, cells);
+  const std::string name = "composite_velocity_output_test";
+  std::vector<io::XdmfGrid> grids;
+  {
+    io::Hdf5File file(PETSC_COMM_WORLD, name + ".h5", io::Hdf5File::Mode::create);
+    grids = write_composite_fields(file, ops.cells(), {}, "t0", name + ".h5", "", {{"velocity", cells}});
+  }
+  io::XdmfTimeSeries series(PETSC_COMM_WORLD, name + ".xdmf");
+  series.add_step(0.0, grids);
+  ASSERT_EQ(grids.size(), 4u);
+  io::Hdf5File file(PETSC_COMM_WORLD, name + ".h5", io::Hdf5File::Mode::read);
+  double worst = 0.0;
+  int checked_covered = 0;
+  for (int l = 0; l < h.levels(); ++l)
+    for (std::size_t bi = 0; bi < h.boxes(l).size(); ++bi) {
+      const IndexBox& ib = h.boxes(l)[bi];
+      const std::string dataset = "t0/level" + std::to_string(l) + "_box" + std::to_string(bi) + "/velocity";
+      const auto dims = file.dims(dataset);
+      ASSERT_EQ(dims.size(), 4u);
+      EXPECT_EQ(dims[3], 3u);
+      const auto v = file.read(dataset);
+      const double hl = h.h(l, 0);
+      for (PetscInt k = ib.lower[2]; k < ib.upper[2]; ++k)
+        for (PetscInt j = ib.lower[1]; j < ib.upper[1]; ++j)
+          for (PetscInt i = ib.lower[0]; i < ib.upper[0]; ++i) {
+            const Real3 x = h.cell_center(l, {i, j, k});
+            const std::size_t o = 3 * static_cast<std::size_t>(ib.offset({i, j, k}));
+            if (!h.covered(l, {i, j, k})) {
+              worst = std::max({worst, std::abs(v[o] - (field(x)[0] - hl * hl / 4.0)),
+                                std::abs(v[o + 1] - (field(x)[1] - hl * hl / 2.0)), std::abs(v[o + 2])});
+            } else if (l == 0 && !h.covered(1, {2 * i, 2 * j, 2 * k})) {
+              EXPECT_NEAR(v[o], field(x)[0] - hl * hl / 8.0, 1e-14) << i << " " << j << " " << k;
+              ++checked_covered;
+            }
+          }
+    }
+  EXPECT_LE(worst, 1e-14);
+  EXPECT_GT(checked_covered, 0);
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank == 0) {
+    std::ifstream in(name + ".xdmf");
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_NE(text.str().find("AttributeType=\"Vector\""), std::string::npos);
+    EXPECT_NE(text.str().find(name + ".h5:/t0/level2_box0/velocity"), std::string::npos);
+  }
+  PETSC_CHECK(VecDestroy(&u));
+  for (Vec& v : cells) PETSC_CHECK(VecDestroy(&v));
 }
 
 } // namespace
