@@ -232,9 +232,6 @@ class IbfeRun : public PreparedRun {
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
-    if (hierarchy_ && (context.restart || context.stop_after_steps > 0))
-      throw InputError(std::string(context.restart ? "--restart" : "--stop-after-steps") +
-                       ": a run on nested grid levels (nested.ratios) does not checkpoint yet");
     if (context.restart) load_fftw_plans(context);
     if (hierarchy_) return run_nested(context);
     fluid::NavierStokes fluid(context.comm, box_, bc, fluid_settings_);
@@ -329,8 +326,6 @@ class IbfeRun : public PreparedRun {
       config.fail(
           "nested.ratios",
           "nested grid levels need fluid.boundary = \"walls\" (the composite solver has no periodic box)");
-    if (config.integer("checkpoint.every") > 0)
-      config.fail("checkpoint.every", "a run on nested grid levels (nested.ratios) does not checkpoint yet");
     fluid::PhysicalBox bounds;
     for (int d = 0; d < 3; ++d) {
       bounds.lower[d] = 1e300;
@@ -365,6 +360,7 @@ class IbfeRun : public PreparedRun {
     c.end = end_;
     c.dt = dt_;
     c.output_every = every_;
+    c.checkpoints = checkpoint_settings_;
     return run_ibfe_on_nested_levels(context, c);
   }
 

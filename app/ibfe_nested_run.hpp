@@ -4,7 +4,8 @@
 // level (ib::NestedFluid; docs/nested.md, "IB on the finest level"). Output: timeseries.csv with the
 // columns of the uniform run, and fields/*.h5 + fields.xdmf with the composite pressure of every level
 // box and the structure's current mesh. A structure node leaving the finest level stops the run (exit 3,
-// the output written so far kept). No checkpoints yet.
+// the output written so far kept). Checkpoints (`checkpoint.every`, --stop-after-steps) hold the
+// composite fluid state and the structure's; --restart continues bit for bit on the same rank count.
 #include <vector>
 
 #include "app/model.hpp"
@@ -13,6 +14,7 @@
 #include "fluid/hierarchy.hpp"
 #include "fluid/nested_navier_stokes.hpp"
 #include "ib/ibfe.hpp"
+#include "io/checkpoint.hpp"
 
 namespace ibvalve::app {
 
@@ -27,6 +29,7 @@ struct NestedIbfeCase {
   std::vector<double> initial_displacement;
   double end = 0.0, dt = 0.0;
   long output_every = 1;
+  io::CheckpointSettings checkpoints;
 };
 
 RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfeCase& c);

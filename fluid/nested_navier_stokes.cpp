@@ -1,7 +1,9 @@
 #include "fluid/nested_navier_stokes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -371,6 +373,77 @@ void NestedNavierStokes::step(double dt)
   PETSC_CHECK(VecNorm(u_, NORM_INFINITY, &u_max));
   if (!std::isfinite(u_max))
     throw RunError("nested Navier-Stokes: the velocity is not finite at t = " + std::to_string(time_));
+}
+
+namespace {
+
+// A distributed vector as one dataset in global order: each rank writes its ownership range.
+void write_vector(io::Hdf5File& file, const std::string& name, Vec v)
+{
+  PetscInt begin = 0, end = 0, size = 0;
+  PETSC_CHECK(VecGetOwnershipRange(v, &begin, &end));
+  PETSC_CHECK(VecGetSize(v, &size));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(v, &a));
+  const std::array<hsize_t, 1> dims{static_cast<hsize_t>(size)}, offset{static_cast<hsize_t>(begin)},
+      count{static_cast<hsize_t>(end - begin)};
+  file.write_block(name, std::span<const double>(a, static_cast<std::size_t>(end - begin)), dims, offset,
+                   count);
+  PETSC_CHECK(VecRestoreArrayRead(v, &a));
+}
+
+void read_vector(const io::Hdf5File& file, const std::string& name, Vec v)
+{
+  PetscInt begin = 0, end = 0, size = 0;
+  PETSC_CHECK(VecGetOwnershipRange(v, &begin, &end));
+  PETSC_CHECK(VecGetSize(v, &size));
+  const std::vector<hsize_t> dims = file.has(name) ? file.dims(name) : std::vector<hsize_t>{};
+  if (dims.size() != 1 || dims[0] != static_cast<hsize_t>(size))
+    throw std::runtime_error(file.path().string() + ": " + name +
+                             " is missing or does not fit this grid hierarchy (" + std::to_string(size) +
+                             " values)");
+  const std::array<hsize_t, 1> offset{static_cast<hsize_t>(begin)}, count{static_cast<hsize_t>(end - begin)};
+  const std::vector<double> values = file.read_block(name, offset, count);
+  PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArray(v, &a));
+  std::copy(values.begin(), values.end(), a);
+  PETSC_CHECK(VecRestoreArray(v, &a));
+}
+
+} // namespace
+
+void NestedNavierStokes::save(io::Hdf5File& file, const std::string& group) const
+{
+  // After a step, convection_old_ holds N^n; the next step extrapolates from it.
+  write_vector(file, group + "/velocity", u_);
+  write_vector(file, group + "/pressure", p_);
+  write_vector(file, group + "/convection", convection_old_);
+  write_vector(file, group + "/body_force", force_);
+  const std::array<double, 3> clock{time_, pressure_time_, last_dt_};
+  const std::array<std::int64_t, 2> counters{static_cast<std::int64_t>(stats_.steps),
+                                             have_old_convection_ ? 1 : 0};
+  const std::array<hsize_t, 1> three{3}, two{2};
+  file.write_root(group + "/clock", clock, three);
+  file.write_root(group + "/counters", counters, two);
+}
+
+void NestedNavierStokes::restore(const io::Hdf5File& file, const std::string& group)
+{
+  if (!file.has(group + "/clock") || !file.has(group + "/counters"))
+    throw std::runtime_error(file.path().string() + ": " + group + " is not a nested fluid checkpoint");
+  const std::vector<double> clock = file.read(group + "/clock");
+  const std::vector<std::int64_t> counters = file.read_integers(group + "/counters");
+  if (clock.size() != 3 || counters.size() != 2)
+    throw std::runtime_error(file.path().string() + ": " + group + " is not a nested fluid checkpoint");
+  read_vector(file, group + "/velocity", u_);
+  read_vector(file, group + "/pressure", p_);
+  read_vector(file, group + "/convection", convection_old_);
+  read_vector(file, group + "/body_force", force_);
+  time_ = clock[0];
+  pressure_time_ = clock[1];
+  last_dt_ = clock[2];
+  stats_.steps = static_cast<PetscInt>(counters[0]);
+  have_old_convection_ = counters[1] != 0;
 }
 
 std::vector<double> NestedNavierStokes::max_divergence_by_level() const

@@ -37,6 +37,7 @@
 #include "fluid/composite_velocity.hpp"
 #include "fluid/grid.hpp"
 #include "fluid/queries.hpp"
+#include "io/hdf5.hpp"
 
 namespace ibvalve::fluid {
 
@@ -103,6 +104,14 @@ class NestedNavierStokes {
   {
     velocity_ops_->cell_velocity(u_, wall_velocity_, time_, out);
   }
+  /// Writes the state a step continues from into `group` of a checkpoint: u^n, p^{n-1/2}, N^n (for the
+  /// Adams–Bashforth extrapolation), the body force, the clock and the step counter. Each vector in the
+  /// composite numbering (cells, then each cell's faces in cell order), which does not depend on the
+  /// rank count. Collective.
+  void save(io::Hdf5File& file, const std::string& group) const;
+  /// Reads what save() wrote into this solver (same hierarchy). Collective; std::runtime_error naming
+  /// the file and group when the checkpoint does not fit.
+  void restore(const io::Hdf5File& file, const std::string& group);
   /// max |D u| over the composite cells of each level (D the projection's divergence).
   std::vector<double> max_divergence_by_level() const;
   /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).
