@@ -73,48 +73,35 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
                                 origin, {h.h(l, 0), h.h(l, 1), h.h(l, 2)}));
     }
   }
-  for (const auto& [name, vec] : fields) {
-    const auto arrays = level_arrays(cells, vec);
+  // A scalar field is one component; a vector field's components are interleaved per cell (x fastest over
+  // the cells, the component last), as ParaView reads a 3-vector.
+  std::vector<std::pair<std::string, std::vector<Vec>>> all;
+  for (const auto& [name, vec] : fields) all.push_back({name, {vec}});
+  for (const auto& [name, components] : vector_fields)
+    all.push_back({name, {components.begin(), components.end()}});
+  for (const auto& [name, components] : all) {
+    std::vector<std::vector<std::vector<std::vector<double>>>> arrays;
+    for (Vec v : components) arrays.push_back(level_arrays(cells, v));
+    const std::size_t m = components.size();
     std::size_t g = 0;
     for (int l = 0; l < h.levels(); ++l) {
       const auto boxes = h.boxes(l);
       for (std::size_t b = 0; b < boxes.size(); ++b, ++g) {
         const IndexBox& box = boxes[b];
-        const std::vector<hsize_t> dims{static_cast<hsize_t>(box.cells(2)),
-                                        static_cast<hsize_t>(box.cells(1)),
-                                        static_cast<hsize_t>(box.cells(0))};
-        const std::string dataset =
-            group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
-        file.write_root(dataset,
-                        arrays.empty() ? std::span<const double>{} : std::span<const double>(arrays[l][b]),
-                        dims);
-        grids[g].add_field(name, io::Center::cell, {dims[0], dims[1], dims[2]},
-                           file_reference + ":/" + dataset);
-      }
-    }
-  }
-  for (const auto& [name, components] : vector_fields) {
-    std::array<std::vector<std::vector<std::vector<double>>>, 3> arrays;
-    for (int d = 0; d < 3; ++d) arrays[d] = level_arrays(cells, components[d]);
-    std::size_t g = 0;
-    for (int l = 0; l < h.levels(); ++l) {
-      const auto boxes = h.boxes(l);
-      for (std::size_t b = 0; b < boxes.size(); ++b, ++g) {
-        const IndexBox& box = boxes[b];
-        const std::vector<hsize_t> dims{static_cast<hsize_t>(box.cells(2)),
-                                        static_cast<hsize_t>(box.cells(1)),
-                                        static_cast<hsize_t>(box.cells(0)), 3};
-        // Interleaved (x fastest over cells, then the component last), as ParaView reads a 3-vector.
-        std::vector<double> interleaved;
-        if (!arrays[0].empty()) {
-          interleaved.resize(3 * arrays[0][l][b].size());
-          for (std::size_t c = 0; c < arrays[0][l][b].size(); ++c)
-            for (int d = 0; d < 3; ++d) interleaved[3 * c + d] = arrays[d][l][b][c];
+        std::vector<hsize_t> dims{static_cast<hsize_t>(box.cells(2)), static_cast<hsize_t>(box.cells(1)),
+                                  static_cast<hsize_t>(box.cells(0))};
+        if (m > 1) dims.push_back(m);
+        std::vector<double> values;
+        if (!arrays[0].empty()) { // rank 0
+          const std::size_t n = arrays[0][l][b].size();
+          values.resize(m * n);
+          for (std::size_t c = 0; c < n; ++c)
+            for (std::size_t d = 0; d < m; ++d) values[m * c + d] = arrays[d][l][b][c];
         }
         const std::string dataset =
             group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
-        file.write_root(dataset, std::span<const double>(interleaved), dims);
-        grids[g].add_field(name, io::Center::cell, {dims[0], dims[1], dims[2], 3},
+        file.write_root(dataset, std::span<const double>(values), dims);
+        grids[g].add_field(name, io::Center::cell, {dims.begin(), dims.end()},
                            file_reference + ":/" + dataset);
       }
     }

@@ -16,6 +16,18 @@
 namespace ibvalve::fluid {
 namespace {
 
+// The unit box, 8^3 cells; level 1: cells [2,6)^3 of level 0 refined by 2 (two boxes side by side);
+// level 2 inside it, ratio 2.
+GridHierarchy three_levels()
+{
+  BoxGeometry box;
+  box.cells = {8, 8, 8};
+  box.periodic = {false, false, false};
+  return GridHierarchy(box,
+                       {FinerLevel{2, {IndexBox{{4, 4, 4}, {8, 12, 12}}, IndexBox{{8, 4, 4}, {12, 12, 12}}}},
+                        FinerLevel{2, {IndexBox{{12, 12, 12}, {20, 20, 20}}}}});
+}
+
 double linear(const Real3& x)
 {
   return 1.0 + x[0] + 2.0 * x[1] - 3.0 * x[2];
@@ -27,13 +39,7 @@ double square(const Real3& x)
 
 TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
 {
-  BoxGeometry box;
-  box.cells = {8, 8, 8};
-  box.periodic = {false, false, false};
-  // Level 1: cells [2,6)^3 of level 0 refined by 2 (two boxes side by side); level 2 inside, ratio 2.
-  const GridHierarchy h(box,
-                        {FinerLevel{2, {IndexBox{{4, 4, 4}, {8, 12, 12}}, IndexBox{{8, 4, 4}, {12, 12, 12}}}},
-                         FinerLevel{2, {IndexBox{{12, 12, 12}, {20, 20, 20}}}}});
+  const GridHierarchy h = three_levels();
   const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::tangential_linear,
                                CompositeBoundary::neumann);
   Vec a = ops.create_cell_vector(), b = ops.create_cell_vector();
@@ -99,12 +105,7 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
 // 8 fine cells (width h = H/2, centres X +- H/4): X(1-X) - H^2/16 - h^2/4 = X(1-X) - H^2/8.
 TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
 {
-  BoxGeometry box;
-  box.cells = {8, 8, 8};
-  box.periodic = {false, false, false};
-  const GridHierarchy h(box,
-                        {FinerLevel{2, {IndexBox{{4, 4, 4}, {8, 12, 12}}, IndexBox{{8, 4, 4}, {12, 12, 12}}}},
-                         FinerLevel{2, {IndexBox{{12, 12, 12}, {20, 20, 20}}}}});
+  const GridHierarchy h = three_levels();
   const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::two_point, CompositeBoundary::neumann);
   const CompositeVelocity velocity(ops);
   auto field = [](const Real3& x) { return Real3{x[0] * (1.0 - x[0]), 2.0 * x[1] * (1.0 - x[1]), 0.0}; };
