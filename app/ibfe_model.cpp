@@ -16,8 +16,8 @@
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
 #include "app/ibfe_nested_run.hpp"
+#include "app/ibfe_run_loop.hpp"
 #include "app/model.hpp"
-#include "app/restart.hpp"
 #include "app/structure_parts.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
@@ -253,68 +253,17 @@ class IbfeRun : public PreparedRun {
                (p.laws.empty() ? p.centre_laws : p.laws).front()->name() +
                (p.centre_laws.empty() ? "" : " + " + p.centre_laws.front()->name() + " penalty (reduced)"));
 
-    const std::filesystem::path directory = context.run_directory;
-    int rank = 0;
-    MPI_Comm_rank(context.comm, &rank);
-    create_fields_directory(context.comm, directory);
-    io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
-    // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
-    const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
-    const long steps = std::max(1L, std::lround(end_ / dt_));
-    long first_step = 0;
-    std::int64_t rows = 0;
-    if (context.restart) {
-      const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
-            fluid.restore(h5, "fluid");
-            ibfe.restore(h5, "ibfe");
-          });
-      first_step = static_cast<long>(header.step);
-      rows = header.timeseries_rows;
-      series.resume(ibfe.time());
-    }
-    io::CsvWriter csv;
-    if (rank == 0)
-      csv = io::CsvWriter(
-          directory / "timeseries.csv",
-          {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
-          context.restart);
-    const double V0 = mesh_.volume();
-    auto record = [&](long step) {
-      double speed = 0.0, displacement = 0.0;
-      for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
-        speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
-        displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
-      }
-      const double volume = ibfe.volume(), energy = fluid::kinetic_energy(fluid);
-      if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
-      ++rows;
-      if (step % every_ == 0 || step == steps)
-        write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, step);
+    IbfeFluidHooks hooks;
+    hooks.kinetic_energy = [&] { return fluid::kinetic_energy(fluid); };
+    hooks.write_fields = [&](io::XdmfTimeSeries& series, long step) {
+      write_ibfe_fields(context.comm, context.run_directory, series, mesh_, fluid, ibfe, step);
     };
-    auto save = [&](long step) {
+    hooks.save = [&](io::Hdf5File& h5) {
       save_fftw_plans(context);
-      return checkpoints.write({step, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
-        fluid.save(h5, "fluid");
-        ibfe.save(h5, "ibfe");
-      });
+      fluid.save(h5, "fluid");
     };
-    log.start_clock();
-    if (!context.restart) record(0);
-    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
-    for (long step = first_step + 1; step <= last_step; ++step) {
-      ibfe.step(dt_);
-      record(step);
-      log.progress({step, ibfe.time(), steps * dt_});
-      if (checkpoints.due(step) && step < steps) save(step);
-    }
-    log.finish_progress();
-    RunSummary summary;
-    if (last_step < steps)
-      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
-    for (std::string& line : ibfe_summary_lines(ibfe, V0, directory, series.steps()))
-      summary.lines.push_back(std::move(line));
-    return summary;
+    hooks.restore = [&](const io::Hdf5File& h5) { fluid.restore(h5, "fluid"); };
+    return run_ibfe_loop(context, ibfe, mesh_, {end_, dt_, every_, checkpoint_settings_}, hooks);
   }
 
  private:

@@ -10,7 +10,7 @@
 #include <mpi.h>
 
 #include "app/ibfe_fields.hpp"
-#include "app/restart.hpp"
+#include "app/ibfe_run_loop.hpp"
 #include "fluid/composite_output.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "io/files.hpp"
@@ -89,70 +89,21 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
            std::to_string(c.mesh->num_nodes()) + " nodes, volume " + std::to_string(c.mesh->volume()) +
            " cm^3");
 
-  const std::filesystem::path directory = context.run_directory;
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
-  create_fields_directory(context.comm, directory);
-  io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
-  // A checkpoint holds the composite fluid state and the structure's (docs/runs.md).
-  const io::Checkpoints checkpoints(context.comm, directory, c.checkpoints);
-  const long steps = std::max(1L, std::lround(c.end / c.dt));
-  long first_step = 0;
-  std::int64_t rows = 0;
-  if (context.restart) {
-    const io::CheckpointHeader header =
-        restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
-          fluid.restore(h5, "nested_fluid");
-          finest.copy_velocity();
-          ibfe.restore(h5, "ibfe");
-        });
-    first_step = static_cast<long>(header.step);
-    rows = header.timeseries_rows;
-    series.resume(ibfe.time());
-  }
-  io::CsvWriter csv;
-  if (rank == 0)
-    csv = io::CsvWriter(
-        directory / "timeseries.csv",
-        {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
-        context.restart);
-  const double V0 = c.mesh->volume();
-  auto record = [&](long step) {
-    double speed = 0.0, displacement = 0.0;
-    for (std::size_t n = 0; n < c.mesh->num_nodes(); ++n) {
-      speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
-      displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
-    }
-    const double volume = ibfe.volume(), energy = composite_kinetic_energy(fluid);
-    if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
-    ++rows;
-    if (step % c.output_every == 0 || step == steps)
-      write_fields(context.comm, directory, series, fluid, *c.mesh, ibfe, step);
+  IbfeFluidHooks hooks;
+  hooks.kinetic_energy = [&] { return composite_kinetic_energy(fluid); };
+  hooks.write_fields = [&](io::XdmfTimeSeries& series, long step) {
+    write_fields(context.comm, context.run_directory, series, fluid, *c.mesh, ibfe, step);
   };
-  auto save = [&](long step) {
-    return checkpoints.write({step, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
-      fluid.save(h5, "nested_fluid");
-      ibfe.save(h5, "ibfe");
-    });
+  hooks.save = [&](io::Hdf5File& h5) { fluid.save(h5, "nested_fluid"); };
+  hooks.restore = [&](const io::Hdf5File& h5) {
+    fluid.restore(h5, "nested_fluid");
+    finest.copy_velocity();
   };
-  log.start_clock();
-  if (!context.restart) record(0);
-  const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
-  for (long step = first_step + 1; step <= last_step; ++step) {
-    ibfe.step(c.dt);
-    record(step);
-    log.progress({step, ibfe.time(), steps * c.dt});
-    if (checkpoints.due(step) && step < steps) save(step);
-  }
-  log.finish_progress();
-  RunSummary summary;
-  if (last_step < steps) summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
-  const auto lines = ibfe_summary_lines(
-      ibfe, V0, directory, series.steps(),
-      "; fluid iterations: velocity " + std::to_string(fluid.statistics().velocity_iterations) +
-          ", pressure " + std::to_string(fluid.statistics().pressure_iterations));
-  summary.lines.insert(summary.lines.end(), lines.begin(), lines.end());
-  return summary;
+  hooks.solver_summary = [&] {
+    return "; fluid iterations: velocity " + std::to_string(fluid.statistics().velocity_iterations) +
+           ", pressure " + std::to_string(fluid.statistics().pressure_iterations);
+  };
+  return run_ibfe_loop(context, ibfe, *c.mesh, {c.end, c.dt, c.output_every, c.checkpoints}, hooks);
 }
 
 } // namespace ibvalve::app

@@ -16,6 +16,21 @@
 namespace ibvalve::fluid {
 namespace {
 
+int world_rank()
+{
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  return rank;
+}
+
+std::string file_text(const std::string& path)
+{
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 // The unit box, 8^3 cells; level 1: cells [2,6)^3 of level 0 refined by 2 (two boxes side by side);
 // level 2 inside it, ratio 2.
 GridHierarchy three_levels()
@@ -85,15 +100,11 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
     }
   EXPECT_LE(worst_linear, 1e-13);
 
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank == 0) {
-    std::ifstream in(name + ".xdmf");
-    std::stringstream text;
-    text << in.rdbuf();
+  if (world_rank() == 0) {
+    const std::string text = file_text(name + ".xdmf");
     for (const char* grid : {"level0_box0", "level1_box0", "level1_box1", "level2_box0"})
-      EXPECT_NE(text.str().find(grid), std::string::npos) << grid;
-    EXPECT_NE(text.str().find(name + ".h5:/t0/level2_box0/square"), std::string::npos);
+      EXPECT_NE(text.find(grid), std::string::npos) << grid;
+    EXPECT_NE(text.find(name + ".h5:/t0/level2_box0/square"), std::string::npos);
   }
   PETSC_CHECK(VecDestroy(&a));
   PETSC_CHECK(VecDestroy(&b));
@@ -151,14 +162,10 @@ TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
     }
   EXPECT_LE(worst, 1e-14);
   EXPECT_GT(checked_covered, 0);
-  int rank = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  if (rank == 0) {
-    std::ifstream in(name + ".xdmf");
-    std::stringstream text;
-    text << in.rdbuf();
-    EXPECT_NE(text.str().find("AttributeType=\"Vector\""), std::string::npos);
-    EXPECT_NE(text.str().find(name + ".h5:/t0/level2_box0/velocity"), std::string::npos);
+  if (world_rank() == 0) {
+    const std::string text = file_text(name + ".xdmf");
+    EXPECT_NE(text.find("AttributeType=\"Vector\""), std::string::npos);
+    EXPECT_NE(text.find(name + ".h5:/t0/level2_box0/velocity"), std::string::npos);
   }
   PETSC_CHECK(VecDestroy(&u));
   for (Vec& v : cells) PETSC_CHECK(VecDestroy(&v));

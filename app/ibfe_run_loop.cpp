@@ -1,0 +1,83 @@
+#include "app/ibfe_run_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+
+#include <mpi.h>
+
+#include "app/ibfe_fields.hpp"
+#include "app/restart.hpp"
+#include "io/files.hpp"
+#include "io/logger.hpp"
+
+namespace ibvalve::app {
+
+RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, const fe::Mesh& mesh,
+                         const IbfeLoopSettings& settings, const IbfeFluidHooks& fluid)
+{
+  auto& log = io::Logger::global();
+  const std::filesystem::path& directory = context.run_directory;
+  int rank = 0;
+  MPI_Comm_rank(context.comm, &rank);
+  create_fields_directory(context.comm, directory);
+  io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
+  // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
+  const io::Checkpoints checkpoints(context.comm, directory, settings.checkpoints);
+  const long steps = std::max(1L, std::lround(settings.end / settings.dt));
+  long first_step = 0;
+  std::int64_t rows = 0;
+  if (context.restart) {
+    const io::CheckpointHeader header =
+        restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
+          fluid.restore(h5);
+          ibfe.restore(h5, "ibfe");
+        });
+    first_step = static_cast<long>(header.step);
+    rows = header.timeseries_rows;
+    series.resume(ibfe.time());
+  }
+  io::CsvWriter csv;
+  if (rank == 0)
+    csv = io::CsvWriter(
+        directory / "timeseries.csv",
+        {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
+        context.restart);
+  const double V0 = mesh.volume();
+  auto record = [&](long step) {
+    double speed = 0.0, displacement = 0.0;
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n) {
+      speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
+      displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
+    }
+    const double volume = ibfe.volume(), energy = fluid.kinetic_energy();
+    if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+    ++rows;
+    if (step % settings.output_every == 0 || step == steps) fluid.write_fields(series, step);
+  };
+  auto save = [&](long step) {
+    return checkpoints.write({step, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
+      fluid.save(h5);
+      ibfe.save(h5, "ibfe");
+    });
+  };
+  log.start_clock();
+  if (!context.restart) record(0);
+  const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+  for (long step = first_step + 1; step <= last_step; ++step) {
+    ibfe.step(settings.dt);
+    record(step);
+    log.progress({step, ibfe.time(), steps * settings.dt});
+    if (checkpoints.due(step) && step < steps) save(step);
+  }
+  log.finish_progress();
+  RunSummary summary;
+  if (last_step < steps) summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+  for (std::string& line : ibfe_summary_lines(ibfe, V0, directory, series.steps(),
+                                              fluid.solver_summary ? fluid.solver_summary() : std::string()))
+    summary.lines.push_back(std::move(line));
+  return summary;
+}
+
+} // namespace ibvalve::app
