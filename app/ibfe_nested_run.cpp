@@ -1,8 +1,6 @@
 #include "app/ibfe_nested_run.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
+#include <array>
 #include <filesystem>
 #include <sstream>
 #include <string>
@@ -13,7 +11,6 @@
 #include "app/ibfe_run_loop.hpp"
 #include "fluid/composite_output.hpp"
 #include "ib/eulerian_fluid.hpp"
-#include "io/files.hpp"
 #include "io/hdf5.hpp"
 #include "io/logger.hpp"
 #include "io/petsc_check.hpp"
