@@ -7,6 +7,7 @@
 
 #include "fluid/fft_stokes.hpp"
 #include "fluid/krylov_stokes.hpp"
+#include "fluid/solver_clock.hpp"
 #include "io/petsc_check.hpp"
 #include "io/stopwatch.hpp"
 
@@ -303,27 +304,20 @@ void NavierStokes::save(io::Hdf5File& file, const std::string& group) const
   write_checkpoint_field(file, group + "/state", *grid_, state_);
   write_checkpoint_field(file, group + "/convection", *grid_, convection_old_);
   write_checkpoint_field(file, group + "/body_force", *grid_, force_);
-  const std::array<double, 3> clock{time_, pressure_time_, last_dt_};
-  const std::array<std::int64_t, 2> counters{static_cast<std::int64_t>(steps_), have_old_convection_ ? 1 : 0};
-  const std::array<hsize_t, 1> three{3}, two{2};
-  file.write_root(group + "/clock", clock, three);
-  file.write_root(group + "/counters", counters, two);
+  write_solver_clock(file, group, {time_, pressure_time_, last_dt_, steps_, have_old_convection_});
 }
 
 void NavierStokes::restore(const io::Hdf5File& file, const std::string& group)
 {
-  const std::vector<double> clock = file.read(group + "/clock");
-  const std::vector<std::int64_t> counters = file.read_integers(group + "/counters");
-  if (clock.size() != 3 || counters.size() != 2)
-    throw std::runtime_error(file.path().string() + ": " + group + " is not a fluid checkpoint");
+  const SolverClock clock = read_solver_clock(file, group, "fluid checkpoint");
   read_checkpoint_field(file, group + "/state", *grid_, state_);
   read_checkpoint_field(file, group + "/convection", *grid_, convection_old_);
   read_checkpoint_field(file, group + "/body_force", *grid_, force_);
-  time_ = clock[0];
-  pressure_time_ = clock[1];
-  last_dt_ = clock[2];
-  steps_ = static_cast<PetscInt>(counters[0]);
-  have_old_convection_ = counters[1] != 0;
+  time_ = clock.time;
+  pressure_time_ = clock.pressure_time;
+  last_dt_ = clock.last_dt;
+  steps_ = static_cast<PetscInt>(clock.steps);
+  have_old_convection_ = clock.have_old_convection;
   // Ghosts (other ranks' values, boundary ghosts at time_) as the step's last exchange left them.
   exchange(time_);
 }

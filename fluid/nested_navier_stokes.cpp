@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "fluid/composite_queries.hpp"
+#include "fluid/solver_clock.hpp"
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
 #include "io/stopwatch.hpp"
@@ -426,31 +427,21 @@ void NestedNavierStokes::save(io::Hdf5File& file, const std::string& group) cons
   write_vector(file, group + "/pressure", p_);
   write_vector(file, group + "/convection", convection_old_);
   write_vector(file, group + "/body_force", force_);
-  const std::array<double, 3> clock{time_, pressure_time_, last_dt_};
-  const std::array<std::int64_t, 2> counters{static_cast<std::int64_t>(stats_.steps),
-                                             have_old_convection_ ? 1 : 0};
-  const std::array<hsize_t, 1> three{3}, two{2};
-  file.write_root(group + "/clock", clock, three);
-  file.write_root(group + "/counters", counters, two);
+  write_solver_clock(file, group, {time_, pressure_time_, last_dt_, stats_.steps, have_old_convection_});
 }
 
 void NestedNavierStokes::restore(const io::Hdf5File& file, const std::string& group)
 {
-  if (!file.has(group + "/clock") || !file.has(group + "/counters"))
-    throw std::runtime_error(file.path().string() + ": " + group + " is not a nested fluid checkpoint");
-  const std::vector<double> clock = file.read(group + "/clock");
-  const std::vector<std::int64_t> counters = file.read_integers(group + "/counters");
-  if (clock.size() != 3 || counters.size() != 2)
-    throw std::runtime_error(file.path().string() + ": " + group + " is not a nested fluid checkpoint");
+  const SolverClock clock = read_solver_clock(file, group, "nested fluid checkpoint");
   read_vector(file, group + "/velocity", u_);
   read_vector(file, group + "/pressure", p_);
   read_vector(file, group + "/convection", convection_old_);
   read_vector(file, group + "/body_force", force_);
-  time_ = clock[0];
-  pressure_time_ = clock[1];
-  last_dt_ = clock[2];
-  stats_.steps = static_cast<PetscInt>(counters[0]);
-  have_old_convection_ = counters[1] != 0;
+  time_ = clock.time;
+  pressure_time_ = clock.pressure_time;
+  last_dt_ = clock.last_dt;
+  stats_.steps = static_cast<PetscInt>(clock.steps);
+  have_old_convection_ = clock.have_old_convection;
 }
 
 std::vector<double> NestedNavierStokes::max_divergence_by_level() const
