@@ -58,7 +58,7 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
 {
   auto& log = io::Logger::global();
   const fluid::GridHierarchy& hierarchy = *c.hierarchy;
-  fluid::NestedNavierStokes fluid(context.comm, hierarchy, {}, c.fluid);
+  fluid::NestedNavierStokes fluid(context.comm, hierarchy, fluid::VelocityFunction{}, c.fluid);
   fluid.set_initial_condition(
       [](const fluid::Real3&, double) {
         return fluid::Real3{0.0, 0.0, 0.0};

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
+#include "fluid/boundary.hpp"
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
 
@@ -78,8 +80,10 @@ struct FaceRow {
 
 CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy,
                                        CoarseFineStencil stencil, CompositeBoundary boundary,
-                                       std::function<double(const Real3&)> dirichlet_value)
-    : comm_(comm), hierarchy_(&hierarchy), cells_(hierarchy)
+                                       std::function<double(const Real3&)> dirichlet_value,
+                                       DirichletFaces dirichlet_faces)
+    : comm_(comm), hierarchy_(&hierarchy), cells_(hierarchy), boundary_(boundary),
+      dirichlet_faces_(std::move(dirichlet_faces))
 {
   for (int d = 0; d < 3; ++d)
     if (hierarchy.domain().periodic[d])
@@ -87,6 +91,9 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
                                   std::string(1, "xyz"[d]) + ")");
   if (boundary == CompositeBoundary::dirichlet && !dirichlet_value)
     throw std::invalid_argument("composite operators: Dirichlet sides need boundary values");
+  if (boundary == CompositeBoundary::mixed && !dirichlet_faces_)
+    throw std::invalid_argument(
+        "composite operators: mixed sides need the predicate of their Dirichlet faces");
   const PetscInt total = cells_.size();
   PetscInt owned = PETSC_DECIDE, global = total;
   PETSC_CHECK(PetscSplitOwnership(comm, &owned, &global));
@@ -113,12 +120,13 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
         row.face.center = x;
         row.face.center[d] += 0.5 * side * h;
         if (!hierarchy.domain_box(l).contains(next)) {
-          if (boundary == CompositeBoundary::neumann) continue;
+          if (!boundary_face(l, cell.index, side_index(d, side > 0))) continue;
           // (u - g)/(h/2) on the lower side, (g - u)/(h/2) on the upper side.
           row.face.on_boundary = true;
+          row.face.side = side_index(d, side > 0);
           row.face.outward = side;
           row.add(n, -side * 2.0 / h);
-          row.constant = side * 2.0 / h * dirichlet_value(row.face.center);
+          row.constant = dirichlet_value ? side * 2.0 / h * dirichlet_value(row.face.center) : 0.0;
           row.weight = area * 0.5 * h;
         } else if (hierarchy.box_containing(l, next) >= 0) {
           if (side > 0 || hierarchy.covered(l, next)) continue; // counted by its upper cell / the finer cells
@@ -198,12 +206,34 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
     PETSC_CHECK(VecAssemblyEnd(v));
   }
 
+  int local_dirichlet = 0;
+  for (const CompositeFace& face : faces_) local_dirichlet = local_dirichlet || face.on_boundary;
+  int global_dirichlet = 0;
+  MPI_Allreduce(&local_dirichlet, &global_dirichlet, 1, MPI_INT, MPI_MAX, comm);
+  any_dirichlet_ = global_dirichlet != 0;
+
   // A = G^T (W G): symmetric by construction.
   Mat weighted = nullptr;
   PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, &weighted));
   PETSC_CHECK(MatDiagonalScale(weighted, weights_, nullptr));
   PETSC_CHECK(MatTransposeMatMult(gradient_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &laplacian_));
   PETSC_CHECK(MatDestroy(&weighted));
+}
+
+bool CompositeOperators::boundary_face(int level, const Index3& cell, int side) const
+{
+  switch (boundary_) {
+  case CompositeBoundary::dirichlet:
+    return true;
+  case CompositeBoundary::neumann:
+    return false;
+  case CompositeBoundary::mixed:
+    break;
+  }
+  const int d = side / 2;
+  Real3 x = hierarchy_->cell_center(level, cell);
+  x[d] += (side % 2 == 1 ? 0.5 : -0.5) * hierarchy_->h(level, d);
+  return dirichlet_faces_(side, x);
 }
 
 CompositeOperators::~CompositeOperators()

@@ -8,6 +8,8 @@
 // Composite faces, each with a gradient stencil and a weight W_f = (face area) x (normal distance):
 //  - between two cells of one level: (u+ - u-)/h, W = A h;
 //  - on the domain boundary: Dirichlet (g - u)/(h/2) (sign by side), W = A h/2; Neumann: no face (zero flux);
+//    `mixed`: Dirichlet on the boundary faces a predicate selects (the traction sides of an open box: the
+//    pressure is given there), Neumann on the others (walls);
 //  - a coarse-fine face (a face of a fine cell whose neighbour is not on the fine level): the coarse value is
 //    carried to the fine face's tangential position, U* = U_C + sum_t delta_t dU/dt (central coarse
 //    differences, one-sided where a neighbour is missing), and G = (U* - u_f)/((h + H)/2) along the
@@ -52,7 +54,10 @@ class CompositeCells {
 };
 
 enum class CoarseFineStencil { two_point, tangential_linear };
-enum class CompositeBoundary { dirichlet, neumann };
+enum class CompositeBoundary { dirichlet, neumann, mixed };
+/// For CompositeBoundary::mixed: whether the boundary face centred at `x` on side `side` (side_index of
+/// fluid/boundary.hpp: 2 d + upper) is a Dirichlet face.
+using DirichletFaces = std::function<bool(int side, const Real3& x)>;
 
 /// One composite face, as its enumerating rank sees it (for fluxes and tests).
 struct CompositeFace {
@@ -62,17 +67,20 @@ struct CompositeFace {
   double area = 0.0;
   bool on_boundary = false;
   bool coarse_fine = false;
+  int side = -1;        // boundary faces: the side index 2 d + upper
   double outward = 0.0; // boundary faces: +1 / -1 when +normal points out of / into the domain;
                         // coarse-fine faces: +1 / -1 when +normal points from the fine to the coarse cell
 };
 
 class CompositeOperators {
  public:
-  /// `dirichlet_value(x)`: boundary data for `dirichlet` (ignored for `neumann`). Collective on `comm`.
+  /// `dirichlet_value(x)`: boundary data for `dirichlet` (ignored for `neumann`; zero when empty for
+  /// `mixed`). `dirichlet_faces`: the Dirichlet faces of `mixed`. Collective on `comm`.
   /// Every side of the domain is a Dirichlet or Neumann side: a periodic direction is refused
   /// (std::invalid_argument) until the numbering learns periodic images.
   CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy, CoarseFineStencil stencil,
-                     CompositeBoundary boundary, std::function<double(const Real3&)> dirichlet_value = {});
+                     CompositeBoundary boundary, std::function<double(const Real3&)> dirichlet_value = {},
+                     DirichletFaces dirichlet_faces = {});
   ~CompositeOperators();
   CompositeOperators(const CompositeOperators&) = delete;
   CompositeOperators& operator=(const CompositeOperators&) = delete;
@@ -90,6 +98,11 @@ class CompositeOperators {
   Vec volumes() const { return volumes_; }
   /// The faces this rank owns, in the order of the face vectors' owned entries.
   const std::vector<CompositeFace>& owned_faces() const { return faces_; }
+  /// Whether the boundary face of `cell` of `level` on its side `side` (2 d + upper) is a composite face
+  /// (a Dirichlet face). The one place that decides it, for the face numbering of CompositeVelocity too.
+  bool boundary_face(int level, const Index3& cell, int side) const;
+  /// True when some boundary face is a Dirichlet face (the pressure then has no free constant).
+  bool any_dirichlet() const { return any_dirichlet_; }
 
   /// New vectors laid out like cells / faces; the caller destroys them.
   Vec create_cell_vector() const;
@@ -110,6 +123,9 @@ class CompositeOperators {
   Mat gradient_ = nullptr, laplacian_ = nullptr;
   Vec weights_ = nullptr, boundary_part_ = nullptr, volumes_ = nullptr;
   std::vector<CompositeFace> faces_;
+  CompositeBoundary boundary_;
+  DirichletFaces dirichlet_faces_;
+  bool any_dirichlet_ = false;
 };
 
 /// Conjugate gradients preconditioned by hypre BoomerAMG on the assembled composite matrix. Options

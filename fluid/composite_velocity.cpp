@@ -111,8 +111,12 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
       for (const int side : {-1, 1}) {
         Index3 neighbour = cell.index;
         neighbour[d] += side;
-        if (!h.domain_box(l).contains(neighbour)) continue;
-        if (h.box_containing(l, neighbour) >= 0 && (side > 0 || h.covered(l, neighbour))) continue;
+        if (!h.domain_box(l).contains(neighbour) &&
+            !operators.boundary_face(l, cell.index, side_index(d, side > 0)))
+          continue;
+        if (h.domain_box(l).contains(neighbour) && h.box_containing(l, neighbour) >= 0 &&
+            (side > 0 || h.covered(l, neighbour)))
+          continue;
         FaceKey key{l, d, cell.index};
         if (side > 0) ++key.index[d];
         indices_[pack(key)] = next++;
@@ -228,9 +232,17 @@ CompositeVelocity::Kind CompositeVelocity::classify(const FaceKey& k) const
     const PetscInt top = e == d ? n[e] : n[e] - 1;
     if (k.index[e] < 0 || k.index[e] > top) return Kind::outside_domain;
   }
-  if (k.index[d] == 0 || k.index[d] == n[d]) return Kind::wall;
   Index3 lower = k.index;
   --lower[d];
+  if (k.index[d] == 0 || k.index[d] == n[d]) {
+    // A boundary face: an unknown (or fine/coarse data, like any face) where the pressure is given, a wall
+    // otherwise.
+    const bool upper = k.index[d] == n[d];
+    const Index3& inside = upper ? lower : k.index;
+    if (!operators_->boundary_face(k.level, inside, side_index(d, upper))) return Kind::wall;
+    if (h.box_containing(k.level, inside) < 0) return Kind::outside_level;
+    return h.covered(k.level, inside) ? Kind::covered : Kind::unknown;
+  }
   const bool in_lower = h.box_containing(k.level, lower) >= 0,
              in_upper = h.box_containing(k.level, k.index) >= 0;
   if (!in_lower && !in_upper) return Kind::outside_level;
@@ -299,12 +311,22 @@ FaceValue CompositeVelocity::compute(const FaceKey& k) const
   const Index3& n = h.domain_cells(k.level);
   const int d = k.normal;
   if (k.index[d] < 0 || k.index[d] > n[d]) {
-    // Normal component beyond a wall: the quadratic through the wall face and the next two, at -h.
-    if (k.index[d] != -1 && k.index[d] != n[d] + 1)
-      throw std::logic_error("composite velocity: a ghost more than one face beyond a wall");
     const bool low = k.index[d] < 0;
     FaceKey wall = k, u1 = k, u2 = k;
     wall.index[d] = low ? 0 : n[d];
+    FaceKey on_side = wall; // the side's face at the nearest tangential position inside the domain
+    for (int t = 0; t < 3; ++t)
+      if (t != d) on_side.index[t] = std::clamp<PetscInt>(on_side.index[t], 0, n[t] - 1);
+    if (classify(on_side) != Kind::wall) {
+      // Beyond a traction face: du_n/dn = 0 there, the normal component is even about the side.
+      FaceKey mirror = k;
+      mirror.index[d] = low ? -k.index[d] : 2 * n[d] - k.index[d];
+      v.add(value(mirror), 1.0);
+      return v;
+    }
+    // Normal component beyond a wall: the quadratic through the wall face and the next two, at -h.
+    if (k.index[d] != -1 && k.index[d] != n[d] + 1)
+      throw std::logic_error("composite velocity: a ghost more than one face beyond a wall");
     u1.index[d] = low ? 1 : n[d] - 1;
     u2.index[d] = low ? 2 : n[d] - 2;
     v.add(value(wall), 3.0);

@@ -2,17 +2,19 @@
 // The staggered (MAC) velocity on the composite grid of a GridHierarchy (docs/nested.md, "Velocity on the
 // levels").
 //
-// Unknowns: the composite faces of CompositeOperators (built with CompositeBoundary::neumann), i.e. the
-// normal velocity on every face between two uncovered cells of one level and on every fine face of a
-// coarse-fine interface; wall faces carry the given normal velocity (zero: the box is closed). Every other
+// Unknowns: the composite faces of CompositeOperators (built with CompositeBoundary::neumann or `mixed`),
+// i.e. the normal velocity on every face between two uncovered cells of one level, on every fine face of a
+// coarse-fine interface, and on the boundary faces where the operators have a Dirichlet (pressure) face:
+// the traction sides of an open box. Wall faces carry the given normal velocity (zero). Every other
 // face value a stencil needs is an affine combination of the unknowns and of wall data (a `FaceValue`):
 //  - a face under a finer level ("covered", or a coarse face on a coarse-fine interface): tensor-product
 //    quadratic interpolation of the finer level's face values at the coarse face's centre, from finer
 //    faces inside the finer level only (so the coarse stencils see the fine solution, error O(h^3));
 //  - a face outside its level's boxes (a fine ghost): tensor-product quadratic interpolation of the coarser
 //    level's faces (which may themselves be covered: then they are fine data), error O(H^3);
-//  - a tangential-velocity ghost half a cell outside a wall: quadratic extrapolation through the wall
-//    value, g_ghost = (8 g - 6 u_1 + u_2)/3.
+//  - a tangential-velocity ghost half a cell outside a side: quadratic extrapolation through the wall
+//    value, g_ghost = (8 g - 6 u_1 + u_2)/3 (g = 0 on traction sides);
+//  - a normal-velocity ghost beyond a traction face: even about the side (du_n/dn = 0, fluid/boundary.hpp).
 // A ghost error O(h^3) makes the truncation error of the 7-point Laplacian O(h) on the layer of faces next
 // to a coarse-fine interface and O(h^2) elsewhere, which keeps the solution second order (the quadratic
 // coarse-fine interpolation of Martin & Colella 2000, J. Comput. Phys. 163:271, and Minion 1996,
@@ -63,7 +65,8 @@ std::vector<std::vector<PetscInt>> sample_windows(double s, PetscInt top);
 class CompositeVelocity {
  public:
   enum class Kind { unknown, wall, covered, outside_level, outside_domain };
-  /// `operators` gives the face numbering; it must be built with CompositeBoundary::neumann.
+  /// `operators` gives the face numbering; built with CompositeBoundary::neumann (closed box) or `mixed`
+  /// (its Dirichlet faces are the traction faces).
   explicit CompositeVelocity(const CompositeOperators& operators);
   ~CompositeVelocity();
   CompositeVelocity(const CompositeVelocity&) = delete;

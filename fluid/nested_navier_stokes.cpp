@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -105,7 +106,13 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity)
     std::vector<PetscInt> columns;
     std::vector<PetscScalar> values;
     const double hd = h.h(l, d);
-    if (below >= 0 && above >= 0) {
+    if (k.index[d] == 0 || k.index[d] == h.domain_cells(l)[d]) {
+      // A traction face: (p_b - p)/(h/2) on the upper side, (p - p_b)/(h/2) on the lower one (p_b in the
+      // boundary part, NestedNavierStokes::pressure_boundary_part), as in the two-point operators.
+      const bool upper = k.index[d] != 0;
+      columns = {upper ? below : above};
+      values = {(upper ? -2.0 : 2.0) / hd};
+    } else if (below >= 0 && above >= 0) {
       columns = {above, below};
       values = {1.0 / hd, -1.0 / hd};
     } else {
@@ -183,14 +190,54 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity)
   return g;
 }
 
+namespace {
+
+BoundaryConditions closed_box(const VelocityFunction& wall_velocity)
+{
+  BoundaryConditions bc;
+  for (int side = 0; side < 6; ++side) {
+    bc.side(side).kind = SideKind::velocity;
+    bc.side(side).velocity = wall_velocity;
+  }
+  return bc;
+}
+
+} // namespace
+
 NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy,
                                        VelocityFunction wall_velocity, const NestedFluidSettings& settings)
-    : comm_(comm), hierarchy_(&hierarchy), wall_velocity_(std::move(wall_velocity)), settings_(settings)
+    : NestedNavierStokes(comm, hierarchy, closed_box(wall_velocity), settings)
+{
+}
+
+NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, BoundaryConditions bc,
+                                       const NestedFluidSettings& settings)
+    : comm_(comm), hierarchy_(&hierarchy), bc_(std::move(bc)), settings_(settings)
 {
   if (!(settings.rho > 0.0) || !(settings.mu >= 0.0))
     throw std::invalid_argument("nested Navier-Stokes: rho must be positive and mu non-negative");
-  operators_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::two_point,
-                                                    CompositeBoundary::neumann);
+  for (int side = 0; side < 6; ++side)
+    if (bc_.side(side).kind == SideKind::periodic)
+      throw std::invalid_argument("nested Navier-Stokes: side " + side_name(side) +
+                                  " is periodic; nested levels take velocity and traction sides only");
+  // The wall data at a boundary point: the velocity side's function there (a point on an edge takes the
+  // first velocity side it lies on), zero on traction sides (zero tangential velocity, and walled parts).
+  wall_velocity_ = [this](const Real3& x, double t) {
+    const BoxGeometry& box = hierarchy_->domain();
+    for (int side = 0; side < 6; ++side) {
+      const int d = side / 2;
+      const double plane = side % 2 == 1 ? box.upper[d] : box.lower[d];
+      const BoundarySide& b = bc_.side(side);
+      if (b.kind == SideKind::velocity && b.velocity && std::abs(x[d] - plane) <= 1e-9 * box.length(d))
+        return b.velocity(x, t);
+    }
+    return Real3{0.0, 0.0, 0.0};
+  };
+  const bool open = bc_.any_traction();
+  const DirichletFaces traction = [this](int side, const Real3& x) { return bc_.traction_at(side, x); };
+  const CompositeBoundary boundary = open ? CompositeBoundary::mixed : CompositeBoundary::neumann;
+  operators_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::two_point, boundary,
+                                                    nullptr, open ? traction : DirichletFaces{});
   velocity_ops_ = std::make_unique<CompositeVelocity>(*operators_);
   Mat preconditioner = nullptr;
   if (settings.coupling == PressureCoupling::consistent) {
@@ -199,7 +246,7 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
     preconditioner = operators_->laplacian();
   } else {
     tangential_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::tangential_linear,
-                                                       CompositeBoundary::neumann);
+                                                       boundary, nullptr, open ? traction : DirichletFaces{});
     gradient_ = tangential_->gradient();
     PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(gradient_)));
     divergence_ = tangential_->gradient();
@@ -213,9 +260,12 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
     PETSC_CHECK(MatDestroy(&weighted));
   }
   if (!preconditioner) preconditioner = projection_;
-  PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &constants_));
-  PETSC_CHECK(MatSetNullSpace(projection_, constants_));
-  PETSC_CHECK(MatSetTransposeNullSpace(projection_, constants_));
+  if (!operators_->any_dirichlet()) {
+    // A closed box: the pressure is defined up to a constant.
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &constants_));
+    PETSC_CHECK(MatSetNullSpace(projection_, constants_));
+    PETSC_CHECK(MatSetTransposeNullSpace(projection_, constants_));
+  }
 
   PC pc = nullptr;
   PETSC_CHECK(KSPCreate(comm, &pressure_ksp_));
@@ -309,6 +359,10 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
     PETSC_CHECK(VecAXPY(rhs, -rho, convection_half));
     PETSC_CHECK(MatMult(gradient_, p_, work));
     PETSC_CHECK(VecAXPY(rhs, -1.0, work));
+    if (operators_->any_dirichlet()) {
+      pressure_boundary_part(t0 + 0.5 * dt, work);
+      PETSC_CHECK(VecAXPY(rhs, -1.0, work));
+    }
     PETSC_CHECK(VecAXPY(rhs, 1.0, force_));
     PETSC_CHECK(KSPSolve(velocity_ksp_, rhs, u_)); // u_ := u*
     check_reason(velocity_ksp_, "viscous");
@@ -334,6 +388,29 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
   }
   PETSC_CHECK(VecDestroy(&rhs));
   PETSC_CHECK(VecDestroy(&work));
+}
+
+void NestedNavierStokes::pressure_boundary_part(double t, Vec out) const
+{
+  const auto& faces = operators_->owned_faces();
+  const double rho = settings_.rho;
+  const PetscScalar* u = nullptr;
+  PetscScalar* c = nullptr;
+  PETSC_CHECK(VecGetArrayRead(u_, &u));
+  PETSC_CHECK(VecGetArray(out, &c));
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const CompositeFace& face = faces[f];
+    c[f] = 0.0;
+    if (!face.on_boundary) continue;
+    const BoundarySide& side = bc_.side(face.side);
+    double p_b = side.pressure ? side.pressure(face.center, t) : 0.0;
+    // Backflow stabilization (fluid/boundary.hpp): inflow through the side pays beta rho/2 (u.n)^2.
+    const double u_n = face.outward * u[f];
+    if (side.backflow > 0.0 && u_n < 0.0) p_b -= 0.5 * side.backflow * rho * u_n * u_n;
+    c[f] = face.outward * 2.0 / hierarchy_->h(face.level, face.normal) * p_b;
+  }
+  PETSC_CHECK(VecRestoreArray(out, &c));
+  PETSC_CHECK(VecRestoreArrayRead(u_, &u));
 }
 
 void NestedNavierStokes::step(double dt)
@@ -468,6 +545,69 @@ std::vector<double> NestedNavierStokes::max_divergence_by_level() const
 double NestedNavierStokes::flux(const PlaneRegion& region) const
 {
   return composite_flux(*operators_, u_, region);
+}
+
+std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& points) const
+{
+  const GridHierarchy& h = *hierarchy_;
+  const CompositeCells& cells = operators_->cells();
+  Vec p_all = nullptr;
+  VecScatter scatter = nullptr;
+  PETSC_CHECK(VecScatterCreateToAll(p_, &scatter, &p_all));
+  PETSC_CHECK(VecScatterBegin(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* p = nullptr;
+  PETSC_CHECK(VecGetArrayRead(p_all, &p));
+  // The pressure of a cell of any level: its composite value, the mean of its finer cells when covered,
+  // its coarser cell's value when outside its level.
+  std::function<double(int, const Index3&)> cell_value = [&](int l, const Index3& c) -> double {
+    if (h.box_containing(l, c) < 0) {
+      Index3 coarse;
+      for (int e = 0; e < 3; ++e) coarse[e] = floor_div(c[e], h.ratio(l));
+      return cell_value(l - 1, coarse);
+    }
+    if (const PetscInt n = cells.index(l, c); n >= 0) return p[n];
+    const PetscInt r = h.ratio(l + 1);
+    double sum = 0.0;
+    for (PetscInt k = 0; k < r; ++k)
+      for (PetscInt j = 0; j < r; ++j)
+        for (PetscInt i = 0; i < r; ++i) sum += cell_value(l + 1, {c[0] * r + i, c[1] * r + j, c[2] * r + k});
+    return sum / static_cast<double>(r * r * r);
+  };
+  std::vector<double> values(points.size(), 0.0);
+  for (std::size_t q = 0; q < points.size(); ++q) {
+    const Real3& x = points[q];
+    int level = 0;
+    for (int l = h.finest(); l > 0 && level == 0; --l) {
+      Index3 cell;
+      for (int e = 0; e < 3; ++e)
+        cell[e] = static_cast<PetscInt>(std::floor((x[e] - h.domain().lower[e]) / h.h(l, e)));
+      if (h.box_containing(l, cell) >= 0) level = l;
+    }
+    const Index3& n = h.domain_cells(level);
+    Index3 base;
+    std::array<double, 3> t{};
+    for (int e = 0; e < 3; ++e) {
+      const double s =
+          std::clamp((x[e] - h.domain().lower[e]) / h.h(level, e) - 0.5, 0.0, static_cast<double>(n[e] - 1));
+      base[e] = std::min<PetscInt>(static_cast<PetscInt>(std::floor(s)), std::max<PetscInt>(n[e] - 2, 0));
+      t[e] = s - static_cast<double>(base[e]);
+    }
+    for (int c = 0; c < 8; ++c) {
+      Index3 index = base;
+      double w = 1.0;
+      for (int e = 0; e < 3; ++e) {
+        const int bit = (c >> e) & 1;
+        index[e] = std::min(index[e] + bit, n[e] - 1);
+        w *= bit ? t[e] : 1.0 - t[e];
+      }
+      if (w != 0.0) values[q] += w * cell_value(level, index);
+    }
+  }
+  PETSC_CHECK(VecRestoreArrayRead(p_all, &p));
+  PETSC_CHECK(VecDestroy(&p_all));
+  PETSC_CHECK(VecScatterDestroy(&scatter));
+  return values;
 }
 
 std::vector<Real3> NestedNavierStokes::velocity_at(const std::vector<Real3>& points) const

@@ -9,8 +9,13 @@
 // L is the composite face Laplacian and N the convective term (centred by default, or limited upwind-biased)
 // of fluid/composite_velocity.hpp; Crank–Nicolson and Adams–Bashforth 2 as on one level
 // (fluid/navier_stokes.hpp; the first step is a Heun predictor-corrector). The velocity unknowns are the
-// composite faces of CompositeOperators; the box is closed (u.n = 0 on every side, any tangential wall
-// velocity g(x, t)).
+// composite faces of CompositeOperators. The sides (fluid/boundary.hpp) are velocity sides with u.n = 0 (any
+// tangential wall velocity g(x, t)) or traction sides (the pressure p_b(x, t) given, zero tangential
+// velocity, du_n/dn = 0; walled where their `wall(x)` says so; backflow stabilization beta). On a traction
+// face the normal velocity is an unknown (its ghost beyond the side even), the gradient there is
+// (p_b - p)/(h/2) with p_b at t^{n+1/2} less the backflow drop beta rho/2 (u^n.n)_-^2, and the projection's
+// phi is zero there (Dirichlet), so u^{n+1} sees p_b^{n+1/2}: the pressure-increment scheme with a given
+// boundary pressure (Brown, Cortez & Minion 2001, section 4). Periodic sides are refused.
 //
 // The pressure coupling (PressureCoupling):
 //  - `consistent` (default): D is the refluxed (two-point) composite divergence, exactly conservative
@@ -71,7 +76,12 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity);
 class NestedNavierStokes {
  public:
   /// `wall_velocity(x, t)`: the velocity on the walls (its normal part must be zero); empty = no slip.
+  /// A closed box: every side a velocity side.
   NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, VelocityFunction wall_velocity,
+                     const NestedFluidSettings& settings);
+  /// Any velocity (u.n = 0) and traction sides; std::invalid_argument for a periodic side. The sides'
+  /// functions are called during each step (a traction pressure may follow a Windkessel).
+  NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, BoundaryConditions bc,
                      const NestedFluidSettings& settings);
   ~NestedNavierStokes();
   NestedNavierStokes(const NestedNavierStokes&) = delete;
@@ -82,6 +92,7 @@ class NestedNavierStokes {
   const CompositeOperators& operators() const { return *operators_; }
   const CompositeVelocity& composite_velocity() const { return *velocity_ops_; }
   const NestedFluidSettings& settings() const { return settings_; }
+  const BoundaryConditions& boundary_conditions() const { return bc_; }
 
   /// u(x, t) on the composite faces and p(x, t) as p^{n-1/2} (the first step's pressure guess).
   void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
@@ -116,6 +127,10 @@ class NestedNavierStokes {
   std::vector<double> max_divergence_by_level() const;
   /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).
   double flux(const PlaneRegion& region) const;
+  /// p^{n-1/2} at the points `x` (probes): trilinear interpolation of the cell pressures of the finest level
+  /// holding each point (cell centres outside that level's boxes or the domain: the nearest cell's value
+  /// along that direction). Collective; the same values on every rank.
+  std::vector<double> pressure_at(const std::vector<Real3>& x) const;
   /// u^n at the points `x` (probes): trilinear interpolation of each component from the faces of the finest
   /// level holding the point, ghost faces as in CompositeVelocity. Collective; the same values on every rank.
   std::vector<Real3> velocity_at(const std::vector<Real3>& x) const;
@@ -132,12 +147,16 @@ class NestedNavierStokes {
 
  private:
   void advance(double dt, Vec convection_half);
+  /// The boundary part c of the pressure gradient (G p + c) on the traction faces at time t, with the
+  /// backflow drop from the current u_.
+  void pressure_boundary_part(double t, Vec out) const;
   void build_helmholtz(double dt);
   void build_finest_level();
 
   MPI_Comm comm_;
   const GridHierarchy* hierarchy_;
-  VelocityFunction wall_velocity_;
+  BoundaryConditions bc_;
+  VelocityFunction wall_velocity_; // the velocity sides' data (zero on traction sides)
   NestedFluidSettings settings_;
   std::unique_ptr<CompositeOperators> operators_, tangential_;
   std::unique_ptr<CompositeVelocity> velocity_ops_;

@@ -97,7 +97,7 @@ void nested_steps(const GridHierarchy& hierarchy, int steps, int rank)
   settings.rho = 1.0;
   settings.mu = 0.04;
   settings.velocity_rtol = settings.pressure_rtol = 1e-10;
-  NestedNavierStokes fluid(PETSC_COMM_WORLD, hierarchy, {}, settings);
+  NestedNavierStokes fluid(PETSC_COMM_WORLD, hierarchy, VelocityFunction{}, settings);
   fluid.set_initial_condition(swirl, {}, 0.0);
   fluid.set_body_force(
       [](const Real3& x, double t) {

@@ -133,7 +133,7 @@ ShellRun nested_shell(MPI_Comm comm, int steps, double dt, const TwoLevels& leve
   fluid::NestedFluidSettings settings;
   settings.rho = rho;
   settings.mu = mu;
-  fluid::NestedNavierStokes navier_stokes(comm, hierarchy, {}, settings);
+  fluid::NestedNavierStokes navier_stokes(comm, hierarchy, fluid::VelocityFunction{}, settings);
   navier_stokes.set_initial_condition(
       [](const fluid::Real3&, double) {
         return fluid::Real3{0.0, 0.0, 0.0};
@@ -239,7 +239,7 @@ TEST(NestedShell, ANodeLeavingTheFinestLevelStopsTheRun)
   fluid::NestedFluidSettings settings;
   settings.rho = rho;
   settings.mu = mu;
-  fluid::NestedNavierStokes navier_stokes(PETSC_COMM_WORLD, hierarchy, {}, settings);
+  fluid::NestedNavierStokes navier_stokes(PETSC_COMM_WORLD, hierarchy, fluid::VelocityFunction{}, settings);
   navier_stokes.set_initial_condition(
       [](const fluid::Real3&, double) {
         return fluid::Real3{0.0, 0.0, 0.0};
