@@ -30,11 +30,14 @@
 #include "fe/solid.hpp"
 #include "fe/valve_mesh.hpp"
 #include "fibers/rules.hpp"
+#include "fluid/hierarchy.hpp"
 #include "fluid/navier_stokes.hpp"
+#include "fluid/nested_navier_stokes.hpp"
 #include "fluid/queries.hpp"
 #include "hemodynamics/geometry.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
+#include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
 #include "io/errors.hpp"
@@ -193,6 +196,8 @@ void add_aortic_valve_schema(io::Schema& s)
   add_volumetric_integration_key(s, VolumetricIntegration::reduced);
   hemodynamics::add_report_schema(s, "report");
   io::add_checkpoint_schema(s);
+  // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
+  s.merge(fluid::nested_schema());
 }
 
 class AorticValveRun : public PreparedRun {
@@ -289,6 +294,7 @@ class AorticValveRun : public PreparedRun {
     orifice_resolution_ = static_cast<int>(config.integer("probes.orifice_resolution"));
     plots_ = config.boolean("report.plots");
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    if (!config.integers("nested.ratios").empty()) read_levels(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -342,30 +348,62 @@ class AorticValveRun : public PreparedRun {
       bc.side(2, 0).wall = [rin](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rin; };
     if (outlet_walled_)
       bc.side(2, 1).wall = [rout](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rout; };
-    if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
-    fluid::NavierStokes fluid(context.comm, box_, bc, fluid_);
-    fluid.set_initial_condition(
-        [](const fluid::Real3&, double) {
-          return fluid::Real3{0.0, 0.0, 0.0};
-        },
-        nullptr, 0.0);
-    ib::IbfeIntegrator ibfe(fluid, solid, ib_);
+    // The fluid: one grid (fluid::NavierStokes) or nested levels (fluid::NestedNavierStokes, the structure
+    // on the finest level). Both take the same boundary conditions; the probes below ask either.
+    const auto at_rest = [](const fluid::Real3&, double) { return fluid::Real3{0.0, 0.0, 0.0}; };
+    std::unique_ptr<fluid::NavierStokes> uniform;
+    std::unique_ptr<fluid::NestedNavierStokes> nested;
+    std::unique_ptr<ib::NestedFluid> finest;
+    std::unique_ptr<ib::IbfeIntegrator> coupling;
+    std::string grid_description;
+    if (hierarchy_) {
+      nested = std::make_unique<fluid::NestedNavierStokes>(context.comm, *hierarchy_, bc, nested_settings_);
+      nested->set_initial_condition(at_rest, nullptr, 0.0);
+      finest = std::make_unique<ib::NestedFluid>(*nested);
+      coupling = std::make_unique<ib::IbfeIntegrator>(*finest, solid, ib_);
+      grid_description = describe_levels(*hierarchy_);
+    } else {
+      if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
+      uniform = std::make_unique<fluid::NavierStokes>(context.comm, box_, bc, fluid_);
+      uniform->set_initial_condition(at_rest, nullptr, 0.0);
+      coupling = std::make_unique<ib::IbfeIntegrator>(*uniform, solid, ib_);
+      grid_description = "grid " + std::to_string(box_.cells[0]) + " x " + std::to_string(box_.cells[1]) +
+                         " x " + std::to_string(box_.cells[2]);
+    }
+    ib::IbfeIntegrator& ibfe = *coupling;
     windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
     const ib::StabilityEstimate stability = ibfe.stability_estimate();
     log.info("aortic valve: " + std::to_string(mesh_.num_elements()) + " elements (" +
              std::to_string(leaflet_elements.size()) + " in the leaflets), " +
-             std::to_string(mesh_.num_nodes()) + " nodes; grid " + std::to_string(box_.cells[0]) + " x " +
-             std::to_string(box_.cells[1]) + " x " + std::to_string(box_.cells[2]) + "; dt " +
+             std::to_string(mesh_.num_nodes()) + " nodes; " + grid_description + "; dt " +
              std::to_string(dt) + " s (stability estimate " + std::to_string(stability.dt) +
              " s); leaflets " + leaflet_material_.describe() + "; fibers " + config_.string("fibers.rule"));
 
     // Probes from the geometry.
     const fluid::Real3 axis{0.0, 0.0, 0.0};
-    const auto valve_plane = fluid::PlaneRegion::disk(2, flow_plane_z_, axis, geometry_.tube_radius);
-    const double h_z = (box_.upper[2] - box_.lower[2]) / static_cast<double>(box_.cells[2]);
-    const double outlet_z = box_.upper[2] - 0.5 * h_z;
+    double valve_z = flow_plane_z_;
+    double outlet_z = box_.upper[2] - 0.5 * box_.spacing(2);
+    if (nested) {
+      // Fluxes on nested levels are sums over composite faces of a level-0 face plane: the valve plane
+      // moves to the nearest one (any section of the rigid tube carries the same flow), the outlet flux is
+      // the one through the outlet side's disk itself.
+      const double h0 = hierarchy_->h(0, 2);
+      valve_z = box_.lower[2] + h0 * std::round((flow_plane_z_ - box_.lower[2]) / h0);
+      outlet_z = box_.upper[2];
+      log.info("nested levels: the flow plane Q_valve at z = " + std::to_string(valve_z) +
+               " cm (the level-0 face plane nearest to " + std::to_string(flow_plane_z_) + " cm)");
+    }
+    const auto valve_plane = fluid::PlaneRegion::disk(2, valve_z, axis, geometry_.tube_radius);
     const auto outlet_plane = fluid::PlaneRegion::disk(2, outlet_z, axis, outlet_radius_);
-    const fluid::Real3 p_lv_at{0.0, 0.0, box_.lower[2] + 0.5 * h_z}, p_ao_at{0.0, 0.0, outlet_z};
+    const double h_z = nested ? hierarchy_->h(0, 2) : box_.spacing(2);
+    auto volume_flux = [&](const fluid::PlaneRegion& plane) {
+      return nested ? nested->flux(plane) : fluid::volume_flux(*uniform, plane);
+    };
+    auto pressure_at = [&](const fluid::Real3& x) {
+      return nested ? nested->pressure_at({x})[0] : fluid::pressure_at(*uniform, x);
+    };
+    const fluid::Real3 p_lv_at{0.0, 0.0, box_.lower[2] + 0.5 * h_z},
+        p_ao_at{0.0, 0.0, box_.upper[2] - 0.5 * h_z};
     const fluid::Real3 p_nlv_at{0.0, 0.0, near_lv_z_}, p_nao_at{0.0, 0.0, near_ao_z_};
     std::vector<hemodynamics::Quad> leaflet_faces;
     for (int e : leaflet_elements) {
@@ -407,7 +445,12 @@ class AorticValveRun : public PreparedRun {
             outlet_flow = saved[4];
             largest_area = saved[5];
             smallest_area = saved[6];
-            fluid.restore(h5, "fluid");
+            if (nested) {
+              nested->restore(h5, "nested_fluid");
+              finest->copy_velocity();
+            } else {
+              uniform->restore(h5, "fluid");
+            }
             ibfe.restore(h5, "ibfe");
           });
       first_step = static_cast<long>(header.step);
@@ -415,9 +458,12 @@ class AorticValveRun : public PreparedRun {
       rows = header.timeseries_rows;
     }
     auto save = [&](long n) {
-      save_fftw_plans(context);
+      if (uniform) save_fftw_plans(context);
       return checkpoints.write({n, ibfe.time(), rows}, [&](io::Hdf5File& h5) {
-        fluid.save(h5, "fluid");
+        if (nested)
+          nested->save(h5, "nested_fluid");
+        else
+          uniform->save(h5, "fluid");
         ibfe.save(h5, "ibfe");
         const windkessel::WindkesselState& w = outlet.state();
         const std::vector<double> saved{w.time,      w.reservoir_pressure, w.flow,       outlet_pressure,
@@ -430,9 +476,9 @@ class AorticValveRun : public PreparedRun {
       csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart);
     auto record = [&] {
       const double t = ibfe.time();
-      const double q_valve = fluid::volume_flux(fluid, valve_plane);
-      const double p_lv = fluid::pressure_at(fluid, p_lv_at), p_ao = fluid::pressure_at(fluid, p_ao_at);
-      const double p_nlv = fluid::pressure_at(fluid, p_nlv_at), p_nao = fluid::pressure_at(fluid, p_nao_at);
+      const double q_valve = volume_flux(valve_plane);
+      const double p_lv = pressure_at(p_lv_at), p_ao = pressure_at(p_ao_at);
+      const double p_nlv = pressure_at(p_nlv_at), p_nao = pressure_at(p_nao_at);
       const double area = orifice_area();
       largest_area = std::max(largest_area, area);
       smallest_area = std::min(smallest_area, area);
@@ -446,12 +492,19 @@ class AorticValveRun : public PreparedRun {
       ++rows;
     };
 
+    auto write_fields = [&](long n) {
+      if (nested)
+        write_ibfe_fields(context.comm, directory, series, mesh_, *nested, ibfe, n);
+      else
+        write_ibfe_fields(context.comm, directory, series, mesh_, *uniform, ibfe, n);
+    };
+
     RunSummary summary;
     const long steps = cycles_ * steps_per_cycle_;
     log.start_clock();
     if (!context.restart) {
       record();
-      if (fields_every_ > 0) write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, 0);
+      if (fields_every_ > 0) write_fields(0);
     }
     const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     for (long n = first_step + 1; n <= last_step; ++n) {
@@ -462,11 +515,10 @@ class AorticValveRun : public PreparedRun {
         throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
                        " s): " + e.what() + " (try a smaller time.step or a finer grid)");
       }
-      outlet_flow = fluid::volume_flux(fluid, outlet_plane);
+      outlet_flow = volume_flux(outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
-      if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps))
-        write_ibfe_fields(context.comm, directory, series, mesh_, fluid, ibfe, n);
+      if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps)) write_fields(n);
       log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();
@@ -485,12 +537,57 @@ class AorticValveRun : public PreparedRun {
            << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ", points "
            << t.points / t.steps << ") over " << t.steps << " steps; orifice area " << smallest_area << " to "
            << largest_area << " cm^2";
+    if (nested) {
+      const fluid::NestedStepStatistics& f = nested->statistics();
+      const double n = static_cast<double>(std::max<PetscInt>(f.steps, 1));
+      timing << "; nested fluid per step: convection " << f.seconds_convection / n << " s, viscous "
+             << f.seconds_velocity / n << " s (" << f.velocity_iterations << " iterations), projection "
+             << f.seconds_pressure / n << " s (" << f.pressure_iterations << " iterations)";
+    }
     summary.lines.push_back(timing.str());
     return summary;
   }
 
  private:
   static std::string leaflet(int k) { return "leaflet" + std::to_string(k); }
+
+  // Nested levels (docs/nested.md): placed around the valve and tube (or given as [[nested.box]]), the
+  // finest level one box holding the whole structure with the kernel's reach.
+  void read_levels(const io::Config& config)
+  {
+    fluid::PhysicalBox bounds;
+    for (int d = 0; d < 3; ++d) {
+      bounds.lower[d] = 1e300;
+      bounds.upper[d] = -1e300;
+    }
+    for (const fe::Vec3& X : mesh_.nodes())
+      for (int d = 0; d < 3; ++d) {
+        bounds.lower[d] = std::min(bounds.lower[d], X[d]);
+        bounds.upper[d] = std::max(bounds.upper[d], X[d]);
+      }
+    const int reach = (ib::DeltaKernel(ib_.kernel).support() + 1) / 2;
+    hierarchy_ = std::make_unique<fluid::GridHierarchy>(
+        fluid::read_hierarchy(config, box_, bounds, "nested.box", reach));
+    if (hierarchy_->boxes(hierarchy_->finest()).size() != 1)
+      config.fail("nested.box", "the finest level must be one box: the valve and tube live on it");
+    nested_settings_.rho = fluid_.rho;
+    nested_settings_.mu = fluid_.mu;
+    nested_settings_.convection = fluid_.convection;
+    nested_settings_.velocity_rtol = fluid_.rtol;
+    nested_settings_.pressure_rtol = fluid_.rtol;
+  }
+
+  static std::string describe_levels(const fluid::GridHierarchy& h)
+  {
+    std::ostringstream s;
+    s.precision(4);
+    PetscInt cells = 0;
+    for (int l = 0; l < h.levels(); ++l) cells += h.uncovered_cells(l);
+    s << h.levels() << " nested levels (" << cells << " composite cells; level 0 " << h.domain_cells(0)[0]
+      << " x " << h.domain_cells(0)[1] << " x " << h.domain_cells(0)[2] << ", finest spacing "
+      << h.h(h.finest(), 0) << " cm)";
+    return s.str();
+  }
 
   void write_report(const RunContext& context, RunSummary& summary, long cycle) const
   {
@@ -525,6 +622,8 @@ class AorticValveRun : public PreparedRun {
   int orifice_resolution_ = 256;
   bool plots_ = true;
   io::CheckpointSettings checkpoint_settings_;
+  std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
+  fluid::NestedFluidSettings nested_settings_;
 };
 
 } // namespace

@@ -1,11 +1,14 @@
 #include "app/ibfe_fields.hpp"
 
+#include <array>
 #include <cstdio>
 #include <sstream>
 #include <vector>
 
 #include "fe/element.hpp"
+#include "fluid/composite_output.hpp"
 #include "fluid/output.hpp"
+#include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
 
@@ -64,6 +67,23 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   io::XdmfGrid grid = fluid::write_fields(h5, fluid, "fluid", file);
   io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
   series.add_step(ibfe.time(), {grid, structure});
+}
+
+void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+                       const fe::Mesh& mesh, const fluid::NestedNavierStokes& fluid,
+                       const ib::IbfeIntegrator& ibfe, long step)
+{
+  const std::string file = fields_file_name(step);
+  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
+  std::array<Vec, 3> velocity{};
+  for (Vec& v : velocity) v = fluid.operators().create_cell_vector();
+  fluid.cell_velocity(velocity);
+  std::vector<io::XdmfGrid> grids =
+      fluid::write_composite_fields(h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid",
+                                    file, "fluid_", {{"velocity", velocity}});
+  for (Vec& v : velocity) PETSC_CHECK(VecDestroy(&v));
+  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
+  series.add_step(ibfe.time(), grids);
 }
 
 std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,

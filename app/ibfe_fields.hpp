@@ -11,6 +11,7 @@
 
 #include "fe/mesh.hpp"
 #include "fluid/navier_stokes.hpp"
+#include "fluid/nested_navier_stokes.hpp"
 #include "ib/ibfe.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
@@ -32,6 +33,12 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
 void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
                        const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
                        long step);
+
+/// The same on nested levels: the composite pressure and cell-centred velocity of every level box
+/// (fluid/composite_output.hpp; covered cells averaged from the finer level) and the structure.
+void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+                       const fe::Mesh& mesh, const fluid::NestedNavierStokes& fluid,
+                       const ib::IbfeIntegrator& ibfe, long step);
 
 /// The closing lines of an IB/FE run's summary: time per coupled step and its parts (then `after_parts`,
 /// e.g. solver iterations), the structure's volume change from `initial_volume`, and where the fields

@@ -1,7 +1,6 @@
 #include "app/ibfe_nested_run.hpp"
 
 #include <array>
-#include <filesystem>
 #include <sstream>
 #include <string>
 
@@ -9,12 +8,9 @@
 
 #include "app/ibfe_fields.hpp"
 #include "app/ibfe_run_loop.hpp"
-#include "fluid/composite_output.hpp"
 #include "ib/eulerian_fluid.hpp"
-#include "io/hdf5.hpp"
 #include "io/logger.hpp"
 #include "io/petsc_check.hpp"
-#include "io/xdmf.hpp"
 
 namespace ibvalve::app {
 
@@ -31,25 +27,6 @@ double composite_kinetic_energy(const fluid::NestedNavierStokes& fluid)
   PETSC_CHECK(VecDot(squared, fluid.operators().weights(), &sum));
   PETSC_CHECK(VecDestroy(&squared));
   return 0.5 * fluid.settings().rho * sum;
-}
-
-void write_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                  const fluid::NestedNavierStokes& fluid, const fe::Mesh& mesh,
-                  const ib::IbfeIntegrator& ibfe, long step)
-{
-  const std::string file = fields_file_name(step);
-  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The fluid: composite cell pressure and cell-centred velocity on every level box (covered cells
-  // averaged from the finer level).
-  std::array<Vec, 3> velocity{};
-  for (Vec& v : velocity) v = fluid.operators().create_cell_vector();
-  fluid.cell_velocity(velocity);
-  std::vector<io::XdmfGrid> grids =
-      fluid::write_composite_fields(h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid",
-                                    file, "fluid_", {{"velocity", velocity}});
-  for (Vec& v : velocity) PETSC_CHECK(VecDestroy(&v));
-  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
-  series.add_step(ibfe.time(), grids);
 }
 
 } // namespace
@@ -89,7 +66,7 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
   IbfeFluidHooks hooks;
   hooks.kinetic_energy = [&] { return composite_kinetic_energy(fluid); };
   hooks.write_fields = [&](io::XdmfTimeSeries& series, long step) {
-    write_fields(context.comm, context.run_directory, series, fluid, *c.mesh, ibfe, step);
+    write_ibfe_fields(context.comm, context.run_directory, series, *c.mesh, fluid, ibfe, step);
   };
   hooks.save = [&](io::Hdf5File& h5) { fluid.save(h5, "nested_fluid"); };
   hooks.restore = [&](const io::Hdf5File& h5) {

@@ -23,19 +23,26 @@ namespace {
 // BoomerAMG's settings for the viscous solve (3D, wide stencils from the quadratic coarse-fine ghosts),
 // unless the user chose others: HMIS coarsening, extended+i interpolation, strength threshold 0.5, at most 4
 // interpolation weights per row (Falgout coarsening and classical interpolation, PETSc's defaults, cost
-// several times more per solve here). The projection keeps PETSc's defaults: with these settings it is
-// faster on the valve bench grid but GMRES breaks down in the ratio-4 Taylor-Green test (docs/nested.md).
-// `prefix` is the solver's options prefix with its leading dash.
-void set_default_amg_options(const std::string& prefix)
+// several times more per solve here). The projection takes them too when the box has pressure sides (its
+// operator is then non-singular): 1.7x faster on the study's valve grid. In a closed box it keeps PETSc's
+// defaults: with these settings GMRES breaks down on the singular operator of the ratio-4 Taylor-Green test
+// on 2 ranks (docs/nested.md). `prefix` is the solver's options prefix with its leading dash; returns the
+// options it set (those the user had not).
+std::vector<std::string> set_default_amg_options(const std::string& prefix)
 {
   const std::vector<std::pair<std::string, std::string>> defaults{
       {"coarsen_type", "HMIS"}, {"interp_type", "ext+i"}, {"strong_threshold", "0.5"}, {"P_max", "4"}};
+  std::vector<std::string> added;
   for (const auto& [name, value] : defaults) {
     const std::string option = prefix + "pc_hypre_boomeramg_" + name;
     PetscBool set = PETSC_FALSE;
     PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, option.c_str(), &set));
-    if (!set) PETSC_CHECK(PetscOptionsSetValue(nullptr, option.c_str(), value.c_str()));
+    if (!set) {
+      PETSC_CHECK(PetscOptionsSetValue(nullptr, option.c_str(), value.c_str()));
+      added.push_back(option);
+    }
   }
+  return added;
 }
 
 PetscInt floor_div(PetscInt a, PetscInt b)
@@ -282,7 +289,14 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
   PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.pressure_rtol, 1e-50, PETSC_DEFAULT, 1000));
   PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.prefix + "pressure_").c_str()));
-  PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
+  {
+    // Set for this solver only: a closed-box solver made later in the process keeps PETSc's defaults.
+    const std::vector<std::string> added = operators_->any_dirichlet()
+                                               ? set_default_amg_options("-" + settings.prefix + "pressure_")
+                                               : std::vector<std::string>{};
+    PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
+    for (const std::string& option : added) PETSC_CHECK(PetscOptionsClearValue(nullptr, option.c_str()));
+  }
 
   set_default_amg_options("-" + settings.prefix + "velocity_");
   PETSC_CHECK(KSPCreate(comm, &velocity_ksp_));

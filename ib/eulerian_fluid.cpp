@@ -1,5 +1,6 @@
 #include "ib/eulerian_fluid.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include "fluid/navier_stokes.hpp"
@@ -96,10 +97,17 @@ double NestedFluid::viscosity() const
 void NestedFluid::require_inside(std::span<const Vec3> nodes, int reach) const
 {
   const fluid::BoxGeometry& box = grid().box();
+  const fluid::BoxGeometry& domain = fluid_.hierarchy().domain();
   for (std::size_t n = 0; n < nodes.size(); ++n)
     for (int d = 0; d < 3; ++d) {
+      // A side of the finest box on the domain's side is no edge of the level: the kernel meets the
+      // boundary there as on one grid (a vessel's end beside an open side).
+      const double tolerance = 1e-9 * domain.length(d);
       const double room = reach * grid().h(d);
-      if (!(nodes[n][d] >= box.lower[d] + room && nodes[n][d] <= box.upper[d] - room)) {
+      const double lower =
+          std::abs(box.lower[d] - domain.lower[d]) < tolerance ? -1e300 : box.lower[d] + room;
+      const double upper = std::abs(box.upper[d] - domain.upper[d]) < tolerance ? 1e300 : box.upper[d] - room;
+      if (!(nodes[n][d] >= lower && nodes[n][d] <= upper)) {
         std::ostringstream msg;
         msg << "ib: structure node " << n << " at (" << nodes[n][0] << ", " << nodes[n][1] << ", "
             << nodes[n][2] << ") cm left the finest grid level (level " << fluid_.hierarchy().finest()

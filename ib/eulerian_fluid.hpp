@@ -90,7 +90,8 @@ class NestedFluid final : public EulerianFluid {
   double density() const override;
   double viscosity() const override;
   /// RunError naming the first node (by index) outside the finest level's box less `reach` cells, the
-  /// box and the time.
+  /// box and the time. Sides of the box on the domain's sides are not checked (the boundary is met as on
+  /// one grid).
   void require_inside(std::span<const Vec3> nodes, int reach) const override;
 
   void copy_velocity();
