@@ -509,6 +509,37 @@ void read_vector(const io::Hdf5File& file, const std::string& name, Vec v)
   PETSC_CHECK(VecRestoreArray(v, &a));
 }
 
+/// The finest level whose boxes hold the point x (0 when none does).
+int finest_level_holding(const GridHierarchy& h, const Real3& x)
+{
+  for (int l = h.finest(); l > 0; --l) {
+    Index3 cell;
+    for (int e = 0; e < 3; ++e)
+      cell[e] = static_cast<PetscInt>(std::floor((x[e] - h.domain().lower[e]) / h.h(l, e)));
+    if (h.box_containing(l, cell) >= 0) return l;
+  }
+  return 0;
+}
+
+/// Every rank's copy of the distributed vector v (collective).
+std::vector<double> gather_to_all(Vec v)
+{
+  Vec all = nullptr;
+  VecScatter scatter = nullptr;
+  PETSC_CHECK(VecScatterCreateToAll(v, &scatter, &all));
+  PETSC_CHECK(VecScatterBegin(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt n = 0;
+  PETSC_CHECK(VecGetLocalSize(all, &n));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(all, &a));
+  std::vector<double> values(a, a + n);
+  PETSC_CHECK(VecRestoreArrayRead(all, &a));
+  PETSC_CHECK(VecDestroy(&all));
+  PETSC_CHECK(VecScatterDestroy(&scatter));
+  return values;
+}
+
 } // namespace
 
 void NestedNavierStokes::save(io::Hdf5File& file, const std::string& group) const
@@ -565,13 +596,7 @@ std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& po
 {
   const GridHierarchy& h = *hierarchy_;
   const CompositeCells& cells = operators_->cells();
-  Vec p_all = nullptr;
-  VecScatter scatter = nullptr;
-  PETSC_CHECK(VecScatterCreateToAll(p_, &scatter, &p_all));
-  PETSC_CHECK(VecScatterBegin(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* p = nullptr;
-  PETSC_CHECK(VecGetArrayRead(p_all, &p));
+  const std::vector<double> p = gather_to_all(p_);
   // The pressure of a cell of any level: its composite value, the mean of its finer cells when covered,
   // its coarser cell's value when outside its level.
   std::function<double(int, const Index3&)> cell_value = [&](int l, const Index3& c) -> double {
@@ -580,7 +605,7 @@ std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& po
       for (int e = 0; e < 3; ++e) coarse[e] = floor_div(c[e], h.ratio(l));
       return cell_value(l - 1, coarse);
     }
-    if (const PetscInt n = cells.index(l, c); n >= 0) return p[n];
+    if (const PetscInt n = cells.index(l, c); n >= 0) return p[static_cast<std::size_t>(n)];
     const PetscInt r = h.ratio(l + 1);
     double sum = 0.0;
     for (PetscInt k = 0; k < r; ++k)
@@ -591,13 +616,7 @@ std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& po
   std::vector<double> values(points.size(), 0.0);
   for (std::size_t q = 0; q < points.size(); ++q) {
     const Real3& x = points[q];
-    int level = 0;
-    for (int l = h.finest(); l > 0 && level == 0; --l) {
-      Index3 cell;
-      for (int e = 0; e < 3; ++e)
-        cell[e] = static_cast<PetscInt>(std::floor((x[e] - h.domain().lower[e]) / h.h(l, e)));
-      if (h.box_containing(l, cell) >= 0) level = l;
-    }
+    const int level = finest_level_holding(h, x);
     const Index3& n = h.domain_cells(level);
     Index3 base;
     std::array<double, 3> t{};
@@ -618,9 +637,6 @@ std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& po
       if (w != 0.0) values[q] += w * cell_value(level, index);
     }
   }
-  PETSC_CHECK(VecRestoreArrayRead(p_all, &p));
-  PETSC_CHECK(VecDestroy(&p_all));
-  PETSC_CHECK(VecScatterDestroy(&scatter));
   return values;
 }
 
@@ -632,13 +648,7 @@ std::vector<Real3> NestedNavierStokes::velocity_at(const std::vector<Real3>& poi
   std::vector<std::array<std::array<std::pair<const FaceValue*, double>, 8>, 3>> stencils(points.size());
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Real3& x = points[p];
-    int level = 0;
-    for (int l = h.finest(); l > 0 && level == 0; --l) {
-      Index3 cell;
-      for (int e = 0; e < 3; ++e)
-        cell[e] = static_cast<PetscInt>(std::floor((x[e] - h.domain().lower[e]) / h.h(l, e)));
-      if (h.box_containing(l, cell) >= 0) level = l;
-    }
+    const int level = finest_level_holding(h, x);
     const Index3& n = h.domain_cells(level);
     for (int d = 0; d < 3; ++d) {
       Index3 base;
@@ -716,13 +726,7 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
   const std::vector<double> all = velocity_ops_->gather(u_);
   const std::vector<double> data = velocity_ops_->data_values(wall_velocity_, time_);
   // The pressure of the owned finest cells (all composite cells of the finest level are uncovered).
-  Vec p_all = nullptr;
-  VecScatter scatter = nullptr;
-  PETSC_CHECK(VecScatterCreateToAll(p_, &scatter, &p_all));
-  PETSC_CHECK(VecScatterBegin(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(scatter, p_, p_all, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* p = nullptr;
-  PETSC_CHECK(VecGetArrayRead(p_all, &p));
+  const std::vector<double> p = gather_to_all(p_);
   const GridHierarchy& h = *hierarchy_;
   const IndexBox& box = h.boxes(h.finest())[0];
   {
@@ -737,12 +741,9 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
           }
           const PetscInt c =
               operators_->cells().index(h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k});
-          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
+          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[static_cast<std::size_t>(c)] : 0.0;
         }
   }
-  PETSC_CHECK(VecRestoreArrayRead(p_all, &p));
-  PETSC_CHECK(VecDestroy(&p_all));
-  PETSC_CHECK(VecScatterDestroy(&scatter));
 }
 
 void NestedNavierStokes::add_force_from_finest(Vec local)

@@ -19,6 +19,7 @@
 
 #include "fluid/nested_navier_stokes.hpp"
 #include "io/petsc_check.hpp"
+#include "tests/fluid/manufactured_force.hpp"
 
 namespace ibvalve::fluid {
 namespace {
@@ -57,27 +58,7 @@ double manufactured_pressure(const Real3& x, double t)
 }
 Real3 manufactured_force(const Real3& x, double t)
 {
-  constexpr double d = 1e-4;
-  const Real3 u = manufactured(x, t);
-  Real3 f{};
-  for (int c = 0; c < 3; ++c) {
-    const double dudt = (manufactured(x, t + d)[c] - manufactured(x, t - d)[c]) / (2.0 * d);
-    double advection = 0.0, laplacian = 0.0;
-    for (int e = 0; e < 3; ++e) {
-      Real3 up = x, down = x;
-      up[e] += d;
-      down[e] -= d;
-      const double a = manufactured(up, t)[c], b = manufactured(down, t)[c];
-      advection += u[e] * (a - b) / (2.0 * d);
-      laplacian += (a - 2.0 * u[c] + b) / (d * d);
-    }
-    Real3 up = x, down = x;
-    up[c] += d;
-    down[c] -= d;
-    const double dpdx = (manufactured_pressure(up, t) - manufactured_pressure(down, t)) / (2.0 * d);
-    f[c] = dudt + advection + dpdx - nu * laplacian;
-  }
-  return f;
+  return testing::manufactured_force(manufactured, manufactured_pressure, 1.0, nu, x, t);
 }
 
 struct Problem {

@@ -27,6 +27,7 @@
 
 #include "fluid/nested_navier_stokes.hpp"
 #include "io/petsc_check.hpp"
+#include "tests/fluid/manufactured_force.hpp"
 
 namespace ibvalve::fluid {
 namespace {
@@ -56,26 +57,9 @@ struct Flow {
   }
   Real3 force(const Real3& x, double t) const
   {
-    constexpr double d = 1e-4;
-    const Real3 u = velocity(x, t);
-    Real3 f{};
-    for (int c = 0; c < 3; ++c) {
-      const double dudt = (velocity(x, t + d)[c] - velocity(x, t - d)[c]) / (2.0 * d);
-      double advection = 0.0, laplacian = 0.0;
-      for (int e = 0; e < 3; ++e) {
-        Real3 up = x, down = x;
-        up[e] += d;
-        down[e] -= d;
-        const double a = velocity(up, t)[c], b = velocity(down, t)[c];
-        advection += u[e] * (a - b) / (2.0 * d);
-        laplacian += (a - 2.0 * u[c] + b) / (d * d);
-      }
-      Real3 up = x, down = x;
-      up[c] += d;
-      down[c] -= d;
-      f[c] = dudt + advection + (pressure(up, t) - pressure(down, t)) / (2.0 * d) - nu * laplacian;
-    }
-    return f;
+    return testing::manufactured_force([this](const Real3& y, double s) { return velocity(y, s); },
+                                       [this](const Real3& y, double s) { return pressure(y, s); }, 1.0, nu,
+                                       x, t);
   }
 };
 
