@@ -5,7 +5,9 @@
 // side (z lower) carries the LV pressure in a disk of the tube's radius, the outlet side (z upper) the
 // pressure of a three-element Windkessel fed with the outlet flux each step, zero pressure elsewhere.
 // Probes come from the geometry; the orifice area from the deformed leaflets; the report is written at
-// the end of every cycle.
+// the end of every cycle. With `nested.ratios` the fluid is fluid::NestedNavierStokes on nested levels
+// placed around the valve and tube, with the same sides, and the structure lives on the finest level
+// (docs/nested.md, "The aortic-valve case on nested levels").
 //
 // Windkessel coupling: explicit, lagged by one step. Step n uses P_Ao^n as the outlet pressure; after
 // it the flux Q^{n+1} through the outlet disk advances the Windkessel (linear flow over the step,
