@@ -401,8 +401,11 @@ class AorticValveRun : public PreparedRun {
     auto volume_flux = [&](const fluid::PlaneRegion& plane) {
       return nested ? nested->flux(plane) : fluid::volume_flux(*uniform, plane);
     };
-    auto pressure_at = [&](const fluid::Real3& x) {
-      return nested ? nested->pressure_at({x})[0] : fluid::pressure_at(*uniform, x);
+    auto pressures_at = [&](const std::vector<fluid::Real3>& points) {
+      if (nested) return nested->pressure_at(points); // one gather of the composite pressure for all
+      std::vector<double> p;
+      for (const fluid::Real3& x : points) p.push_back(fluid::pressure_at(*uniform, x));
+      return p;
     };
     const fluid::Real3 p_lv_at{0.0, 0.0, box_.lower[2] + 0.5 * h_z},
         p_ao_at{0.0, 0.0, box_.upper[2] - 0.5 * h_z};
@@ -479,8 +482,8 @@ class AorticValveRun : public PreparedRun {
     auto record = [&] {
       const double t = ibfe.time();
       const double q_valve = volume_flux(valve_plane);
-      const double p_lv = pressure_at(p_lv_at), p_ao = pressure_at(p_ao_at);
-      const double p_nlv = pressure_at(p_nlv_at), p_nao = pressure_at(p_nao_at);
+      const std::vector<double> p = pressures_at({p_lv_at, p_ao_at, p_nlv_at, p_nao_at});
+      const double p_lv = p[0], p_ao = p[1], p_nlv = p[2], p_nao = p[3];
       const double area = orifice_area();
       largest_area = std::max(largest_area, area);
       smallest_area = std::min(smallest_area, area);
