@@ -23,6 +23,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
+#include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
 #include "app/structure_parts.hpp"
@@ -560,21 +561,8 @@ class AorticValveRun : public PreparedRun {
   // finest level one box holding the whole structure with the kernel's reach.
   void read_levels(const io::Config& config)
   {
-    fluid::PhysicalBox bounds;
-    for (int d = 0; d < 3; ++d) {
-      bounds.lower[d] = 1e300;
-      bounds.upper[d] = -1e300;
-    }
-    for (const fe::Vec3& X : mesh_.nodes())
-      for (int d = 0; d < 3; ++d) {
-        bounds.lower[d] = std::min(bounds.lower[d], X[d]);
-        bounds.upper[d] = std::max(bounds.upper[d], X[d]);
-      }
-    const int reach = (ib::DeltaKernel(ib_.kernel).support() + 1) / 2;
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        fluid::read_hierarchy(config, box_, bounds, "nested.box", reach));
-    if (hierarchy_->boxes(hierarchy_->finest()).size() != 1)
-      config.fail("nested.box", "the finest level must be one box: the valve and tube live on it");
+        read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
     nested_settings_.rho = fluid_.rho;
     nested_settings_.mu = fluid_.mu;
     nested_settings_.convection = fluid_.convection;

@@ -275,22 +275,11 @@ class IbfeRun : public PreparedRun {
       config.fail(
           "nested.ratios",
           "nested grid levels need fluid.boundary = \"walls\" (the composite solver has no periodic box)");
-    fluid::PhysicalBox bounds;
-    for (int d = 0; d < 3; ++d) {
-      bounds.lower[d] = 1e300;
-      bounds.upper[d] = -1e300;
-    }
-    for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
-      for (int d = 0; d < 3; ++d) {
-        const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
-        bounds.lower[d] = std::min(bounds.lower[d], x);
-        bounds.upper[d] = std::max(bounds.upper[d], x);
-      }
-    const int reach = (ib::DeltaKernel(settings_.kernel).support() + 1) / 2;
+    std::vector<fe::Vec3> positions(mesh_.num_nodes());
+    for (std::size_t n = 0; n < positions.size(); ++n)
+      for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        fluid::read_hierarchy(config, box_, bounds, "structure.shape", reach));
-    if (hierarchy_->boxes(hierarchy_->finest()).size() != 1)
-      config.fail("nested.box", "the finest level must be one box: the structure lives on it");
+        read_structure_levels(config, box_, positions, settings_.kernel, "structure.shape"));
     nested_settings_.rho = fluid_settings_.rho;
     nested_settings_.mu = fluid_settings_.mu;
   }

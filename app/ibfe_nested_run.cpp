@@ -1,5 +1,6 @@
 #include "app/ibfe_nested_run.hpp"
 
+#include <algorithm>
 #include <array>
 #include <sstream>
 #include <string>
@@ -30,6 +31,27 @@ double composite_kinetic_energy(const fluid::NestedNavierStokes& fluid)
 }
 
 } // namespace
+
+fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
+                                           std::span<const fe::Vec3> positions, ib::KernelKind kernel,
+                                           const std::string& structure_key)
+{
+  fluid::PhysicalBox bounds;
+  for (int d = 0; d < 3; ++d) {
+    bounds.lower[d] = 1e300;
+    bounds.upper[d] = -1e300;
+  }
+  for (const fe::Vec3& x : positions)
+    for (int d = 0; d < 3; ++d) {
+      bounds.lower[d] = std::min(bounds.lower[d], x[d]);
+      bounds.upper[d] = std::max(bounds.upper[d], x[d]);
+    }
+  const int reach = (ib::DeltaKernel(kernel).support() + 1) / 2;
+  fluid::GridHierarchy hierarchy = fluid::read_hierarchy(config, box, bounds, structure_key, reach);
+  if (hierarchy.boxes(hierarchy.finest()).size() != 1)
+    config.fail("nested.box", "the finest level must be one box: the structure lives on it");
+  return hierarchy;
+}
 
 RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfeCase& c)
 {

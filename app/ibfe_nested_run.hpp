@@ -6,6 +6,8 @@
 // box and the structure's current mesh. A structure node leaving the finest level stops the run (exit 3,
 // the output written so far kept). Checkpoints (`checkpoint.every`, --stop-after-steps) hold the
 // composite fluid state and the structure's; --restart continues bit for bit on the same rank count.
+#include <span>
+#include <string>
 #include <vector>
 
 #include "app/model.hpp"
@@ -15,6 +17,7 @@
 #include "fluid/nested_navier_stokes.hpp"
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
+#include "io/config.hpp"
 
 namespace ibvalve::app {
 
@@ -31,6 +34,14 @@ struct NestedIbfeCase {
   long output_every = 1;
   io::CheckpointSettings checkpoints;
 };
+
+/// The nested levels of a case whose structure starts at `positions` (node positions): read_hierarchy with
+/// the structure's bounding box and the reach of `kernel`, automatic levels placed around it;
+/// `structure_key` names the structure in the error when explicit boxes miss it. InputError (nested.box)
+/// unless the finest level is one box (the structure lives on it). For the ibfe and aortic-valve models.
+fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
+                                           std::span<const fe::Vec3> positions, ib::KernelKind kernel,
+                                           const std::string& structure_key);
 
 RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfeCase& c);
 
