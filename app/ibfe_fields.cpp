@@ -75,13 +75,22 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
 {
   const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  std::array<Vec, 3> velocity{};
-  for (Vec& v : velocity) v = fluid.operators().create_cell_vector();
-  fluid.cell_velocity(velocity);
+  // The cell velocity's vectors are freed also when a write throws (a full disk must not leak them).
+  struct CellVelocity {
+    std::array<Vec, 3> components{};
+    CellVelocity() = default;
+    CellVelocity(const CellVelocity&) = delete;
+    CellVelocity& operator=(const CellVelocity&) = delete;
+    ~CellVelocity()
+    {
+      for (Vec& v : components) VecDestroy(&v);
+    }
+  } velocity;
+  for (Vec& v : velocity.components) v = fluid.operators().create_cell_vector();
+  fluid.cell_velocity(velocity.components);
   std::vector<io::XdmfGrid> grids =
       fluid::write_composite_fields(h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid",
-                                    file, "fluid_", {{"velocity", velocity}});
-  for (Vec& v : velocity) PETSC_CHECK(VecDestroy(&v));
+                                    file, "fluid_", {{"velocity", velocity.components}});
   grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   series.add_step(ibfe.time(), grids);
 }
