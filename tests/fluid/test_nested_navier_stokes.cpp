@@ -19,6 +19,7 @@
 
 #include "fluid/nested_navier_stokes.hpp"
 #include "io/petsc_check.hpp"
+#include "tests/fluid/composite_norms.hpp"
 #include "tests/fluid/manufactured_force.hpp"
 
 namespace ibvalve::fluid {
@@ -161,15 +162,10 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
   r.viscous = fluid.statistics().seconds_velocity;
   r.projection = fluid.statistics().seconds_pressure;
   const CompositeOperators& ops = fluid.operators();
-  Vec exact = ops.create_face_vector(), squared = ops.create_face_vector();
-  ops.sample_normal([&](const Real3& x) { return problem.velocity(x, fluid.time()); }, exact);
-  PETSC_CHECK(VecAXPY(exact, -1.0, fluid.velocity()));
-  PETSC_CHECK(VecNorm(exact, NORM_INFINITY, &r.max));
-  PETSC_CHECK(VecPointwiseMult(squared, exact, exact));
-  double weighted = 0.0, total = 0.0;
-  PETSC_CHECK(VecDot(squared, ops.weights(), &weighted));
-  PETSC_CHECK(VecSum(ops.weights(), &total));
-  r.l2 = std::sqrt(weighted / total);
+  const testing::CompositeNorms velocity_error = testing::face_error(
+      ops, [&](const Real3& x) { return problem.velocity(x, fluid.time()); }, fluid.velocity());
+  r.max = velocity_error.max;
+  r.l2 = velocity_error.l2;
   {
     Vec p = ops.create_cell_vector();
     ops.sample([&](const Real3& x) { return problem.pressure(x, fluid.pressure_time()); }, p);
@@ -178,17 +174,10 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
     PETSC_CHECK(VecSum(ops.volumes(), &volume));
     PETSC_CHECK(VecDot(p, ops.volumes(), &mean));
     PETSC_CHECK(VecShift(p, -mean / volume));
-    Vec p2 = ops.create_cell_vector();
-    PETSC_CHECK(VecPointwiseMult(p2, p, p));
-    double integral = 0.0;
-    PETSC_CHECK(VecDot(p2, ops.volumes(), &integral));
-    r.pressure_l2 = std::sqrt(integral / volume);
+    r.pressure_l2 = testing::cell_norms(ops, p).l2;
     PETSC_CHECK(VecDestroy(&p));
-    PETSC_CHECK(VecDestroy(&p2));
   }
   if (gather) r.u = fluid.composite_velocity().gather(fluid.velocity());
-  PETSC_CHECK(VecDestroy(&exact));
-  PETSC_CHECK(VecDestroy(&squared));
   return r;
 }
 

@@ -27,6 +27,7 @@
 
 #include "fluid/nested_navier_stokes.hpp"
 #include "io/petsc_check.hpp"
+#include "tests/fluid/composite_norms.hpp"
 #include "tests/fluid/manufactured_force.hpp"
 
 namespace ibvalve::fluid {
@@ -156,27 +157,17 @@ Result run(MPI_Comm comm, PetscInt n0, const Flow& flow, bool gather = false, do
     r.pressure_iterations = std::max(r.pressure_iterations, fluid.statistics().pressure_iterations);
   }
   const CompositeOperators& ops = fluid.operators();
-  Vec exact = ops.create_face_vector(), squared = ops.create_face_vector();
-  ops.sample_normal([&](const Real3& x) { return flow.velocity(x, fluid.time()); }, exact);
-  PETSC_CHECK(VecAXPY(exact, -1.0, fluid.velocity()));
-  PETSC_CHECK(VecNorm(exact, NORM_INFINITY, &r.max));
-  PETSC_CHECK(VecPointwiseMult(squared, exact, exact));
-  double weighted = 0.0, total = 0.0;
-  PETSC_CHECK(VecDot(squared, ops.weights(), &weighted));
-  PETSC_CHECK(VecSum(ops.weights(), &total));
-  r.l2 = std::sqrt(weighted / total);
+  const testing::CompositeNorms velocity_error = testing::face_error(
+      ops, [&](const Real3& x) { return flow.velocity(x, fluid.time()); }, fluid.velocity());
+  r.max = velocity_error.max;
+  r.l2 = velocity_error.l2;
   {
     // The pressure is fixed by the sides: no constant to remove.
-    Vec p = ops.create_cell_vector(), p2 = ops.create_cell_vector();
+    Vec p = ops.create_cell_vector();
     ops.sample([&](const Real3& x) { return flow.pressure(x, fluid.pressure_time()); }, p);
     PETSC_CHECK(VecAXPY(p, -1.0, fluid.pressure()));
-    PETSC_CHECK(VecPointwiseMult(p2, p, p));
-    double integral = 0.0, volume = 0.0;
-    PETSC_CHECK(VecDot(p2, ops.volumes(), &integral));
-    PETSC_CHECK(VecSum(ops.volumes(), &volume));
-    r.pressure_l2 = std::sqrt(integral / volume);
+    r.pressure_l2 = testing::cell_norms(ops, p).l2;
     PETSC_CHECK(VecDestroy(&p));
-    PETSC_CHECK(VecDestroy(&p2));
   }
   {
     // Probes on level 1, beside the interface on level 0, in a corner and half a cell from each side.
@@ -188,8 +179,6 @@ Result run(MPI_Comm comm, PetscInt n0, const Flow& flow, bool gather = false, do
           std::max(r.probe_error, std::abs(p[q] - flow.pressure(probes[q], fluid.pressure_time())));
   }
   if (gather) r.u = fluid.composite_velocity().gather(fluid.velocity());
-  PETSC_CHECK(VecDestroy(&exact));
-  PETSC_CHECK(VecDestroy(&squared));
   return r;
 }
 
