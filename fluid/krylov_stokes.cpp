@@ -62,7 +62,7 @@ void KrylovStokesSolver::destroy()
     if (*is) ISDestroy(is);
   for (KSP* k : {&ksp_, &ksp_h_, &ksp_k_})
     if (*k) KSPDestroy(k);
-  for (Vec* v : {&x_, &b_, &r_p_, &phi_, &gphi_})
+  for (Vec* v : {&x_, &b_, &r_p_, &phi_, &gphi_, &x_u_, &y_u_, &x_p_, &y_p_})
     if (*v) VecDestroy(v);
 }
 
@@ -215,6 +215,8 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   PETSC_CHECK(MatMatMult(Dn_, G_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &K_));
   PETSC_CHECK(MatCreateVecs(K_, &phi_, &r_p_));
   PETSC_CHECK(MatCreateVecs(G_, nullptr, &gphi_));
+  PETSC_CHECK(MatCreateVecs(H_, &x_u_, &y_u_));
+  PETSC_CHECK(MatCreateVecs(K_, &x_p_, &y_p_));
 
   if (pressure_has_constant_) {
     // Constant pressure is in the kernel of the coupled operator and of K.
@@ -240,6 +242,19 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   const bool transforms = settings_.subsolver == SubsolverKind::fft;
   if (transforms && !transforms_)
     transforms_ = std::make_unique<TransformSubsolvers>(grid_, bc_, is_u_, is_p_);
+  // With the transform sub-solves, a Helmholtz operator whose diagonal dominates (small viscous
+  // number nu dt / h^2, as in the valve case: 1.5e-4) is inverted by Jacobi sweeps instead: each sweep
+  // multiplies the error by at most the ratio q of the off-diagonal row sum to the diagonal, so two
+  // sweeps are exact to q^2 (2e-8 there) for one matrix product, where the three transforms cost
+  // several (docs/fluid.md, "Sub-solves"). -fluid_helmholtz_jacobi_limit sets the limit on q (0: always
+  // the transforms); the other -fluid_helmholtz_ options override the choice.
+  double off_diagonal = 0.0;
+  for (int e = 0; e < 3; ++e) off_diagonal += parameters_.mu / (grid_.h(e) * grid_.h(e));
+  const double jacobi_ratio = off_diagonal / (parameters_.rho / parameters_.dt + off_diagonal);
+  PetscReal limit = jacobi_ratio_limit; // -fluid_helmholtz_jacobi_limit 0 keeps the transforms
+  PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
+  const bool jacobi_helmholtz = transforms && jacobi_ratio <= limit;
+  helmholtz_by_jacobi_ = jacobi_helmholtz;
   using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
   auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix, ShellApply transform) {
     PETSC_CHECK(KSPCreate(comm, &ksp));
@@ -247,7 +262,12 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
     PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
     PC pc;
     PETSC_CHECK(KSPGetPC(ksp, &pc));
-    if (transforms) {
+    if (jacobi_helmholtz && op == H_) {
+      PETSC_CHECK(KSPSetType(ksp, KSPRICHARDSON));
+      PETSC_CHECK(KSPSetNormType(ksp, KSP_NORM_NONE));
+      PETSC_CHECK(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, jacobi_sweeps));
+      PETSC_CHECK(PCSetType(pc, PCJACOBI));
+    } else if (transforms) {
       PETSC_CHECK(PCSetType(pc, PCSHELL));
       PETSC_CHECK(PCShellSetContext(pc, this));
       PETSC_CHECK(PCShellSetApply(pc, transform));
@@ -286,16 +306,16 @@ PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
   void* context = nullptr;
   PetscCall(PCShellGetContext(pc, &context));
   auto* self = static_cast<KrylovStokesSolver*>(context);
-  Vec x_u, x_p, y_u, y_p;
-  PetscCall(VecGetSubVector(x, self->is_u_, &x_u));
-  PetscCall(VecGetSubVector(x, self->is_p_, &x_p));
-  PetscCall(VecGetSubVector(y, self->is_u_, &y_u));
-  PetscCall(VecGetSubVector(y, self->is_p_, &y_p));
+  // The blocks are copied through the index sets into vectors made once (VecISCopy: a local gather,
+  // no scatter is built; VecGetSubVector would build and destroy one per call).
+  Vec x_u = self->x_u_, y_u = self->y_u_, y_p = self->y_p_;
+  PetscCall(VecISCopy(x, self->is_u_, SCATTER_REVERSE, x_u));
+  PetscCall(VecISCopy(x, self->is_p_, SCATTER_REVERSE, self->x_p_));
   const double t0 = MPI_Wtime();
   PetscCall(KSPSolve(self->ksp_h_, x_u, y_u)); // u* = H^-1 w
   const double t1 = MPI_Wtime();
   PetscCall(MatMult(self->Dn_, y_u, self->r_p_)); // r = -D u* - g
-  PetscCall(VecAXPY(self->r_p_, -1.0, x_p));
+  PetscCall(VecAXPY(self->r_p_, -1.0, self->x_p_));
   if (self->pressure_has_constant_) {
     // Keep the Poisson right side in the range of K (zero mean).
     PetscScalar sum;
@@ -313,10 +333,8 @@ PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
   const double t2 = MPI_Wtime();
   self->helmholtz_seconds_ += t1 - t0;
   self->poisson_seconds_ += t2 - t1;
-  PetscCall(VecRestoreSubVector(x, self->is_u_, &x_u));
-  PetscCall(VecRestoreSubVector(x, self->is_p_, &x_p));
-  PetscCall(VecRestoreSubVector(y, self->is_u_, &y_u));
-  PetscCall(VecRestoreSubVector(y, self->is_p_, &y_p));
+  PetscCall(VecISCopy(y, self->is_u_, SCATTER_FORWARD, y_u));
+  PetscCall(VecISCopy(y, self->is_p_, SCATTER_FORWARD, y_p));
   PetscFunctionReturn(0);
 }
 
@@ -354,8 +372,19 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
   StagArray r(grid_, rhs);
   std::vector<Entry> entries;
   double constant = 0.0;
+  // Boundary data reach only the rows of boundary faces and of faces a cell from a non-periodic side
+  // (their tangential wall ghost); every other row has no constant.
+  auto touches_boundary = [&](int d, const Index3& idx) {
+    for (int e = 0; e < 3; ++e) {
+      if (grid_.periodic(e)) continue;
+      const PetscInt last = e == d ? grid_.cells(e) : grid_.cells(e) - 1;
+      if (idx[e] == 0 || idx[e] == last) return true;
+    }
+    return false;
+  };
   for (int d = 0; d < 3; ++d)
     for_owned_faces(grid_, d, [&](const Index3& idx) {
+      if (!touches_boundary(d, idx)) return;
       const bool dirichlet = velocity_row(d, idx, t_new, t_half, entries, constant);
       double& value = r(idx[0], idx[1], idx[2], grid_.face_slot(d));
       value = dirichlet ? constant : value + constant;

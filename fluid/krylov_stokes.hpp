@@ -40,6 +40,16 @@ class KrylovStokesSolver : public StokesSolver {
     return settings_.subsolver == SubsolverKind::fft ? "krylov (fft sub-solves)" : "krylov";
   }
 
+  /// With transform sub-solves the Helmholtz block is solved by `jacobi_sweeps` Jacobi sweeps when
+  /// q = (mu sum_e 1/h_e^2) / (rho/dt + mu sum_e 1/h_e^2), the bound on a sweep's error reduction,
+  /// is at most this limit (two sweeps then leave at most q^2 = 1e-6 of the sub-solve's error);
+  /// otherwise by the transforms. The option -fluid_helmholtz_jacobi_limit sets
+  /// another limit (0: the transforms always).
+  static constexpr double jacobi_ratio_limit = 1e-3;
+  static constexpr int jacobi_sweeps = 2;
+  /// True when set_parameters chose Jacobi sweeps for the Helmholtz block.
+  bool helmholtz_by_jacobi() const { return helmholtz_by_jacobi_; }
+
   /// The assembled operator, its velocity block H and the pressure Poisson operator K = -D G, and
   /// the sub-solvers applied to them in the preconditioner (for tests; valid after set_parameters).
   Mat matrix() const { return A_; }
@@ -77,7 +87,9 @@ class KrylovStokesSolver : public StokesSolver {
   IS is_u_ = nullptr, is_p_ = nullptr;
   KSP ksp_ = nullptr, ksp_h_ = nullptr, ksp_k_ = nullptr;
   Vec x_ = nullptr, b_ = nullptr, r_p_ = nullptr, phi_ = nullptr, gphi_ = nullptr;
+  Vec x_u_ = nullptr, y_u_ = nullptr, x_p_ = nullptr, y_p_ = nullptr; // the preconditioner's blocks
   double helmholtz_seconds_ = 0.0, poisson_seconds_ = 0.0;
+  bool helmholtz_by_jacobi_ = false;
   // Built once (FFTW plans, scatters): they depend on the grid and the side kinds, not on dt.
   std::unique_ptr<TransformSubsolvers> transforms_;
 };
