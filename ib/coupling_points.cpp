@@ -49,6 +49,7 @@ std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h)
   const int nodes = mesh_.nodes_per_element();
   std::size_t capped = 0;
   std::size_t total = 0;
+  bool rules_changed = position_.empty();
   for (std::size_t e = 0; e < elements; ++e) {
     const auto element = mesh_.element(e);
     double longest = 0.0;
@@ -58,32 +59,38 @@ std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h)
     int n = static_cast<int>(std::clamp(wanted, 1.0, 1e6));
     if (n > settings_.max_points) ++capped;
     n = std::clamp(n, settings_.min_points, settings_.max_points);
+    rules_changed = rules_changed || per_direction_[e] != n;
     per_direction_[e] = n;
     total += rule(n).rule.size();
   }
-  position_.resize(total);
-  element_.resize(total);
-  weight_.resize(total);
-  values_.resize(total);
-  const auto& X = mesh_.nodes();
-  std::size_t q = 0;
-  for (std::size_t e = 0; e < elements; ++e) {
-    const Rule& r = rules_.at(per_direction_[e]);
-    const auto element = mesh_.element(e);
-    for (std::size_t p = 0; p < r.rule.size(); ++p, ++q) {
-      const double* N = r.values.data() + p * nodes;
-      const fe::Vec3* dN = r.gradients.data() + p * nodes;
-      Vec3 x = Vec3::Zero();
-      Eigen::Matrix3d dXdxi = Eigen::Matrix3d::Zero();
-      for (int a = 0; a < nodes; ++a) {
-        x += N[a] * positions[element[a]];
-        dXdxi += X[element[a]] * dN[a].transpose();
+  if (rules_changed) {
+    // The points' elements, shape values and reference weights depend on the rules alone: computed
+    // again only when an element's rule changed (rarely: most steps only move the points).
+    position_.resize(total);
+    element_.resize(total);
+    weight_.resize(total);
+    values_.resize(total);
+    const auto& X = mesh_.nodes();
+    std::size_t q = 0;
+    for (std::size_t e = 0; e < elements; ++e) {
+      const Rule& r = rules_.at(per_direction_[e]);
+      const auto element = mesh_.element(e);
+      for (std::size_t p = 0; p < r.rule.size(); ++p, ++q) {
+        const fe::Vec3* dN = r.gradients.data() + p * nodes;
+        Eigen::Matrix3d dXdxi = Eigen::Matrix3d::Zero();
+        for (int a = 0; a < nodes; ++a) dXdxi += X[element[a]] * dN[a].transpose();
+        element_[q] = e;
+        weight_[q] = r.rule.weights[p] * dXdxi.determinant();
+        values_[q] = r.values.data() + p * nodes;
       }
-      position_[q] = x;
-      element_[q] = e;
-      weight_[q] = r.rule.weights[p] * dXdxi.determinant();
-      values_[q] = N;
     }
+  }
+  for (std::size_t q = 0; q < total; ++q) {
+    const auto element = mesh_.element(element_[q]);
+    const double* N = values_[q];
+    Vec3 x = Vec3::Zero();
+    for (int a = 0; a < nodes; ++a) x += N[a] * positions[element[a]];
+    position_[q] = x;
   }
   return capped;
 }

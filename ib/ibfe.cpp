@@ -141,26 +141,19 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
                               " coupling points per direction leave gaps wider than ib.point_spacing grid "
                               "cells; the fluid may leak through them (shown once)");
   }
-  owned_points_.clear();
-  owned_positions_.clear();
-  const auto p = points_.positions();
-  for (std::size_t q = 0; q < p.size(); ++q)
-    if (interaction_.owns(p[q])) {
-      owned_points_.push_back(q);
-      owned_positions_.push_back(p[q]);
-    }
+  interaction_.prepare(points_.positions(), prepared_);
 }
 
 std::vector<double> IbfeIntegrator::project_velocity(Vec velocity, int guess_slot)
 {
-  std::vector<Vec3> values(owned_positions_.size());
+  std::vector<Vec3> values(prepared_.size());
   {
     Stopwatch watch(timings_.interpolation);
-    interaction_.interpolate(velocity, owned_positions_, values);
+    interaction_.interpolate(velocity, prepared_, values);
   }
   Stopwatch watch(timings_.projection);
   std::vector<double> rhs(solid_.num_dofs(), 0.0);
-  points_.add_projection_rhs(owned_points_, values, rhs);
+  points_.add_projection_rhs(prepared_.index, values, rhs);
   MPI_Allreduce(MPI_IN_PLACE, rhs.data(), static_cast<int>(rhs.size()), MPI_DOUBLE, MPI_SUM,
                 fluid_.grid().comm());
   return velocity_mass_.solve(rhs, guess_slot);
@@ -194,9 +187,9 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
     density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces, 2);
   }
   Stopwatch watch(timings_.spreading);
-  std::vector<Vec3> point_forces(owned_points_.size());
-  for (std::size_t i = 0; i < owned_points_.size(); ++i) {
-    const std::size_t q = owned_points_[i];
+  std::vector<Vec3> point_forces(prepared_.size());
+  for (std::size_t i = 0; i < prepared_.size(); ++i) {
+    const std::size_t q = prepared_.index[i];
     const auto element = solid_.mesh().element(points_.element(q));
     const auto N = points_.shape_values(q);
     Vec3 f = Vec3::Zero();
@@ -204,7 +197,7 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
       f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
     point_forces[i] = f * points_.weight(q);
   }
-  interaction_.spread(owned_positions_, point_forces, fluid_.force());
+  interaction_.spread(prepared_, point_forces, fluid_.force());
   fluid_.apply_force();
 }
 

@@ -152,8 +152,7 @@ class IbfeIntegrator {
   std::unique_ptr<NodalMass> force_mass_; // null when it is the same kind as velocity_mass_
   std::vector<std::pair<std::vector<double>, Tether>> tethers_; // node weights w_a, settings
   std::vector<double> displacement_, velocity_, forces_;
-  std::vector<std::size_t> owned_points_;
-  std::vector<Vec3> owned_positions_;
+  GridInteraction::PreparedPoints prepared_; // the coupling points this rank handles, with their stencils
   Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
   IbfeTimings timings_;
   double h_min_ = 0.0;

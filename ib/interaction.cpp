@@ -33,6 +33,37 @@ class LocalArray {
   PetscScalar**** a_ = nullptr;
 };
 
+/// Sum over the S^3 grid values around `base` (x entries `sx` apart, y rows `sy`, z planes `sz`) weighted
+/// by w0[m] w1[j] w2[k]: the interpolation of one velocity component at an interior point, with the
+/// kernel's support known at compile time so the loops unroll.
+template <int S>
+double weighted_sum(const PetscScalar* base, PetscInt sx, PetscInt sy, PetscInt sz, const double* w0,
+                    const double* w1, const double* w2)
+{
+  double sum = 0.0;
+  for (int k = 0; k < S; ++k)
+    for (int j = 0; j < S; ++j) {
+      const PetscScalar* row = base + k * sz + j * sy;
+      double r = 0.0;
+      for (int m = 0; m < S; ++m) r += w0[m] * row[m * sx];
+      sum += w2[k] * w1[j] * r;
+    }
+  return sum;
+}
+
+/// The adjoint of weighted_sum: adds F w0[m] w1[j] w2[k] to the S^3 grid values around `base`.
+template <int S>
+void weighted_add(PetscScalar* base, PetscInt sx, PetscInt sy, PetscInt sz, const double* w0,
+                  const double* w1, const double* w2, double F)
+{
+  for (int k = 0; k < S; ++k)
+    for (int j = 0; j < S; ++j) {
+      PetscScalar* row = base + k * sz + j * sy;
+      const double wjk = F * w2[k] * w1[j];
+      for (int m = 0; m < S; ++m) row[m * sx] += wjk * w0[m];
+    }
+}
+
 } // namespace
 
 GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind kernel)
@@ -53,6 +84,19 @@ GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind ke
   PETSC_CHECK(DMStagGetEntriesPerElement(dm_, &stride_));
   PETSC_CHECK(DMCreateGlobalVector(dm_, &global_));
   PETSC_CHECK(DMCreateLocalVector(dm_, &local_));
+  PetscInt ghost_start[3], ghost_count[3];
+  PETSC_CHECK(DMStagGetGhostCorners(dm_, &ghost_start[0], &ghost_start[1], &ghost_start[2], &ghost_count[0],
+                                    &ghost_count[1], &ghost_count[2]));
+  row_stride_ = ghost_count[0] * stride_;
+  plane_stride_ = ghost_count[1] * row_stride_;
+  {
+    // The unrolled stencils step through the local array by these strides: check them against it.
+    LocalArray a(dm_, local_);
+    const PetscInt i = grid.begin(0), j = grid.begin(1), k = grid.begin(2);
+    if (&a(i, j + 1, k, 0) - &a(i, j, k, 0) != row_stride_ ||
+        &a(i, j, k + 1, 0) - &a(i, j, k, 0) != plane_stride_)
+      throw std::logic_error("ib: unexpected layout of the DMStag local array");
+  }
   for (int d = 0; d < 3; ++d)
     if (grid.count(d) < kernel_.ghost_width())
       throw std::invalid_argument("ib: each rank needs at least " + std::to_string(kernel_.ghost_width()) +
@@ -91,24 +135,17 @@ Vec3 GridInteraction::wrap(const Vec3& x) const
 
 bool GridInteraction::owns(const Vec3& x) const
 {
-  const Vec3 y = wrap(x);
+  return owns_wrapped(wrap(x));
+}
+
+bool GridInteraction::owns_wrapped(const Vec3& y) const
+{
   for (int d = 0; d < 3; ++d) {
     auto cell = static_cast<PetscInt>(std::floor((y[d] - grid_.box().lower[d]) / grid_.h(d)));
     cell = std::clamp<PetscInt>(cell, 0, grid_.cells(d) - 1); // x == upper belongs to the last cell
     if (cell < grid_.begin(d) || cell >= grid_.begin(d) + grid_.count(d)) return false;
   }
   return true;
-}
-
-GridInteraction::Stencil GridInteraction::stencil(const Vec3& y) const
-{
-  Stencil s;
-  for (int e = 0; e < 3; ++e) {
-    const double t = (y[e] - grid_.box().lower[e]) / grid_.h(e);
-    s.first_face[e] = kernel_.weights(t, s.weights_face[e]);           // faces normal to e sit at t = i
-    s.first_center[e] = kernel_.weights(t - 0.5, s.weights_center[e]); // cell centres at t = i + 1/2
-  }
-  return s;
 }
 
 std::pair<int, int> GridInteraction::valid_range(int component, int e, int first) const
@@ -121,9 +158,41 @@ std::pair<int, int> GridInteraction::valid_range(int component, int e, int first
   return {lo, std::max(lo, hi)};
 }
 
-void GridInteraction::interpolate(Vec velocity, std::span<const Vec3> points, std::span<Vec3> values)
+void GridInteraction::prepare(std::span<const Vec3> points, PreparedPoints& prepared) const
 {
-  // Copy the owned face values into this interaction's ghosted layout and exchange ghosts.
+  const int S = kernel_.support();
+  prepared.index.clear();
+  prepared.weights.clear();
+  prepared.first.clear();
+  prepared.inside.clear();
+  std::array<double, max_kernel_support> w{};
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const Vec3 y = wrap(points[p]);
+    if (!owns_wrapped(y)) continue;
+    prepared.index.push_back(p);
+    std::array<int, 6> first{};
+    for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
+      for (int e = 0; e < 3; ++e) {
+        const double t = (y[e] - grid_.box().lower[e]) / grid_.h(e) - (set == 1 ? 0.5 : 0.0);
+        first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
+        prepared.weights.insert(prepared.weights.end(), w.begin(), w.begin() + S);
+      }
+    std::uint8_t inside = 0;
+    for (int d = 0; d < 3; ++d) {
+      bool all = true;
+      for (int e = 0; e < 3; ++e) {
+        const auto [lo, hi] = valid_range(d, e, first[static_cast<std::size_t>(e == d ? e : 3 + e)]);
+        all = all && lo == 0 && hi == S;
+      }
+      if (all) inside = static_cast<std::uint8_t>(inside | (1u << d));
+    }
+    prepared.first.push_back(first);
+    prepared.inside.push_back(inside);
+  }
+}
+
+void GridInteraction::gather_velocity(Vec velocity)
+{
   {
     fluid::StagArray u(grid_, velocity, true);
     LocalArray a(dm_, local_);
@@ -135,68 +204,110 @@ void GridInteraction::interpolate(Vec velocity, std::span<const Vec3> points, st
   }
   PETSC_CHECK(DMLocalToGlobal(dm_, local_, INSERT_VALUES, global_));
   PETSC_CHECK(DMGlobalToLocal(dm_, global_, INSERT_VALUES, local_));
+}
 
+void GridInteraction::interpolate(Vec velocity, const PreparedPoints& points, std::span<Vec3> values)
+{
+  gather_velocity(velocity);
   LocalArray a(dm_, local_);
+  const int S = kernel_.support();
   for (std::size_t p = 0; p < points.size(); ++p) {
-    values[p].setZero();
-    if (!owns(points[p])) continue;
-    const Stencil s = stencil(wrap(points[p]));
+    const std::array<int, 6>& first = points.first[p];
+    const double* weights = points.weights.data() + 6 * S * p;
     for (int d = 0; d < 3; ++d) {
-      const auto& w0 = d == 0 ? s.weights_face[0] : s.weights_center[0];
-      const auto& w1 = d == 1 ? s.weights_face[1] : s.weights_center[1];
-      const auto& w2 = d == 2 ? s.weights_face[2] : s.weights_center[2];
-      const int f0 = d == 0 ? s.first_face[0] : s.first_center[0];
-      const int f1 = d == 1 ? s.first_face[1] : s.first_center[1];
-      const int f2 = d == 2 ? s.first_face[2] : s.first_center[2];
-      const auto [a0, b0] = valid_range(d, 0, f0);
-      const auto [a1, b1] = valid_range(d, 1, f1);
-      const auto [a2, b2] = valid_range(d, 2, f2);
-      if (a0 >= b0) continue; // the whole stencil lies outside a walled box (the point is on a wall)
+      // Component d sits on faces normal to d: face positions along d, cell centres across.
+      std::array<int, 3> f{};
+      std::array<const double*, 3> w{};
+      for (int e = 0; e < 3; ++e) {
+        const int set = e == d ? 0 : 1;
+        f[e] = first[static_cast<std::size_t>(3 * set + e)];
+        w[e] = weights + (3 * set + e) * S;
+      }
       double sum = 0.0;
-      for (int c = a2; c < b2; ++c)
-        for (int b = a1; b < b1; ++b) {
-          double row = 0.0;
-          // Along x the entries of one (j, k) row are contiguous, `stride_` apart.
-          const PetscScalar* entry = &a(f0 + a0, f1 + b, f2 + c, slot_[d]);
-          for (int m = a0; m < b0; ++m, entry += stride_) row += w0[m] * *entry;
-          sum += w2[c] * w1[b] * row;
-        }
+      if (S == 4 && (points.inside[p] >> d & 1u)) { // the whole stencil inside the box: unrolled loops
+        sum = weighted_sum<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
+                              w[2]);
+      } else {
+        const auto [a0, b0] = valid_range(d, 0, f[0]);
+        const auto [a1, b1] = valid_range(d, 1, f[1]);
+        const auto [a2, b2] = valid_range(d, 2, f[2]);
+        if (a0 < b0) // else the whole stencil lies outside a walled box (the point is on a wall)
+          for (int k = a2; k < b2; ++k)
+            for (int j = a1; j < b1; ++j) {
+              double row = 0.0;
+              // Along x the entries of one (j, k) row are contiguous, `stride_` apart.
+              const PetscScalar* entry = &a(f[0] + a0, f[1] + j, f[2] + k, slot_[d]);
+              for (int m = a0; m < b0; ++m, entry += stride_) row += w[0][m] * *entry;
+              sum += w[2][k] * w[1][j] * row;
+            }
+      }
       values[p][d] = sum;
     }
   }
 }
 
-void GridInteraction::spread(std::span<const Vec3> points, std::span<const Vec3> forces, Vec force, bool add)
+void GridInteraction::interpolate(Vec velocity, std::span<const Vec3> points, std::span<Vec3> values)
+{
+  PreparedPoints prepared;
+  prepare(points, prepared);
+  std::vector<Vec3> owned(prepared.size());
+  interpolate(velocity, prepared, owned);
+  for (Vec3& v : values) v.setZero();
+  for (std::size_t i = 0; i < prepared.size(); ++i) values[prepared.index[i]] = owned[i];
+}
+
+void GridInteraction::spread(const PreparedPoints& points, std::span<const Vec3> forces, Vec force, bool add)
 {
   PETSC_CHECK(VecZeroEntries(local_));
   const double inverse_volume = 1.0 / grid_.cell_volume();
+  const int S = kernel_.support();
   {
     LocalArray a(dm_, local_);
     for (std::size_t p = 0; p < points.size(); ++p) {
-      if (!owns(points[p])) continue;
-      const Stencil s = stencil(wrap(points[p]));
+      const std::array<int, 6>& first = points.first[p];
+      const double* weights = points.weights.data() + 6 * S * p;
       for (int d = 0; d < 3; ++d) {
         const double F = forces[p][d] * inverse_volume;
         if (F == 0.0) continue;
-        const auto& w0 = d == 0 ? s.weights_face[0] : s.weights_center[0];
-        const auto& w1 = d == 1 ? s.weights_face[1] : s.weights_center[1];
-        const auto& w2 = d == 2 ? s.weights_face[2] : s.weights_center[2];
-        const int f0 = d == 0 ? s.first_face[0] : s.first_center[0];
-        const int f1 = d == 1 ? s.first_face[1] : s.first_center[1];
-        const int f2 = d == 2 ? s.first_face[2] : s.first_center[2];
-        const auto [a0, b0] = valid_range(d, 0, f0);
-        const auto [a1, b1] = valid_range(d, 1, f1);
-        const auto [a2, b2] = valid_range(d, 2, f2);
+        std::array<int, 3> f{};
+        std::array<const double*, 3> w{};
+        for (int e = 0; e < 3; ++e) {
+          const int set = e == d ? 0 : 1;
+          f[e] = first[static_cast<std::size_t>(3 * set + e)];
+          w[e] = weights + (3 * set + e) * S;
+        }
+        if (S == 4 && (points.inside[p] >> d & 1u)) {
+          weighted_add<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
+                          w[2], F);
+          continue;
+        }
+        const auto [a0, b0] = valid_range(d, 0, f[0]);
+        const auto [a1, b1] = valid_range(d, 1, f[1]);
+        const auto [a2, b2] = valid_range(d, 2, f[2]);
         if (a0 >= b0) continue;
-        for (int c = a2; c < b2; ++c)
-          for (int b = a1; b < b1; ++b) {
-            const double wbc = F * w2[c] * w1[b];
-            PetscScalar* entry = &a(f0 + a0, f1 + b, f2 + c, slot_[d]);
-            for (int m = a0; m < b0; ++m, entry += stride_) *entry += wbc * w0[m];
+        for (int k = a2; k < b2; ++k)
+          for (int j = a1; j < b1; ++j) {
+            const double wjk = F * w[2][k] * w[1][j];
+            PetscScalar* entry = &a(f[0] + a0, f[1] + j, f[2] + k, slot_[d]);
+            for (int m = a0; m < b0; ++m, entry += stride_) *entry += wjk * w[0][m];
           }
       }
     }
   }
+  scatter_force(force, add);
+}
+
+void GridInteraction::spread(std::span<const Vec3> points, std::span<const Vec3> forces, Vec force, bool add)
+{
+  PreparedPoints prepared;
+  prepare(points, prepared);
+  std::vector<Vec3> owned(prepared.size());
+  for (std::size_t i = 0; i < prepared.size(); ++i) owned[i] = forces[prepared.index[i]];
+  spread(prepared, owned, force, add);
+}
+
+void GridInteraction::scatter_force(Vec force, bool add)
+{
   // Ghost contributions (other ranks' faces, periodic images) go to their owners.
   PETSC_CHECK(VecZeroEntries(global_));
   PETSC_CHECK(DMLocalToGlobal(dm_, local_, ADD_VALUES, global_));

@@ -16,6 +16,7 @@
 // stay inside the box (RunError otherwise), and kernel weights on grid points outside the box are
 // dropped in both operators (which keeps them adjoint).
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -52,20 +53,44 @@ class GridInteraction {
   /// `force` (a local vector of the fluid grid): overwritten, or added to when `add`. Collective.
   void spread(std::span<const Vec3> points, std::span<const Vec3> forces, Vec force, bool add = false);
 
+  /// The kernel weights of the points this rank handles, computed once while the points stand still
+  /// and used by every interpolation and spreading from them (a coupled step interpolates twice and
+  /// spreads once from two placements). `index[i]` is the position of prepared point i in the list
+  /// given to prepare().
+  class PreparedPoints {
+   public:
+    std::size_t size() const { return index.size(); }
+    std::vector<std::size_t> index;
+
+   private:
+    friend class GridInteraction;
+    // Per point, compact (a step holds one set for all its points): the support() weights per
+    // direction on the face grid and on the cell centres, each set's first grid index, and a bit per
+    // component whose whole stencil lies inside the box.
+    std::vector<double> weights;           // 6 support() per point: face x, y, z, centre x, y, z
+    std::vector<std::array<int, 6>> first; // first_face[3], first_center[3]
+    std::vector<std::uint8_t> inside;      // bit d: component d needs no clipping
+  };
+
+  /// Finds the points this rank handles and computes their stencils (RunError as owns()).
+  void prepare(std::span<const Vec3> points, PreparedPoints& prepared) const;
+  /// interpolate() for prepared points: values[i] belongs to prepared point i. Collective.
+  void interpolate(Vec velocity, const PreparedPoints& points, std::span<Vec3> values);
+  /// spread() for prepared points: forces[i] belongs to prepared point i. Collective.
+  void spread(const PreparedPoints& points, std::span<const Vec3> forces, Vec force, bool add = false);
+
   /// Sum over the owned faces of a . b h^3 (summed over ranks): the discrete L2 inner product of
   /// two face fields held in local vectors of the fluid grid.
   double inner_product(Vec a, Vec b) const;
 
  private:
-  struct Stencil {
-    std::array<std::array<double, max_kernel_support>, 3>
-        weights_face{}; // direction e, grid of faces normal to e
-    std::array<std::array<double, max_kernel_support>, 3>
-        weights_center{}; // direction e, cell-centred positions
-    std::array<int, 3> first_face{}, first_center{};
-  };
   Vec3 wrap(const Vec3& x) const;
-  Stencil stencil(const Vec3& x) const;
+  /// True when the wrapped point y lies in a cell this rank owns.
+  bool owns_wrapped(const Vec3& y) const;
+  /// Copies the owned face values of `velocity` into local_ and exchanges its ghosts.
+  void gather_velocity(Vec velocity);
+  /// Adds local_'s ghost parts to their owners and writes the owned faces into `force`.
+  void scatter_force(Vec force, bool add);
   /// Index range [lo, hi) of kernel offsets m that land on grid points inside the box.
   std::pair<int, int> valid_range(int component, int e, int first) const;
 
@@ -74,7 +99,8 @@ class GridInteraction {
   DM dm_ = nullptr;
   Vec global_ = nullptr, local_ = nullptr;
   std::array<PetscInt, 3> slot_{};
-  PetscInt stride_ = 3; // entries per element in a local array
+  PetscInt stride_ = 3;                        // entries per element in a local array
+  PetscInt row_stride_ = 0, plane_stride_ = 0; // entries between neighbouring y rows and z planes there
 };
 
 } // namespace ibvalve::ib

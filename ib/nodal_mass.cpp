@@ -1,5 +1,6 @@
 #include "ib/nodal_mass.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -11,15 +12,15 @@ namespace ibvalve::ib {
 
 NodalMass::NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, const std::string& prefix)
     // `comm` sums the lumped masses; the consistent system lives on each rank whole.
-    : mesh_(mesh), kind_(kind), quadrature_(mesh, 2), system_(mesh, 1, PETSC_COMM_SELF)
+    : mesh_(mesh), kind_(kind), comm_(comm), quadrature_(mesh, 2), system_(mesh, 1, PETSC_COMM_SELF)
 {
   // Degree 2 integrates N_a N_b exactly on affine tetrahedra and on parallelepiped hexahedra.
   lumped_ = fe::lumped_mass(mesh, quadrature_, comm);
   if (kind_ == fe::MassKind::lumped) return;
   mass_ = fe::consistent_mass_matrix(mesh, quadrature_, system_);
-  // The mesh is replicated and the right-hand sides are summed over the ranks, so every rank solves
-  // the same small system on its own: a sparse Cholesky factorization (nested-dissection ordering)
-  // computed once, then two triangular solves per component, without communication.
+  // The mesh is replicated and the right-hand sides are summed over the ranks, so every rank holds
+  // the same small system: a sparse Cholesky factorization (nested-dissection ordering) computed
+  // once, then two triangular solves per component, on the rank solve() gives that component.
   PETSC_CHECK(KSPCreate(PETSC_COMM_SELF, &ksp_));
   PETSC_CHECK(KSPSetOptionsPrefix(ksp_, prefix.c_str()));
   PETSC_CHECK(KSPSetOperators(ksp_, mass_, mass_));
@@ -57,27 +58,58 @@ std::vector<double> NodalMass::solve(std::span<const double> b, int guess_slot) 
       for (int c = 0; c < 3; ++c) v[3 * n + c] = b[3 * n + c] / lumped_[n];
     return v;
   }
-  // One scalar solve per component (the matrix is the same for all three), each warm-started.
+  // One scalar solve per component (the matrix is the same for all three), each warm-started. The
+  // components are shared out over the ranks (component c on rank c mod size) and broadcast: every
+  // rank would have solved the same system with the same right side, so the result is the same,
+  // and two ranks take two solves' time instead of three. Every rank keeps every component's
+  // solution as its next starting guess, so the guesses stay replicated (checkpoints, other rank
+  // counts). The broadcast carries the owner's convergence reason and iterations, so a failed solve
+  // stops every rank.
   while (static_cast<int>(guesses_.size()) < 3 * (guess_slot + 1)) {
     guesses_.push_back(system_.create_vector());
     PETSC_CHECK(VecZeroEntries(guesses_.back()));
   }
-  std::vector<double> v(3 * nodes), component(nodes);
-  iterations_ = 0;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &size);
+  // Per component: the solution, then the owner's convergence reason and iterations.
+  std::array<std::vector<double>, 3> messages;
+  std::array<int, 3> owners{};
+  std::vector<double> component(nodes);
   for (int c = 0; c < 3; ++c) {
-    Vec x = guesses_[3 * guess_slot + c];
+    owners[c] = c % size;
+    messages[c].assign(nodes + 2, 0.0);
+    if (rank != owners[c]) continue;
+    // Each rank solves all its components first, so that the ranks solve at the same time.
+    Vec x = guesses_[static_cast<std::size_t>(3 * guess_slot + c)];
     for (std::size_t n = 0; n < nodes; ++n) component[n] = b[3 * n + c];
     system_.scatter(component, b_);
     PETSC_CHECK(KSPSolve(ksp_, b_, x));
     KSPConvergedReason reason;
     PETSC_CHECK(KSPGetConvergedReason(ksp_, &reason));
-    if (reason < 0) throw RunError("ib: the mass-matrix solve (L2 projection) did not converge");
     PetscInt its = 0;
     PETSC_CHECK(KSPGetIterationNumber(ksp_, &its));
-    iterations_ += its;
     const std::vector<double> solution = system_.gather(x);
-    for (std::size_t n = 0; n < nodes; ++n) v[3 * n + c] = solution[n];
+    std::copy(solution.begin(), solution.end(), messages[c].begin());
+    messages[c][nodes] = static_cast<double>(reason);
+    messages[c][nodes + 1] = static_cast<double>(its);
   }
+  std::vector<double> v(3 * nodes);
+  iterations_ = 0;
+  bool converged = true;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double>& message = messages[c];
+    if (size > 1) {
+      MPI_Bcast(message.data(), static_cast<int>(message.size()), MPI_DOUBLE, owners[c], comm_);
+      if (rank != owners[c])
+        system_.scatter(std::span(message).first(nodes),
+                        guesses_[static_cast<std::size_t>(3 * guess_slot + c)]);
+    }
+    converged = converged && message[nodes] >= 0.0;
+    iterations_ += static_cast<PetscInt>(message[nodes + 1]);
+    for (std::size_t n = 0; n < nodes; ++n) v[3 * n + c] = message[n];
+  }
+  if (!converged) throw RunError("ib: the mass-matrix solve (L2 projection) did not converge");
   return v;
 }
 

@@ -47,6 +47,7 @@ class NodalMass {
  private:
   const fe::Mesh& mesh_;
   fe::MassKind kind_;
+  MPI_Comm comm_; // the ranks that share out the component solves
   fe::QuadratureData quadrature_;
   fe::NodalSystem system_;
   std::vector<double> lumped_;
