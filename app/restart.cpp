@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/logger.hpp"
 
@@ -21,27 +22,11 @@ io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, con
     throw InputError(file->string() + ": the checkpoint is at step " + std::to_string(header.step) +
                      " but the run now ends at step " + std::to_string(steps) +
                      ": nothing to continue (lengthen the run with --set)");
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
-  // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut.
-  int ok = 1;
-  std::string problem;
-  if (rank == 0) {
-    try {
-      io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
-    } catch (const InputError& e) {
-      ok = 0;
-      problem = e.what();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, context.comm);
-  if (!ok) {
-    int length = static_cast<int>(problem.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, context.comm);
-    problem.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(problem.data(), length, MPI_CHAR, 0, context.comm);
-    throw InputError(problem);
-  }
+  // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut, and
+  // learn of any failure there.
+  io::on_root(context.comm, [&] {
+    io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
+  });
   io::Logger::global().info("restarting from " + file->string() + " (step " + std::to_string(header.step) +
                             ", t = " + std::to_string(header.time) + " s)");
   return header;

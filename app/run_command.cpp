@@ -8,6 +8,7 @@
 #include "app/model.hpp"
 #include "app/version.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -57,6 +58,33 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
   return std::filesystem::path("runs") / name;
 }
 
+/// Creates the run folder (rank 0): InputError naming the path when it is not a folder, cannot be
+/// created, or holds files and --overwrite was not given.
+void prepare_run_folder(const std::filesystem::path& directory, bool overwrite)
+{
+  try {
+    if (std::filesystem::exists(directory) && !std::filesystem::is_directory(directory))
+      throw InputError(directory.string() + ": is not a folder (give -o a folder to write the run into)");
+    if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !overwrite)
+      throw InputError(directory.string() +
+                       ": run folder exists and is not empty (give --overwrite, or -o another folder)");
+    std::filesystem::create_directories(directory);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError(directory.string() + ": cannot create the run folder (" + e.code().message() + ")");
+  }
+}
+
+/// Writes the resolved case into the run folder (rank 0), atomically: InputError naming the folder when
+/// it cannot be written.
+void write_config(const std::filesystem::path& directory, const io::Config& config)
+{
+  try {
+    io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+  } catch (const std::exception& e) {
+    throw InputError(directory.string() + ": cannot write the run folder (" + e.what() + ")");
+  }
+}
+
 } // namespace
 
 int run_case(RunOptions options, const PetscArguments& petsc)
@@ -92,33 +120,25 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   std::unique_ptr<PreparedRun> prepared = model.prepare(config);
 
   const std::filesystem::path directory = run_directory(options, config);
-  int size = 1, rank = 0;
+  int size = 1;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
   if (!options.restart.empty() && !io::Checkpoints(PETSC_COMM_WORLD, directory, {}).latest())
     throw InputError(directory.string() +
                      ": no complete checkpoint to restart from (models write them with "
                      "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
                      model.name + " model may not write any)");
-  int ok = 1;
-  std::string problem;
-  if (rank == 0) {
+  // Rank 0 makes the folder; whatever goes wrong there (a path under a file, /proc, a full disk) is an
+  // input error that every rank throws, so none waits for the others.
+  io::on_root(PETSC_COMM_WORLD, [&] {
     if (!options.restart.empty()) {
       // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case.
-      io::write_file_atomically(directory / "config.toml", config.resolved_toml());
-    } else if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) &&
-               !options.overwrite) {
-      ok = 0;
-      problem = directory.string() +
-                ": run folder exists and is not empty (give --overwrite, or -o another folder)";
+      write_config(directory, config);
     } else {
-      std::filesystem::create_directories(directory);
-      io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+      prepare_run_folder(directory, options.overwrite);
+      write_config(directory, config);
     }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  if (!ok) throw InputError(problem);
+  });
   log.open_file(directory / "log.txt");
   log.info(std::string("ibvalve ") + version_string + ": " + model.name +
            (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
