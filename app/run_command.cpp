@@ -93,6 +93,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     throw InputError("command line: give either a case file or --restart RUN_DIR, not both");
   if (options.restart.empty() && options.case_file.empty())
     throw InputError("command line: a case file is required (or --restart RUN_DIR)");
+  if (options.stop_after_steps < 0)
+    throw InputError("command line: --stop-after-steps " + std::to_string(options.stop_after_steps) +
+                     ": must be at least 0 (0, like leaving it out, runs to the end)");
   // A restart reads the case as the run folder recorded it (every default written out).
   if (!options.restart.empty()) {
     if (!std::filesystem::is_regular_file(options.restart / "config.toml"))
@@ -161,8 +164,9 @@ void add_run_command(CLI::App& app, CommandAction& action)
   sub->add_option("case", options->case_file, "the case file (TOML)");
   sub->add_option("--restart", options->restart,
                   "continue the run in this folder from its last checkpoint (its config.toml is the case)");
-  sub->add_option("--stop-after-steps", options->stop_after_steps,
-                  "stop after this many steps, writing a checkpoint (continue with --restart)");
+  sub->add_option(
+      "--stop-after-steps", options->stop_after_steps,
+      "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end");
   sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
   sub->add_option("--set", options->overrides,
                   "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
