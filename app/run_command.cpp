@@ -1,4 +1,5 @@
 // `ibvalve run CASE.toml`: validate the case, create the run folder, run the model.
+#include <array>
 #include <filesystem>
 #include <sstream>
 
@@ -58,16 +59,25 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
   return std::filesystem::path("runs") / name;
 }
 
+/// What a run writes into its folder (docs/runs.md). --overwrite removes these, and nothing else, before
+/// the new run starts: no checkpoint of the old run can be pruned with the new run's or continued by
+/// --restart, and no field file, plan or report of the old run passes for the new run's.
+constexpr std::array<const char*, 8> run_outputs{"checkpoints", "fftw_wisdom",    "fields",  "fields.xdmf",
+                                                 "report",      "timeseries.csv", "log.txt", "config.toml"};
+
 /// Creates the run folder (rank 0): InputError naming the path when it is not a folder, cannot be
-/// created, or holds files and --overwrite was not given.
+/// created, or holds files and --overwrite was not given; with --overwrite the old run's outputs go.
 void prepare_run_folder(const std::filesystem::path& directory, bool overwrite)
 {
   try {
     if (std::filesystem::exists(directory) && !std::filesystem::is_directory(directory))
       throw InputError(directory.string() + ": is not a folder (give -o a folder to write the run into)");
-    if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory) && !overwrite)
-      throw InputError(directory.string() +
-                       ": run folder exists and is not empty (give --overwrite, or -o another folder)");
+    if (std::filesystem::exists(directory) && !std::filesystem::is_empty(directory)) {
+      if (!overwrite)
+        throw InputError(directory.string() +
+                         ": run folder exists and is not empty (give --overwrite, or -o another folder)");
+      for (const char* name : run_outputs) std::filesystem::remove_all(directory / name);
+    }
     std::filesystem::create_directories(directory);
   } catch (const std::filesystem::filesystem_error& e) {
     throw InputError(directory.string() + ": cannot create the run folder (" + e.code().message() + ")");
@@ -170,7 +180,9 @@ void add_run_command(CLI::App& app, CommandAction& action)
   sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
   sub->add_option("--set", options->overrides,
                   "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
-  sub->add_flag("--overwrite", options->overwrite, "replace an existing run folder's contents");
+  sub->add_flag(
+      "--overwrite", options->overwrite,
+      "replace the run in an existing folder (its config, log, series, fields, checkpoints, report)");
   sub->add_flag("-v,--verbose", options->verbose, "print more");
   sub->add_flag("-q,--quiet", options->quiet, "print only errors");
   sub->callback([options, &action] {
