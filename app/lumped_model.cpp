@@ -21,6 +21,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/restart.hpp"
 #include "app/version.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
@@ -225,18 +226,17 @@ class LumpedRun : public PreparedRun {
     long first_step = 0;
     std::int64_t rows = 0;
     if (context.restart) {
-      const auto file = checkpoints.latest();
-      if (!file) throw InputError(directory.string() + ": no checkpoint to restart from (checkpoint.every)");
-      const io::CheckpointHeader header = checkpoints.read(*file, [&](const io::Hdf5File& h5) {
-        const std::vector<double> saved = h5.read("lumped/state");
-        if (saved.size() != y.size()) throw InputError(file->string() + ": lumped/state has the wrong size");
-        std::copy(saved.begin(), saved.end(), y.begin());
-      });
+      RunContext own = context; // rank 0 alone: its checkpoints, config.toml and series
+      own.comm = MPI_COMM_SELF;
+      const io::CheckpointHeader header =
+          restart_from_latest(checkpoints, own, steps, [&](const io::Hdf5File& h5) {
+            const std::vector<double> saved = h5.read("lumped/state");
+            if (saved.size() != y.size())
+              throw InputError(h5.path().string() + ": lumped/state has the wrong size");
+            std::copy(saved.begin(), saved.end(), y.begin());
+          });
       first_step = static_cast<long>(header.step);
       rows = header.timeseries_rows;
-      io::truncate_csv_rows(directory / "timeseries.csv", rows);
-      log.info("restarting from " + file->string() + " (step " + std::to_string(first_step) +
-               ", t = " + std::to_string(header.time) + " s)");
     }
     io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart);
     auto save = [&](long step) {

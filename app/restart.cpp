@@ -14,20 +14,21 @@ io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, con
                                          std::int64_t steps,
                                          const std::function<void(const io::Hdf5File&)>& restore)
 {
-  const auto file = checkpoints.latest();
-  if (!file)
+  const std::filesystem::path& file = context.checkpoint;
+  if (file.empty())
     throw InputError(context.run_directory.string() + ": no checkpoint to restart from (checkpoint.every)");
-  const io::CheckpointHeader header = checkpoints.read(*file, restore);
+  const io::CheckpointHeader header = checkpoints.read(file, restore);
   if (header.step >= steps)
-    throw InputError(file->string() + ": the checkpoint is at step " + std::to_string(header.step) +
+    throw InputError(file.string() + ": the checkpoint is at step " + std::to_string(header.step) +
                      " but the run now ends at step " + std::to_string(steps) +
                      ": nothing to continue (lengthen the run with --set)");
-  // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut, and
-  // learn of any failure there.
+  // Rank 0 alone writes config.toml and timeseries.csv; the others wait, so that nobody appends before
+  // the cut, and learn of any failure there.
   io::on_root(context.comm, [&] {
+    context.accept_restart();
     io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
   });
-  io::Logger::global().info("restarting from " + file->string() + " (step " + std::to_string(header.step) +
+  io::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
                             ", t = " + std::to_string(header.time) + " s)");
   return header;
 }

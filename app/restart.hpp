@@ -11,10 +11,11 @@
 
 namespace ibvalve::app {
 
-/// On `--restart`: reads the newest complete checkpoint of the run folder through `restore`
-/// (collective over the checkpoints' communicator), cuts timeseries.csv back to the rows it had then
-/// (rank 0 of `comm`) and logs where the run goes on from. InputError, before anything is cut, when
-/// there is no checkpoint or it is already at or past the run's last step `steps`.
+/// On `--restart`: reads the checkpoint `ibvalve run` chose (context.checkpoint) through `restore`
+/// (collective over the checkpoints' communicator), records the case (context.accept_restart), cuts
+/// timeseries.csv back to the rows it had then (rank 0 of `comm`) and logs where the run goes on from.
+/// InputError, before anything is written or cut, when there is no checkpoint or it is already at or
+/// past the run's last step `steps`.
 io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, const RunContext& context,
                                          std::int64_t steps,
                                          const std::function<void(const io::Hdf5File&)>& restore);

@@ -135,30 +135,38 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   const std::filesystem::path directory = run_directory(options, config);
   int size = 1;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
-  if (!options.restart.empty() && !io::Checkpoints(PETSC_COMM_WORLD, directory, {}).latest())
-    throw InputError(directory.string() +
-                     ": no complete checkpoint to restart from (models write them with "
-                     "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
-                     model.name + " model may not write any)");
-  // Rank 0 makes the folder; whatever goes wrong there (a path under a file, /proc, a full disk) is an
-  // input error that every rank throws, so none waits for the others.
-  io::on_root(PETSC_COMM_WORLD, [&] {
-    if (!options.restart.empty()) {
-      // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case.
-      write_config(directory, config);
-    } else {
+  // A restart continues the newest intact checkpoint of this very case (a torn or corrupt one is passed
+  // over, one of another case refused): chosen here, before anything is written.
+  std::filesystem::path checkpoint;
+  if (!options.restart.empty()) {
+    const auto file =
+        io::Checkpoints(PETSC_COMM_WORLD, directory, io::checkpoint_settings_from_config(config)).latest();
+    // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
+    if (!file)
+      throw InputError(directory.string() +
+                       ": no complete checkpoint to restart from (models write them with "
+                       "checkpoint.every > 0 or when stopped by --stop-after-steps; the " +
+                       model.name + " model may not write any)");
+    checkpoint = *file;
+  } else {
+    // Rank 0 makes the folder; whatever goes wrong there (a path under a file, /proc, a full disk) is an
+    // input error that every rank throws, so none waits for the others.
+    io::on_root(PETSC_COMM_WORLD, [&] {
       prepare_run_folder(directory, options.overwrite);
       write_config(directory, config);
-    }
-  });
+    });
+  }
   log.open_file(directory / "log.txt");
   log.info(std::string("ibvalve ") + version_string + ": " + model.name +
            (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
            std::to_string(size) + (size == 1 ? " rank" : " ranks"));
   log.info("run folder: " + directory.string());
 
-  RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps};
+  RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps,
+                     checkpoint};
+  // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case, once the
+  // model has accepted the checkpoint.
+  context.accept_restart = [&] { write_config(directory, config); };
   const RunSummary summary = prepared->run(context);
   for (const auto& line : summary.lines) log.info(line);
   log.info("finished in " + io::format_duration(log.wall_seconds()) + "; output in " + directory.string());

@@ -8,6 +8,22 @@ Scenarios (CASE is a case file of any model; the lumped one runs in a second):
       `run -o DIR --overwrite` of case B into the folder of an earlier run of case A (checkpoints,
       report) removes A's outputs first: B's checkpoints are the only ones, B's own survive pruning,
       and `--restart` continues B to B's uninterrupted series.
+  foreign-case, foreign-model
+      A newer checkpoint of another case (other valve parameters), or of another model, planted in a
+      run folder: the restart refuses it, exit 2, one error line naming the file (and the key that
+      differs, or the model), nothing cut or written.
+  corrupt, torn
+      The newest checkpoint with one bit of its state flipped (corrupt) or cut in half (torn): the
+      restart passes over it with one warning line naming it (no HDF5 error stack), continues from
+      the one before, and the series equals the uninterrupted run's.
+  step-override
+      `--restart DIR --set time.step=...` with a step other than the checkpoint's: exit 2, one error
+      line naming time.step; config.toml stays byte for byte what it was.
+  rejected-set
+      Overrides a restart rejects leave config.toml byte for byte as it was, and the folder still
+      restarts afterwards to the uninterrupted series: an override of the case (a valve parameter),
+      a restart ending before the checkpoint (time.cycles=1 for a lumped run stopped after its first
+      cycle: --stop above 8000), and a value out of range.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -99,6 +115,104 @@ def overwrite_scenario(runner, work, steps_b, every):
     same_series(reference, folder, "case B restarted")
 
 
+def stopped_run(runner, folder, every, stop):
+    runner.run(folder, "-q", f"--set=checkpoint.every={every}", f"--stop-after-steps={stop}")
+    return checkpoints(folder)
+
+
+def unchanged(folder, before, what):
+    now = (folder / "config.toml").read_bytes()
+    if now != before:
+        fail(f"{what}: config.toml changed")
+    print(f"{what}: config.toml byte for byte as before")
+
+
+def foreign_scenario(runner, work, args, every, stop, foreign_case):
+    folder, other = work / "folder", work / "other"
+    stopped_run(runner, folder, every, stop)
+    if foreign_case:
+        runner.run(other, "-q", "--set=valve.max_area_fraction=0.5", f"--set=checkpoint.every={every}",
+                   f"--stop-after-steps={stop + every}")
+    else:
+        other_runner = Runner(args)
+        other_runner.case, other_runner.sets = args.foreign, []
+        other_runner.run(other, "-q", "--set=checkpoint.every=1", "--stop-after-steps=2")
+    source = sorted((other / "checkpoints").glob("step_*.h5"))[-1]
+    planted = folder / "checkpoints" / f"step_{stop + every:09d}.h5"
+    shutil.copy(source, planted)
+    print(f"planted {source} as {planted}")
+    before_config = (folder / "config.toml").read_bytes()
+    before_series = (folder / "timeseries.csv").read_bytes()
+    result = runner.run(folder, restart=True, expect=2)
+    one_error_line(result, str(planted), *(["valve.max_area_fraction"] if foreign_case else ["model"]))
+    unchanged(folder, before_config, "refused foreign checkpoint")
+    if (folder / "timeseries.csv").read_bytes() != before_series:
+        fail("timeseries.csv was cut for a refused checkpoint")
+
+
+def damaged_scenario(runner, work, every, stop, torn):
+    import h5py
+    import numpy as np
+
+    whole, folder = work / "whole", work / "folder"
+    runner.run(whole, "-q", f"--set=checkpoint.every={every}")
+    saved = stopped_run(runner, folder, every, stop)
+    newest = folder / "checkpoints" / saved[-1]
+    if torn:
+        size = newest.stat().st_size
+        with open(newest, "r+b") as f:
+            f.truncate(size // 2)
+        print(f"cut {newest} to {size // 2} of {size} bytes")
+    else:
+        with h5py.File(newest, "r") as f:
+            names = []
+            f.visititems(lambda n, item: names.append(n) if isinstance(item, h5py.Dataset) else None)
+            dataset = f[names[0]]
+            offset, value = dataset.id.get_offset(), np.asarray(dataset[()]).ravel()[0]
+        with open(newest, "r+b") as f:
+            f.seek(offset)
+            byte = f.read(1)[0]
+            f.seek(offset)
+            f.write(bytes([byte ^ 0x01]))  # the lowest bit of the dataset's first value
+        with h5py.File(newest, "r") as f:
+            flipped = np.asarray(f[names[0]][()]).ravel()[0]
+        print(f"flipped one bit of {names[0]} in {newest}: {value!r} -> {flipped!r}")
+    result = runner.run(folder, restart=True)
+    warnings = [line for line in result.stderr.splitlines() if line.startswith("warning:")]
+    if len(warnings) != 1 or str(newest) not in warnings[0]:
+        fail("expected one warning line naming the skipped checkpoint", result.stdout + result.stderr)
+    if "HDF5-DIAG" in result.stdout + result.stderr:
+        fail("HDF5 printed a diagnostic stack", result.stderr)
+    print(f"one warning line: {warnings[0]}")
+    if f"restarting from {folder / 'checkpoints' / saved[-2]}" not in result.stdout:
+        fail(f"the restart did not continue from the one before, {saved[-2]}", result.stdout)
+    same_series(whole, folder, "restarted past the " + ("torn" if torn else "corrupt") + " checkpoint")
+
+
+def step_override_scenario(runner, work, every, stop, step):
+    folder = work / "folder"
+    stopped_run(runner, folder, every, stop)
+    before = (folder / "config.toml").read_bytes()
+    result = runner.run(folder, f"--set=time.step={step}", restart=True, expect=2)
+    one_error_line(result, "time.step")
+    unchanged(folder, before, f"--set time.step={step} refused")
+
+
+def rejected_set_scenario(runner, work, every, stop):
+    whole, folder = work / "whole", work / "folder"
+    runner.run(whole, "-q", f"--set=checkpoint.every={every}")
+    stopped_run(runner, folder, every, stop)
+    before = (folder / "config.toml").read_bytes()
+    for override, named in (("valve.max_area_fraction=0.5", "valve.max_area_fraction"),
+                            ("time.cycles=1", "nothing to continue"),
+                            ("valve.max_area_fraction=7", "valve.max_area_fraction")):
+        result = runner.run(folder, f"--set={override}", restart=True, expect=2)
+        one_error_line(result, named)
+        unchanged(folder, before, f"--set {override} refused")
+    runner.run(folder, "-q", restart=True)
+    same_series(whole, folder, "restarted after the refused overrides")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("scenario")
@@ -110,6 +224,8 @@ def main():
     parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
     parser.add_argument("--every", type=int, default=1000, help="checkpoint.every")
     parser.add_argument("--stop", type=int, default=5000, help="--stop-after-steps of the stopped runs")
+    parser.add_argument("--foreign", help="a case file of another model (foreign-model)")
+    parser.add_argument("--step", default="2e-4", help="the time.step a restart must refuse")
     args = parser.parse_args()
     work = pathlib.Path(args.work)
     shutil.rmtree(work, ignore_errors=True)
@@ -118,6 +234,14 @@ def main():
     s = args.scenario
     if s == "overwrite":
         overwrite_scenario(runner, work, args.stop, args.every)
+    elif s in ("foreign-case", "foreign-model"):
+        foreign_scenario(runner, work, args, args.every, args.stop, s == "foreign-case")
+    elif s in ("corrupt", "torn"):
+        damaged_scenario(runner, work, args.every, args.stop, s == "torn")
+    elif s == "step-override":
+        step_override_scenario(runner, work, args.every, args.stop, args.step)
+    elif s == "rejected-set":
+        rejected_set_scenario(runner, work, args.every, args.stop)
     else:
         fail(f"unknown scenario {s}")
     print("PASS")

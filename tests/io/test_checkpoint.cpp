@@ -55,7 +55,7 @@ TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const auto dir = shared_run_directory("roundtrip");
-  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2});
+  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2, {}});
   EXPECT_FALSE(checkpoints.latest().has_value());
   EXPECT_TRUE(checkpoints.due(20));
   EXPECT_FALSE(checkpoints.due(25));
