@@ -26,6 +26,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/stop_signal.hpp"
 #include "app/structure_parts.hpp"
 #include "app/version.hpp"
 #include "fe/gmsh_io.hpp"
@@ -512,7 +513,9 @@ class AorticValveRun : public PreparedRun {
       record();
       if (fields_every_ > 0) write_fields(0);
     }
-    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    int stop_signal = 0;
+    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
     for (long n = first_step + 1; n <= last_step; ++n) {
       try {
         ibfe.step(dt);
@@ -530,11 +533,17 @@ class AorticValveRun : public PreparedRun {
         log.finish_progress();
         write_report(context, summary, n / steps_per_cycle_);
       }
-      if (checkpoints.due(n) && n < steps) save(n);
+      saved.clear();
+      if (checkpoints.due(n) && n < steps) saved = save(n);
+      // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
+      if (n < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
+        last_step = n;
+        break;
+      }
     }
     log.finish_progress();
     if (last_step < steps)
-      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
     const ib::IbfeTimings& t = ibfe.timings();
     std::ostringstream timing;
     timing.precision(3);

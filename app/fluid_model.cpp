@@ -16,6 +16,7 @@
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/stop_signal.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
@@ -322,7 +323,9 @@ class FluidRun : public PreparedRun {
       });
     };
     if (!context.restart) record(0);
-    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    int stop_signal = 0;
+    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
     for (long step = first_step + 1; step <= last_step; ++step) {
       try {
         fluid->step(dt_);
@@ -331,12 +334,18 @@ class FluidRun : public PreparedRun {
       }
       record(step);
       log.progress({step, fluid->time(), static_cast<double>(steps) * dt_});
-      if (checkpoints.due(step) && step < steps) save(step);
+      saved.clear();
+      if (checkpoints.due(step) && step < steps) saved = save(step);
+      // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
+      if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
+        last_step = step;
+        break;
+      }
     }
     log.finish_progress();
     RunSummary summary;
     if (last_step < steps) {
-      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
       return summary;
     }
     const auto& timing = fluid->timings();

@@ -37,6 +37,10 @@ struct RunContext {
 /// What a finished run tells the user: where its output and its report went.
 struct RunSummary {
   std::vector<std::string> lines;
+  /// A run stopped by SIGINT or SIGTERM (app/stop_signal.hpp): the line saying where it stopped and how
+  /// to continue, printed whatever the log level, and the exit code 128 + the signal's number.
+  std::string stopped;
+  int exit_code = 0;
 };
 
 class PreparedRun {

@@ -4,6 +4,7 @@
 
 #include <mpi.h>
 
+#include "app/stop_signal.hpp"
 #include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/logger.hpp"
@@ -39,10 +40,24 @@ std::int64_t last_step_of_invocation(const RunContext& context, std::int64_t fir
 }
 
 std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
-                         const std::filesystem::path& run_directory)
+                         const std::filesystem::path& run_directory, int signal)
 {
-  return "stopped after step " + std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " +
-         file.string() + "); continue with: ibvalve run --restart " + run_directory.string();
+  return (signal ? "stopped by " + signal_name(signal) + " after step "
+                 : std::string("stopped after step ")) +
+         std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " + file.string() +
+         "); continue with: ibvalve run --restart " + run_directory.string();
+}
+
+void add_stop(RunSummary& summary, std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
+              const std::filesystem::path& run_directory, int signal)
+{
+  const std::string line = stopped_line(step, steps, file, run_directory, signal);
+  if (signal == 0) {
+    summary.lines.push_back(line);
+    return;
+  }
+  summary.stopped = line;
+  summary.exit_code = exit_code_of_signal(signal);
 }
 
 } // namespace ibvalve::app

@@ -7,6 +7,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/stop_signal.hpp"
 #include "app/version.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
@@ -167,10 +168,16 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case, once the
   // model has accepted the checkpoint.
   context.accept_restart = [&] { write_config(directory, config); };
+  // From here on SIGINT and SIGTERM stop the run with a checkpoint (app/stop_signal.hpp).
+  catch_stop_signals();
   const RunSummary summary = prepared->run(context);
   for (const auto& line : summary.lines) log.info(line);
+  if (!summary.stopped.empty()) {
+    log.always(summary.stopped);
+    return summary.exit_code;
+  }
   log.info("finished in " + io::format_duration(log.wall_seconds()) + "; output in " + directory.string());
-  return 0;
+  return summary.exit_code;
 }
 
 void add_run_command(CLI::App& app, CommandAction& action)

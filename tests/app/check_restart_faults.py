@@ -4,6 +4,12 @@
   check_restart_faults.py SCENARIO IBVALVE MPIEXEC RANKS CASE WORK_DIR [--set key=value ...]
 
 Scenarios (CASE is a case file of any model; the lumped one runs in a second):
+  signal-term, signal-int
+      A run that receives SIGTERM (SIGINT) while it runs finishes its step, writes a checkpoint, keeps
+      its output, prints one line saying where it stopped and how to continue, and exits with 143
+      (130). The signal reaches one rank only (the last one): the ranks agree on it and stop together.
+      `--restart` then continues it to a timeseries.csv identical byte for byte to the uninterrupted
+      run's.
   overwrite
       `run -o DIR --overwrite` of case B into the folder of an earlier run of case A (checkpoints,
       report) removes A's outputs first: B's checkpoints are the only ones, B's own survive pruning,
@@ -27,10 +33,13 @@ Scenarios (CASE is a case file of any model; the lumped one runs in a second):
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
+import os
 import pathlib
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 FAIL = 1
 
@@ -92,6 +101,72 @@ def same_series(whole, continued, what):
         fail(f"{what}: timeseries.csv has {len(x)} lines uninterrupted, {len(y)} {what}")
     print(f"{what}: timeseries.csv identical byte for byte to the uninterrupted run's "
           f"({len(a.decode().splitlines()) - 1} rows)")
+
+
+def data_rows(folder):
+    path = folder / "timeseries.csv"
+    return max(len(path.read_text().splitlines()) - 1, 0) if path.exists() else 0
+
+
+def processes_of(launcher):
+    """The ibvalve processes mpiexec started, by rank (Open MPI starts them as its children)."""
+    ranks = {}
+    for entry in pathlib.Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            if parent != launcher:
+                continue
+            environment = (entry / "environ").read_bytes().split(b"\0")
+        except (OSError, IndexError, ValueError):
+            continue
+        for variable in environment:
+            if variable.startswith(b"OMPI_COMM_WORLD_RANK="):
+                ranks[int(variable.split(b"=")[1])] = int(entry.name)
+    return ranks
+
+
+def signal_scenario(runner, work, which, ranks, after_rows):
+    code = 128 + which
+    name = signal.Signals(which).name
+    whole, split = work / "whole", work / "split"
+    runner.run(whole, "-q")
+    command = runner.command(split, "-q")
+    print("+", " ".join(command), flush=True)
+    launcher = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while data_rows(split) < after_rows:
+        if launcher.poll() is not None or time.time() > deadline:
+            out, err = launcher.communicate()
+            fail(f"the run ended or stalled before {after_rows} rows, before the signal", out + err)
+        time.sleep(0.01)
+    processes = processes_of(launcher.pid)
+    if len(processes) != ranks:
+        launcher.kill()
+        fail(f"found {len(processes)} ibvalve processes of mpiexec, expected {ranks}")
+    last = max(processes)
+    os.kill(processes[last], which)
+    print(f"sent {name} to rank {last} (pid {processes[last]}) after {data_rows(split)} rows")
+    out, err = launcher.communicate(timeout=120)
+    if launcher.returncode != code:
+        fail(f"exit code {launcher.returncode} after {name}, expected {code}", out + err)
+    stopped = [line for line in out.splitlines() if line.startswith(f"stopped by {name} after step ")]
+    if len(stopped) != 1 or f"ibvalve run --restart {split}" not in stopped[0]:
+        fail("no one line saying where the run stopped and how to continue", out + err)
+    print(f"exit {code}, {stopped[0]}")
+    if error_lines(subprocess.CompletedProcess([], 0, out, err)):
+        fail("a signal stop printed an error line", err)
+    saved = checkpoints(split)
+    step = int(stopped[0].split(" after step ")[1].split()[0])
+    if f"step_{step:09d}.h5" not in saved:
+        fail(f"no checkpoint of step {step} among {saved}")
+    if data_rows(split) == 0 or (split / "report").exists():
+        fail("the stopped run did not keep its series, or wrote a report")
+    result = runner.run(split, restart=True)
+    if f"restarting from {split / 'checkpoints' / f'step_{step:09d}.h5'}" not in result.stdout:
+        fail("the restart did not continue from the signal's checkpoint", result.stdout)
+    same_series(whole, split, "stopped by " + name + " and restarted")
 
 
 def overwrite_scenario(runner, work, steps_b, every):
@@ -224,6 +299,7 @@ def main():
     parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
     parser.add_argument("--every", type=int, default=1000, help="checkpoint.every")
     parser.add_argument("--stop", type=int, default=5000, help="--stop-after-steps of the stopped runs")
+    parser.add_argument("--after-rows", type=int, default=200, help="signal once the series has this many rows")
     parser.add_argument("--foreign", help="a case file of another model (foreign-model)")
     parser.add_argument("--step", default="2e-4", help="the time.step a restart must refuse")
     args = parser.parse_args()
@@ -232,7 +308,10 @@ def main():
     work.mkdir(parents=True)
     runner = Runner(args)
     s = args.scenario
-    if s == "overwrite":
+    if s in ("signal-term", "signal-int"):
+        signal_scenario(runner, work, signal.SIGTERM if s == "signal-term" else signal.SIGINT, int(args.ranks),
+                        args.after_rows)
+    elif s == "overwrite":
         overwrite_scenario(runner, work, args.stop, args.every)
     elif s in ("foreign-case", "foreign-model"):
         foreign_scenario(runner, work, args, args.every, args.stop, s == "foreign-case")
