@@ -534,7 +534,7 @@ class AorticValveRun : public PreparedRun {
         write_report(context, summary, n / steps_per_cycle_);
       }
       saved.clear();
-      if (checkpoints.due(n) && n < steps) saved = save(n);
+      if (checkpoints.due(n, steps)) saved = save(n);
       // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
       if (n < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
         last_step = n;

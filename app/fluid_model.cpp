@@ -335,7 +335,7 @@ class FluidRun : public PreparedRun {
       record(step);
       log.progress({step, fluid->time(), static_cast<double>(steps) * dt_});
       saved.clear();
-      if (checkpoints.due(step) && step < steps) saved = save(step);
+      if (checkpoints.due(step, steps)) saved = save(step);
       // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
       if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
         last_step = step;

@@ -73,7 +73,7 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
     record(step);
     log.progress({step, ibfe.time(), steps * settings.dt});
     saved.clear();
-    if (checkpoints.due(step) && step < steps) saved = save(step);
+    if (checkpoints.due(step, steps)) saved = save(step);
     // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
     if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
       last_step = step;

@@ -276,7 +276,7 @@ class LumpedRun : public PreparedRun {
       if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
       if ((n + 1) % 1000 == 0) log.progress({n + 1, static_cast<double>(n + 1) * dt, end_time});
       saved.clear();
-      if (checkpoints.due(n + 1) && n + 1 < steps) saved = save(n + 1);
+      if (checkpoints.due(n + 1, steps)) saved = save(n + 1);
       // SIGINT/SIGTERM (app/stop_signal.hpp), agreed with the other ranks every 1000 steps (a
       // millisecond of this model): the run stops after this step.
       if ((n + 1) % 1000 == 0 && n + 1 < steps &&

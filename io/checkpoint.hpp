@@ -58,6 +58,12 @@ class Checkpoints {
 
   /// Whether step `step` (steps completed) is one to checkpoint at.
   bool due(std::int64_t step) const { return settings_.every > 0 && step % settings_.every == 0; }
+  /// Whether step `step` of a run of `steps` is one to checkpoint at: every `every` steps and the last
+  /// step (so a finished run can be lengthened with --restart --set time.end=...).
+  bool due(std::int64_t step, std::int64_t steps) const
+  {
+    return settings_.every > 0 && (step % settings_.every == 0 || step == steps);
+  }
 
   /// Writes a checkpoint: `save` writes the model's datasets into the open file, then the header and the
   /// case record; rank 0 seals it with the checksum of its content and `complete`, renames it into

@@ -30,6 +30,10 @@ Scenarios (CASE is a case file of any model; the lumped one runs in a second):
       restarts afterwards to the uninterrupted series: an override of the case (a valve parameter),
       a restart ending before the checkpoint (time.cycles=1 for a lumped run stopped after its first
       cycle: --stop above 8000), and a value out of range.
+  lengthen
+      A run that reached its end with checkpoint.every > 0 wrote a checkpoint at its last step (as
+      well as every `every` steps), so `--restart DIR --set time.end=LONGER` (--longer) continues the
+      finished run, to the series of a run that was that long from the start.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -288,6 +292,20 @@ def rejected_set_scenario(runner, work, every, stop):
     same_series(whole, folder, "restarted after the refused overrides")
 
 
+def lengthen_scenario(runner, work, every, longer, last_step):
+    finished, reference = work / "finished", work / "longer"
+    runner.run(finished, "-q", f"--set=checkpoint.every={every}")
+    last = f"step_{last_step:09d}.h5"
+    if last not in checkpoints(finished):
+        fail(f"the finished run wrote no checkpoint of its last step {last_step}: {checkpoints(finished)}")
+    print(f"the finished run's checkpoints: {checkpoints(finished)}")
+    runner.run(reference, "-q", f"--set=checkpoint.every={every}", f"--set={longer}")
+    result = runner.run(finished, f"--set={longer}", restart=True)
+    if f"restarting from {finished / 'checkpoints' / last}" not in result.stdout:
+        fail("the lengthened run did not continue from the last step's checkpoint", result.stdout)
+    same_series(reference, finished, "finished, then lengthened")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("scenario")
@@ -302,6 +320,8 @@ def main():
     parser.add_argument("--after-rows", type=int, default=200, help="signal once the series has this many rows")
     parser.add_argument("--foreign", help="a case file of another model (foreign-model)")
     parser.add_argument("--step", default="2e-4", help="the time.step a restart must refuse")
+    parser.add_argument("--longer", help="lengthen: the override of a longer run, e.g. time.end=0.032")
+    parser.add_argument("--last-step", type=int, help="lengthen: the finished run's last step")
     args = parser.parse_args()
     work = pathlib.Path(args.work)
     shutil.rmtree(work, ignore_errors=True)
@@ -321,6 +341,8 @@ def main():
         step_override_scenario(runner, work, args.every, args.stop, args.step)
     elif s == "rejected-set":
         rejected_set_scenario(runner, work, args.every, args.stop)
+    elif s == "lengthen":
+        lengthen_scenario(runner, work, args.every, args.longer, args.last_step)
     else:
         fail(f"unknown scenario {s}")
     print("PASS")
