@@ -21,6 +21,7 @@
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -223,8 +224,7 @@ class FluidRun : public PreparedRun {
     const std::filesystem::path directory = context.run_directory;
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
-    if (rank == 0) std::filesystem::create_directories(directory / "fields");
-    MPI_Barrier(context.comm);
+    io::create_directories_on_root(context.comm, directory / "fields");
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};

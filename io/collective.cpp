@@ -64,4 +64,15 @@ void on_root(MPI_Comm comm, const std::function<void()>& work)
   rethrow_on_every_rank(comm, error);
 }
 
+void create_directories_on_root(MPI_Comm comm, const std::filesystem::path& directory)
+{
+  on_root(comm, [&] {
+    try {
+      std::filesystem::create_directories(directory);
+    } catch (const std::filesystem::filesystem_error& e) {
+      throw RunError(directory.string() + ": cannot create the folder (" + e.code().message() + ")");
+    }
+  });
+}
+
 } // namespace ibvalve::io

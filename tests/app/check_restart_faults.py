@@ -34,6 +34,10 @@ Scenarios (CASE is a case file of any model; the lumped one runs in a second):
       A run that reached its end with checkpoint.every > 0 wrote a checkpoint at its last step (as
       well as every `every` steps), so `--restart DIR --set time.end=LONGER` (--longer) continues the
       finished run, to the series of a run that was that long from the start.
+  fields-not-a-folder
+      A stopped run whose fields/ was replaced by a regular file: the restart, on rank 0 creating the
+      folder, fails on every rank (exit 3, an error line naming the path), in time: no rank is left
+      waiting for rank 0.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -306,6 +310,25 @@ def lengthen_scenario(runner, work, every, longer, last_step):
     same_series(reference, finished, "finished, then lengthened")
 
 
+def fields_not_a_folder_scenario(runner, work, every, stop):
+    folder = work / "folder"
+    stopped_run(runner, folder, every, stop)
+    shutil.rmtree(folder / "fields")
+    (folder / "fields").write_text("not a folder\n")
+    command = runner.command(folder, restart=True)
+    print("+", " ".join(command), flush=True)
+    try:
+        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        fail("the restart hung (60 s): a rank waits for rank 0")
+    if result.returncode != 3:
+        fail(f"exit code {result.returncode}, expected 3", result.stdout + result.stderr)
+    lines = error_lines(result)
+    if not lines or f"{folder / 'fields'}: cannot create the folder" not in lines[0]:
+        fail("no error line naming the fields folder", result.stdout + result.stderr)
+    print(f"exit 3: {lines[0]}")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("scenario")
@@ -341,6 +364,8 @@ def main():
         step_override_scenario(runner, work, args.every, args.stop, args.step)
     elif s == "rejected-set":
         rejected_set_scenario(runner, work, args.every, args.stop)
+    elif s == "fields-not-a-folder":
+        fields_not_a_folder_scenario(runner, work, args.every, args.stop)
     elif s == "lengthen":
         lengthen_scenario(runner, work, args.every, args.longer, args.last_step)
     else:
