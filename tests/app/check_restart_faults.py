@@ -73,7 +73,8 @@ class Runner:
     def run(self, folder, *extra, restart=False, expect=0):
         command = self.command(folder, *extra, restart=restart)
         print("+", " ".join(command), flush=True)
-        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        result = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
         output = result.stdout + result.stderr
         if result.returncode != expect:
             fail(f"exit code {result.returncode}, expected {expect}", output)
@@ -142,7 +143,8 @@ def signal_scenario(runner, work, which, ranks, after_rows):
     runner.run(whole, "-q")
     command = runner.command(split, "-q")
     print("+", " ".join(command), flush=True)
-    launcher = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    launcher = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 120
     while data_rows(split) < after_rows:
         if launcher.poll() is not None or time.time() > deadline:
@@ -318,7 +320,8 @@ def fields_not_a_folder_scenario(runner, work, every, stop):
     command = runner.command(folder, restart=True)
     print("+", " ".join(command), flush=True)
     try:
-        result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, timeout=60)
+        result = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True, timeout=60)
     except subprocess.TimeoutExpired:
         fail("the restart hung (60 s): a rank waits for rank 0")
     if result.returncode != 3:
