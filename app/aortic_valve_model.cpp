@@ -44,6 +44,7 @@
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -478,9 +479,10 @@ class AorticValveRun : public PreparedRun {
         h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
       });
     };
-    io::CsvWriter csv;
-    if (rank == 0)
+    io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
+    io::on_root(context.comm, [&] {
       csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart);
+    });
     auto record = [&] {
       const double t = ibfe.time();
       const double q_valve = volume_flux(valve_plane);

@@ -255,7 +255,9 @@ class FluidRun : public PreparedRun {
       series.resume(fluid->time());
     }
     io::CsvWriter csv;
-    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart);
+    // Rank 0's; a failure to open it reaches every rank.
+    io::on_root(context.comm,
+                [&] { csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart); });
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;

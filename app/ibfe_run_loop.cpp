@@ -10,6 +10,7 @@
 #include "app/ibfe_fields.hpp"
 #include "app/restart.hpp"
 #include "app/stop_signal.hpp"
+#include "io/collective.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
 
@@ -39,12 +40,13 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
     rows = header.timeseries_rows;
     series.resume(ibfe.time());
   }
-  io::CsvWriter csv;
-  if (rank == 0)
+  io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
+  io::on_root(context.comm, [&] {
     csv = io::CsvWriter(
         directory / "timeseries.csv",
         {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
         context.restart);
+  });
   const double V0 = mesh.volume();
   auto record = [&](long step) {
     double speed = 0.0, displacement = 0.0;
