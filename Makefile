@@ -6,8 +6,13 @@ ifdef CI
 CMAKE_FLAGS += -DIBVALVE_WERROR=ON
 endif
 RUN_CASE ?= examples/aortic_valve/default.toml
-RUN_DIR ?= runs/default
+# The run folder follows the case: examples/lumped/default.toml runs in runs/lumped_default, so one
+# case's run never replaces another's (give RUN_DIR to choose).
+RUN_DIR ?= runs/$(notdir $(patsubst %/,%,$(dir $(RUN_CASE))))_$(basename $(notdir $(RUN_CASE)))
 RUN_RANKS ?= 2
+
+# No "Entering directory" lines from make itself or from the make that cmake --build starts.
+MAKEFLAGS += --no-print-directory
 
 export OMPI_ALLOW_RUN_AS_ROOT = 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = 1
@@ -36,7 +41,8 @@ deps:
 	@scripts/install-deps
 
 configure: deps
-	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD_DIR).configure.log 2>&1 || { cat $(BUILD_DIR).configure.log; exit 1; }
+	@mkdir -p $(BUILD_DIR)
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS) > $(BUILD_DIR)/configure.log 2>&1 || { cat $(BUILD_DIR)/configure.log; exit 1; }
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
@@ -45,4 +51,4 @@ format:
 	find . -path ./$(BUILD_DIR) -prune -o \( -name '*.cpp' -o -name '*.hpp' \) -print | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log
+	rm -rf $(BUILD_DIR)

@@ -26,6 +26,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/stop_signal.hpp"
 #include "app/structure_parts.hpp"
 #include "app/version.hpp"
 #include "fe/gmsh_io.hpp"
@@ -43,6 +44,7 @@
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -477,9 +479,10 @@ class AorticValveRun : public PreparedRun {
         h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
       });
     };
-    io::CsvWriter csv;
-    if (rank == 0)
+    io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
+    io::on_root(context.comm, [&] {
       csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart);
+    });
     auto record = [&] {
       const double t = ibfe.time();
       const double q_valve = volume_flux(valve_plane);
@@ -512,7 +515,9 @@ class AorticValveRun : public PreparedRun {
       record();
       if (fields_every_ > 0) write_fields(0);
     }
-    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    int stop_signal = 0;
+    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
     for (long n = first_step + 1; n <= last_step; ++n) {
       try {
         ibfe.step(dt);
@@ -530,11 +535,17 @@ class AorticValveRun : public PreparedRun {
         log.finish_progress();
         write_report(context, summary, n / steps_per_cycle_);
       }
-      if (checkpoints.due(n) && n < steps) save(n);
+      saved.clear();
+      if (checkpoints.due(n, steps)) saved = save(n);
+      // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
+      if (n < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
+        last_step = n;
+        break;
+      }
     }
     log.finish_progress();
     if (last_step < steps)
-      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
     const ib::IbfeTimings& t = ibfe.timings();
     std::ostringstream timing;
     timing.precision(3);

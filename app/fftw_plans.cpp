@@ -6,6 +6,8 @@
 #include <mpi.h>
 
 #include "fluid/fft_stokes.hpp"
+#include "io/collective.hpp"
+#include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
 
@@ -45,11 +47,16 @@ void load_fftw_plans(const RunContext& context)
 
 void save_fftw_plans(const RunContext& context)
 {
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
-  if (rank == 0) std::filesystem::create_directories(context.run_directory / "fftw_wisdom");
-  MPI_Barrier(context.comm);
-  io::write_file_atomically(wisdom_file(context), fluid::export_fftw_wisdom());
+  io::create_directories_on_root(context.comm, context.run_directory / "fftw_wisdom");
+  // Each rank writes its own plans; one that cannot stops every rank (before the checkpoint, which is
+  // collective).
+  std::exception_ptr error;
+  try {
+    io::write_file_atomically(wisdom_file(context), fluid::export_fftw_wisdom());
+  } catch (const std::exception& e) {
+    error = std::make_exception_ptr(RunError(wisdom_file(context).string() + ": " + e.what()));
+  }
+  io::rethrow_on_every_rank(context.comm, error);
 }
 
 } // namespace ibvalve::app

@@ -13,6 +13,7 @@
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh_output.hpp"
 #include "fibers/rules.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/logger.hpp"
 #include "io/xdmf.hpp"
@@ -38,13 +39,16 @@ int run_fibers(const FibersCommandOptions& options)
   if (options.axis.size() != 6) throw InputError("--axis: give six numbers px,py,pz,dx,dy,dz");
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  int folder_ok = 1;
-  if (rank == 0)
-    folder_ok = !(std::filesystem::exists(options.output) && !std::filesystem::is_empty(options.output) &&
-                  !options.overwrite);
-  MPI_Bcast(&folder_ok, 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  if (!folder_ok)
-    throw InputError(options.output.string() + ": output folder exists and is not empty (give --overwrite)");
+  // Rank 0 checks the output folder (and makes it below, once the fields exist); an error there is
+  // every rank's, so none waits for rank 0.
+  io::on_root(PETSC_COMM_WORLD, [&] {
+    if (std::filesystem::exists(options.output) && !std::filesystem::is_directory(options.output))
+      throw InputError(options.output.string() + ": is not a folder (give -o a folder to write into)");
+    if (std::filesystem::exists(options.output) && !std::filesystem::is_empty(options.output) &&
+        !options.overwrite)
+      throw InputError(options.output.string() +
+                       ": output folder exists and is not empty (give --overwrite)");
+  });
 
   const fe::Mesh mesh = fe::read_msh(options.mesh);
   std::vector<std::string> leaflets = options.leaflets;
@@ -82,8 +86,14 @@ int run_fibers(const FibersCommandOptions& options)
       (leaflets.empty() ? std::string("the whole mesh") : std::to_string(leaflets.size()) + " leaflet(s)"));
   const fibers::FiberField field = fibers::compute_fibers(mesh, rule, specs, PETSC_COMM_WORLD);
 
-  if (rank == 0) std::filesystem::create_directories(options.output);
-  MPI_Barrier(PETSC_COMM_WORLD);
+  io::on_root(PETSC_COMM_WORLD, [&] {
+    try {
+      std::filesystem::create_directories(options.output);
+    } catch (const std::filesystem::filesystem_error& e) {
+      throw InputError(options.output.string() + ": cannot create the output folder (" + e.code().message() +
+                       ")");
+    }
+  });
   std::vector<double> directions;
   std::size_t with_fibers = 0;
   for (const auto& f : field.element_directions) {

@@ -16,10 +16,12 @@
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/stop_signal.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -222,8 +224,7 @@ class FluidRun : public PreparedRun {
     const std::filesystem::path directory = context.run_directory;
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
-    if (rank == 0) std::filesystem::create_directories(directory / "fields");
-    MPI_Barrier(context.comm);
+    io::create_directories_on_root(context.comm, directory / "fields");
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};
@@ -254,7 +255,9 @@ class FluidRun : public PreparedRun {
       series.resume(fluid->time());
     }
     io::CsvWriter csv;
-    if (rank == 0) csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart);
+    // Rank 0's; a failure to open it reaches every rank.
+    io::on_root(context.comm,
+                [&] { csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart); });
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;
@@ -322,7 +325,9 @@ class FluidRun : public PreparedRun {
       });
     };
     if (!context.restart) record(0);
-    const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    int stop_signal = 0;
+    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
     for (long step = first_step + 1; step <= last_step; ++step) {
       try {
         fluid->step(dt_);
@@ -331,12 +336,18 @@ class FluidRun : public PreparedRun {
       }
       record(step);
       log.progress({step, fluid->time(), static_cast<double>(steps) * dt_});
-      if (checkpoints.due(step) && step < steps) save(step);
+      saved.clear();
+      if (checkpoints.due(step, steps)) saved = save(step);
+      // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
+      if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
+        last_step = step;
+        break;
+      }
     }
     log.finish_progress();
     RunSummary summary;
     if (last_step < steps) {
-      summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
       return summary;
     }
     const auto& timing = fluid->timings();

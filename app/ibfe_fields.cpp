@@ -8,16 +8,14 @@
 #include "fe/element.hpp"
 #include "fluid/composite_output.hpp"
 #include "fluid/output.hpp"
+#include "io/collective.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
 
 void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directory)
 {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  if (rank == 0) std::filesystem::create_directories(directory / "fields");
-  MPI_Barrier(comm);
+  io::create_directories_on_root(comm, directory / "fields");
 }
 
 std::string fields_file_name(long step)

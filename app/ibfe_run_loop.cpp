@@ -9,6 +9,8 @@
 
 #include "app/ibfe_fields.hpp"
 #include "app/restart.hpp"
+#include "app/stop_signal.hpp"
+#include "io/collective.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
 
@@ -38,12 +40,13 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
     rows = header.timeseries_rows;
     series.resume(ibfe.time());
   }
-  io::CsvWriter csv;
-  if (rank == 0)
+  io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
+  io::on_root(context.comm, [&] {
     csv = io::CsvWriter(
         directory / "timeseries.csv",
         {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
         context.restart);
+  });
   const double V0 = mesh.volume();
   auto record = [&](long step) {
     double speed = 0.0, displacement = 0.0;
@@ -64,16 +67,25 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
   };
   log.start_clock();
   if (!context.restart) record(0);
-  const long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+  long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+  int stop_signal = 0;
+  std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
   for (long step = first_step + 1; step <= last_step; ++step) {
     ibfe.step(settings.dt);
     record(step);
     log.progress({step, ibfe.time(), steps * settings.dt});
-    if (checkpoints.due(step) && step < steps) save(step);
+    saved.clear();
+    if (checkpoints.due(step, steps)) saved = save(step);
+    // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
+    if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
+      last_step = step;
+      break;
+    }
   }
   log.finish_progress();
   RunSummary summary;
-  if (last_step < steps) summary.lines.push_back(stopped_line(last_step, steps, save(last_step), directory));
+  if (last_step < steps)
+    add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
   for (std::string& line : ibfe_summary_lines(ibfe, V0, directory, series.steps(),
                                               fluid.solver_summary ? fluid.solver_summary() : std::string()))
     summary.lines.push_back(std::move(line));

@@ -21,10 +21,13 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/restart.hpp"
+#include "app/stop_signal.hpp"
 #include "app/version.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
 #include "io/checkpoint.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -183,32 +186,40 @@ class LumpedRun : public PreparedRun {
   {
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
-    // A 0-D model: rank 0 computes and writes; the others wait for its outcome.
-    std::string error;
-    int kind = 0; // 0 ok, 1 run error, 2 input error
+    // A 0-D model: rank 0 computes and writes. The others take part in its agreements on a stop signal
+    // (agree_on_stop; a signal may reach any rank) until it is done, then share its outcome: its
+    // error, if any (every rank throws it), and its exit code.
     RunSummary summary;
+    std::exception_ptr error;
     if (rank == 0) {
       try {
         summary = simulate(context);
-      } catch (const InputError& e) {
-        kind = 2;
-        error = e.what();
-      } catch (const RunError& e) {
-        kind = 1;
-        error = e.what();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      agree_on_stop(context.comm, true);
+    } else {
+      while (!agree_on_stop(context.comm, false).done) {
       }
     }
-    MPI_Bcast(&kind, 1, MPI_INT, 0, context.comm);
-    int length = static_cast<int>(error.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, context.comm);
-    error.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(error.data(), length, MPI_CHAR, 0, context.comm);
-    if (kind == 2) throw InputError(error);
-    if (kind == 1) throw RunError(error);
+    io::rethrow_on_every_rank(context.comm, error);
+    MPI_Bcast(&summary.exit_code, 1, MPI_INT, 0, context.comm);
     return summary;
   }
 
  private:
+  struct Agreement {
+    bool done = false; // rank 0 has finished (or failed)
+    int signal = 0;    // the stop signal any rank noted
+  };
+  /// Collective over `comm`: rank 0 says whether it is done, every rank which signal it noted.
+  static Agreement agree_on_stop(MPI_Comm comm, bool done)
+  {
+    int mine[2] = {done ? 1 : 0, noted_stop_signal()}, all[2] = {0, 0};
+    MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MAX, comm);
+    return {all[0] != 0, all[1]};
+  }
+
   RunSummary simulate(const RunContext& context)
   {
     const std::filesystem::path& directory = context.run_directory;
@@ -225,18 +236,17 @@ class LumpedRun : public PreparedRun {
     long first_step = 0;
     std::int64_t rows = 0;
     if (context.restart) {
-      const auto file = checkpoints.latest();
-      if (!file) throw InputError(directory.string() + ": no checkpoint to restart from (checkpoint.every)");
-      const io::CheckpointHeader header = checkpoints.read(*file, [&](const io::Hdf5File& h5) {
-        const std::vector<double> saved = h5.read("lumped/state");
-        if (saved.size() != y.size()) throw InputError(file->string() + ": lumped/state has the wrong size");
-        std::copy(saved.begin(), saved.end(), y.begin());
-      });
+      RunContext own = context; // rank 0 alone: its checkpoints, config.toml and series
+      own.comm = MPI_COMM_SELF;
+      const io::CheckpointHeader header =
+          restart_from_latest(checkpoints, own, steps, [&](const io::Hdf5File& h5) {
+            const std::vector<double> saved = h5.read("lumped/state");
+            if (saved.size() != y.size())
+              throw InputError(h5.path().string() + ": lumped/state has the wrong size");
+            std::copy(saved.begin(), saved.end(), y.begin());
+          });
       first_step = static_cast<long>(header.step);
       rows = header.timeseries_rows;
-      io::truncate_csv_rows(directory / "timeseries.csv", rows);
-      log.info("restarting from " + file->string() + " (step " + std::to_string(first_step) +
-               ", t = " + std::to_string(header.time) + " s)");
     }
     io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart);
     auto save = [&](long step) {
@@ -254,10 +264,9 @@ class LumpedRun : public PreparedRun {
     log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
              std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
     if (!context.restart) write(0.0);
-    const long last_step =
-        context.stop_after_steps > 0
-            ? std::min<long>(steps, first_step + static_cast<long>(context.stop_after_steps))
-            : steps;
+    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
+    int stop_signal = 0;
+    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
     for (long n = first_step; n < last_step; ++n) {
       const double t = static_cast<double>(n) * dt;
       y = system.step(t, y, dt);
@@ -266,16 +275,21 @@ class LumpedRun : public PreparedRun {
                        " s (try a smaller time.step)");
       if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
       if ((n + 1) % 1000 == 0) log.progress({n + 1, static_cast<double>(n + 1) * dt, end_time});
-      if (checkpoints.due(n + 1) && n + 1 < steps) save(n + 1);
+      saved.clear();
+      if (checkpoints.due(n + 1, steps)) saved = save(n + 1);
+      // SIGINT/SIGTERM (app/stop_signal.hpp), agreed with the other ranks every 1000 steps (a
+      // millisecond of this model): the run stops after this step.
+      if ((n + 1) % 1000 == 0 && n + 1 < steps &&
+          (stop_signal = agree_on_stop(context.comm, false).signal) != 0) {
+        last_step = n + 1;
+        break;
+      }
     }
     log.finish_progress();
 
     RunSummary summary;
     if (last_step < steps) {
-      const auto file = save(last_step);
-      summary.lines.push_back("stopped after step " + std::to_string(last_step) + " of " +
-                              std::to_string(steps) + " (checkpoint " + file.string() +
-                              "); continue with: ibvalve run --restart " + directory.string());
+      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
       return summary;
     }
     hemodynamics::ReportOptions options;

@@ -25,11 +25,22 @@ struct RunContext {
   /// Stop after this many steps of this invocation, with a checkpoint (0 = run to the end); lets a run
   /// fit a batch job's wall-time limit and tests stop a run midway.
   std::int64_t stop_after_steps = 0;
+  /// On restart: the checkpoint to continue from, chosen and checked by `ibvalve run` (the newest
+  /// intact one of this case, io::Checkpoints::latest).
+  std::filesystem::path checkpoint;
+  /// On restart: records the case with its --set overrides in config.toml. Called on rank 0 only once
+  /// the model has accepted the checkpoint (restored it and found steps left to take), so a rejected
+  /// override never reaches config.toml. Throws InputError.
+  std::function<void()> accept_restart = [] {};
 };
 
 /// What a finished run tells the user: where its output and its report went.
 struct RunSummary {
   std::vector<std::string> lines;
+  /// A run stopped by SIGINT or SIGTERM (app/stop_signal.hpp): the line saying where it stopped and how
+  /// to continue, printed whatever the log level, and the exit code 128 + the signal's number.
+  std::string stopped;
+  int exit_code = 0;
 };
 
 class PreparedRun {

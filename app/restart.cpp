@@ -4,6 +4,8 @@
 
 #include <mpi.h>
 
+#include "app/stop_signal.hpp"
+#include "io/collective.hpp"
 #include "io/errors.hpp"
 #include "io/logger.hpp"
 
@@ -13,36 +15,21 @@ io::CheckpointHeader restart_from_latest(const io::Checkpoints& checkpoints, con
                                          std::int64_t steps,
                                          const std::function<void(const io::Hdf5File&)>& restore)
 {
-  const auto file = checkpoints.latest();
-  if (!file)
+  const std::filesystem::path& file = context.checkpoint;
+  if (file.empty())
     throw InputError(context.run_directory.string() + ": no checkpoint to restart from (checkpoint.every)");
-  const io::CheckpointHeader header = checkpoints.read(*file, restore);
+  const io::CheckpointHeader header = checkpoints.read(file, restore);
   if (header.step >= steps)
-    throw InputError(file->string() + ": the checkpoint is at step " + std::to_string(header.step) +
+    throw InputError(file.string() + ": the checkpoint is at step " + std::to_string(header.step) +
                      " but the run now ends at step " + std::to_string(steps) +
                      ": nothing to continue (lengthen the run with --set)");
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
-  // Rank 0 alone writes timeseries.csv; the others wait, so that nobody appends before the cut.
-  int ok = 1;
-  std::string problem;
-  if (rank == 0) {
-    try {
-      io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
-    } catch (const InputError& e) {
-      ok = 0;
-      problem = e.what();
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, context.comm);
-  if (!ok) {
-    int length = static_cast<int>(problem.size());
-    MPI_Bcast(&length, 1, MPI_INT, 0, context.comm);
-    problem.resize(static_cast<std::size_t>(length));
-    MPI_Bcast(problem.data(), length, MPI_CHAR, 0, context.comm);
-    throw InputError(problem);
-  }
-  io::Logger::global().info("restarting from " + file->string() + " (step " + std::to_string(header.step) +
+  // Rank 0 alone writes config.toml and timeseries.csv; the others wait, so that nobody appends before
+  // the cut, and learn of any failure there.
+  io::on_root(context.comm, [&] {
+    context.accept_restart();
+    io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
+  });
+  io::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
                             ", t = " + std::to_string(header.time) + " s)");
   return header;
 }
@@ -53,10 +40,24 @@ std::int64_t last_step_of_invocation(const RunContext& context, std::int64_t fir
 }
 
 std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
-                         const std::filesystem::path& run_directory)
+                         const std::filesystem::path& run_directory, int signal)
 {
-  return "stopped after step " + std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " +
-         file.string() + "); continue with: ibvalve run --restart " + run_directory.string();
+  return (signal ? "stopped by " + signal_name(signal) + " after step "
+                 : std::string("stopped after step ")) +
+         std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " + file.string() +
+         "); continue with: ibvalve run --restart " + run_directory.string();
+}
+
+void add_stop(RunSummary& summary, std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
+              const std::filesystem::path& run_directory, int signal)
+{
+  const std::string line = stopped_line(step, steps, file, run_directory, signal);
+  if (signal == 0) {
+    summary.lines.push_back(line);
+    return;
+  }
+  summary.stopped = line;
+  summary.exit_code = exit_code_of_signal(signal);
 }
 
 } // namespace ibvalve::app

@@ -138,7 +138,8 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
     run.output = study.output / c.name;
     run.overrides = c.overrides;
     run.overwrite = options.overwrite;
-    run_case(run, petsc);
+    // A case stopped by SIGINT/SIGTERM stops the study with it.
+    if (const int code = run_case(run, petsc); code != 0) return code;
     folders.push_back(run.output);
   }
   log.info("study: comparing " + std::to_string(folders.size()) + " cases");

@@ -1,12 +1,16 @@
 #include "io/checkpoint.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include "io/collective.hpp"
 #include "io/errors.hpp"
+#include "io/logger.hpp"
 
 namespace ibvalve::io {
 
@@ -61,7 +65,115 @@ std::vector<std::filesystem::path> list_newest_first(MPI_Comm comm, const std::f
   return files;
 }
 
+/// Root attributes the checksum does not cover: the checksum itself and the seal written after it.
+const std::vector<std::string> unhashed_attributes{"checksum", "complete"};
+
+std::string hex(std::uint64_t value)
+{
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+  return text;
+}
+
+bool restart_may_change_key(const std::string& key)
+{
+  for (const std::string prefix : restart_may_change)
+    if (prefix.back() == '.' ? key.rfind(prefix, 0) == 0 : key == prefix) return true;
+  return false;
+}
+
+void flatten(const toml::node& node, const std::string& key, std::vector<std::string>& lines)
+{
+  if (const toml::table* table = node.as_table()) {
+    for (auto&& [k, child] : *table)
+      flatten(child, key.empty() ? std::string(k.str()) : key + "." + std::string(k.str()), lines);
+    return;
+  }
+  if (const toml::array* array = node.as_array(); array && !array->empty() && array->is_array_of_tables()) {
+    for (std::size_t i = 0; i < array->size(); ++i)
+      flatten((*array)[i], key + "[" + std::to_string(i) + "]", lines);
+    return;
+  }
+  if (restart_may_change_key(key)) return;
+  std::ostringstream os;
+  node.visit([&](const auto& value) { os << value; });
+  lines.push_back(key + " = " + os.str());
+}
+
+std::map<std::string, std::string> record_keys(const std::string& record)
+{
+  std::map<std::string, std::string> keys;
+  std::istringstream in(record);
+  for (std::string line; std::getline(in, line);) {
+    const auto equals = line.find(" = ");
+    if (equals != std::string::npos) keys[line.substr(0, equals)] = line.substr(equals + 3);
+  }
+  return keys;
+}
+
+/// Why a checkpoint of case `stored` does not continue case `current`: its model or its first key
+/// that differs; empty when it is the same case.
+std::string case_difference(const std::string& stored, const std::string& current)
+{
+  if (stored == current) return {};
+  const auto a = record_keys(stored), b = record_keys(current);
+  const auto model = [](const std::map<std::string, std::string>& keys) {
+    const auto found = keys.find("model");
+    if (found == keys.end()) return std::string("(no)");
+    std::string name = found->second; // a TOML string: 'fluid'
+    if (name.size() >= 2 && (name.front() == '\'' || name.front() == '"'))
+      name = name.substr(1, name.size() - 2);
+    return name;
+  };
+  if (model(a) != model(b))
+    return "a checkpoint of the " + model(a) + " model, not of this " + model(b) + " case";
+  std::map<std::string, std::string> all = a;
+  all.insert(b.begin(), b.end());
+  for (const auto& [key, ignored] : all) {
+    const auto x = a.find(key), y = b.find(key);
+    const std::string there = x == a.end() ? std::string("not set") : x->second;
+    const std::string here = y == b.end() ? std::string("not set") : y->second;
+    if (there != here)
+      return "not a checkpoint of this case: " + key + " is " + there + " there but " + here +
+             " here (a restart may change only time.end, time.cycles, output.*, log.*, report.*, "
+             "checkpoint.*, name and petsc.options)";
+  }
+  return "not a checkpoint of this case";
+}
+
+enum class Verdict { good, damaged, foreign };
+
+/// Whether a checkpoint file continues the case `record` (rank 0 alone reads it).
+std::pair<Verdict, std::string> inspect(const std::filesystem::path& file, const std::string& record)
+{
+  try {
+    Hdf5File h5(MPI_COMM_SELF, file, Hdf5File::Mode::read);
+    if (!h5.has_attribute("complete") || h5.read_attribute("complete") != 1.0)
+      return {Verdict::damaged, "it was not finished"};
+    if (!h5.has_attribute("checksum") || !h5.has_attribute("case"))
+      return {Verdict::damaged, "it has no checksum (written by an older ibvalve)"};
+    if (h5.read_string_attribute("checksum") != hex(h5.content_hash(unhashed_attributes)))
+      return {Verdict::damaged, "its content does not match its checksum"};
+    if (const std::string why = case_difference(h5.read_string_attribute("case"), record); !why.empty())
+      return {Verdict::foreign, why};
+    return {Verdict::good, {}};
+  } catch (const std::exception&) {
+    return {Verdict::damaged, "it cannot be read as HDF5"};
+  }
+}
+
 } // namespace
+
+std::string case_record(const Config& config)
+{
+  const toml::table resolved = toml::parse(config.resolved_toml());
+  std::vector<std::string> lines;
+  flatten(resolved, "", lines);
+  std::sort(lines.begin(), lines.end());
+  std::string record;
+  for (const auto& line : lines) record += line + '\n';
+  return record;
+}
 
 void add_checkpoint_schema(Schema& schema, const std::string& prefix)
 {
@@ -77,7 +189,8 @@ void add_checkpoint_schema(Schema& schema, const std::string& prefix)
 
 CheckpointSettings checkpoint_settings_from_config(const Config& config, const std::string& prefix)
 {
-  return CheckpointSettings{config.integer(prefix + ".every"), config.integer(prefix + ".keep")};
+  return CheckpointSettings{config.integer(prefix + ".every"), config.integer(prefix + ".keep"),
+                            case_record(config)};
 }
 
 Checkpoints::Checkpoints(MPI_Comm comm, std::filesystem::path run_directory, CheckpointSettings settings)
@@ -91,43 +204,52 @@ std::filesystem::path Checkpoints::write(const CheckpointHeader& header,
 {
   const std::filesystem::path final_path = directory_ / file_name(header.step);
   const std::filesystem::path temporary = final_path.string() + ".partial";
-  if (rank_ == 0) std::filesystem::create_directories(directory_);
-  MPI_Barrier(comm_);
+  on_root(comm_, [&] { std::filesystem::create_directories(directory_); });
   {
     Hdf5File file(comm_, temporary, Hdf5File::Mode::create);
     save(file);
-    // The header last: a file without it was not finished.
     file.write_attribute("step", static_cast<double>(header.step));
     file.write_attribute("time", header.time);
     file.write_attribute("timeseries_rows", static_cast<double>(header.timeseries_rows));
-    file.write_attribute("complete", 1.0);
+    file.write_string_attribute("case", settings_.case_record);
   }
   MPI_Barrier(comm_);
-  if (rank_ == 0) {
+  // Rank 0 seals the file (the checksum of what is on disk, then `complete`: a file without it was not
+  // finished), renames it into place and prunes; a failure there reaches every rank.
+  on_root(comm_, [&] {
+    {
+      Hdf5File file(MPI_COMM_SELF, temporary, Hdf5File::Mode::append);
+      file.write_string_attribute("checksum", hex(file.content_hash(unhashed_attributes)));
+      file.write_attribute("complete", 1.0);
+    }
     std::filesystem::rename(temporary, final_path);
     const auto files = list_newest_first(MPI_COMM_SELF, directory_);
     for (std::size_t i = static_cast<std::size_t>(settings_.keep); i < files.size(); ++i)
       std::filesystem::remove(files[i]);
-  }
-  MPI_Barrier(comm_);
+  });
   return final_path;
 }
 
 std::optional<std::filesystem::path> Checkpoints::latest() const
 {
-  for (const auto& file : list_newest_first(comm_, directory_)) {
-    int good = 0;
-    try {
-      Hdf5File h5(comm_, file, Hdf5File::Mode::read);
-      good = h5.read_attribute("complete") == 1.0 ? 1 : 0;
-    } catch (const std::exception&) {
-      good = 0; // torn or foreign file: try the one before
+  std::string chosen;
+  on_root(comm_, [&] {
+    for (const auto& file : list_newest_first(MPI_COMM_SELF, directory_)) {
+      const auto [verdict, why] = inspect(file, settings_.case_record);
+      if (verdict == Verdict::good) {
+        chosen = file.string();
+        return;
+      }
+      if (verdict == Verdict::foreign) throw InputError(file.string() + ": " + why);
+      Logger::global().warn("skipping checkpoint " + file.string() + ": " + why + "; trying the one before");
     }
-    int all_good = 0;
-    MPI_Allreduce(&good, &all_good, 1, MPI_INT, MPI_MIN, comm_);
-    if (all_good) return file;
-  }
-  return std::nullopt;
+  });
+  int length = static_cast<int>(chosen.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm_);
+  chosen.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(chosen.data(), length, MPI_CHAR, 0, comm_);
+  if (chosen.empty()) return std::nullopt;
+  return std::filesystem::path(chosen);
 }
 
 CheckpointHeader Checkpoints::read(const std::filesystem::path& file,

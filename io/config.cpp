@@ -505,6 +505,13 @@ void apply_overrides(toml::table& table, std::span<const std::string> overrides)
 {
   for (const std::string& text : overrides) {
     const auto equals = text.find('=');
+    // One key per --set: a line break would let one override smuggle in further keys (and lines
+    // into config.toml).
+    if (text.find_first_of("\n\r") != std::string::npos) {
+      std::string shown = text.substr(0, text.find_first_of("\n\r"));
+      throw InputError("command line: --set " + shown +
+                       "...: a line break in an override (one key=value each)");
+    }
     if (equals == std::string::npos || equals == 0)
       throw InputError("command line: --set " + text + ": expected key=value");
     toml::table parsed;

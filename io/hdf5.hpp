@@ -17,7 +17,8 @@ namespace ibvalve::io {
 
 class Hdf5File {
  public:
-  enum class Mode { create, read };
+  /// append: an existing file opened to add to (rank 0 of a checkpoint seals it, io/checkpoint.cpp).
+  enum class Mode { create, read, append };
 
   Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode);
   ~Hdf5File();
@@ -35,6 +36,14 @@ class Hdf5File {
   /// A scalar attribute on the file's root group.
   void write_attribute(const std::string& name, double value);
   double read_attribute(const std::string& name) const;
+  void write_string_attribute(const std::string& name, const std::string& value);
+  std::string read_string_attribute(const std::string& name) const;
+  bool has_attribute(const std::string& name) const;
+
+  /// A 64-bit FNV-1a hash of the file's content as stored: every dataset (name, shape, the bytes of its
+  /// values) in name order, then the root attributes but those named in `skip_attributes`. Reads the
+  /// whole file; call it on a file opened on one rank (MPI_COMM_SELF).
+  std::uint64_t content_hash(std::span<const std::string> skip_attributes) const;
 
   bool has(const std::string& name) const;
   std::vector<hsize_t> dims(const std::string& name) const;

@@ -63,6 +63,8 @@ void Logger::verbose(std::string_view message)
   if (level_ >= LogLevel::verbose) write(stdout, "", message);
 }
 
+void Logger::always(std::string_view message) { write(stdout, "", message); }
+
 void Logger::warn(std::string_view message) { write(stderr, "warning: ", message); }
 
 void Logger::error(std::string_view message) { write(stderr, "error: ", message); }

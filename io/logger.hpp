@@ -24,7 +24,7 @@ struct Progress {
 };
 
 class Logger {
-public:
+ public:
   /// The process's logger.
   static Logger& global();
 
@@ -43,6 +43,8 @@ public:
   void info(std::string_view message);
   void verbose(std::string_view message);
   void warn(std::string_view message);
+  /// One line on stdout (and in the log file), whatever the level: how a stopped run goes on.
+  void always(std::string_view message);
   /// One line on stderr (and in the log file), whatever the level.
   void error(std::string_view message);
 
@@ -53,7 +55,7 @@ public:
   /// Ends a progress line drawn in place, so the next message starts on a fresh line.
   void finish_progress();
 
-private:
+ private:
   Logger();
   void write(std::FILE* stream, std::string_view prefix, std::string_view message);
 

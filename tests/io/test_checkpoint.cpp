@@ -1,6 +1,7 @@
 // Checkpoints (io/checkpoint.hpp): a distributed state written by every rank reads back bit for bit;
 // the newest complete checkpoint is found and a torn file or an unfinished temporary is passed over;
-// only the newest `keep` survive; a time series is cut back to the rows a checkpoint recorded.
+// only the newest `keep` survive; a time series is cut back to the rows a checkpoint recorded; a
+// checkpoint whose content no longer matches its checksum is passed over, one of another case refused.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -55,7 +56,7 @@ TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   const auto dir = shared_run_directory("roundtrip");
-  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2});
+  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2, {}});
   EXPECT_FALSE(checkpoints.latest().has_value());
   EXPECT_TRUE(checkpoints.due(20));
   EXPECT_FALSE(checkpoints.due(25));
@@ -90,6 +91,55 @@ TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
   EXPECT_EQ(header.time, 1e-3 * 30.0);
   EXPECT_EQ(header.timeseries_rows, 15);
   EXPECT_EQ(restored, block_of(rank, n, 30.0)); // bit for bit
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(dir);
+}
+
+TEST(Checkpoints, AChangedValueIsPassedOverAndAnotherCaseIsRefused)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto dir = shared_run_directory("validate");
+  const std::string record = "model = 'lumped'\nvalve.max_area_fraction = 0.6\n";
+  const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 3, record});
+  const std::size_t n = 5;
+  for (std::int64_t step : {10, 20}) {
+    const auto block = block_of(rank, n, static_cast<double>(step));
+    checkpoints.write({step, 1e-3 * static_cast<double>(step), step},
+                      [&](Hdf5File& h5) { save_block(h5, rank, size, block); });
+  }
+  ASSERT_EQ(checkpoints.latest()->filename().string(), "step_000000020.h5");
+
+  // One value of step 20's state changed behind the checkpoint's back (a flipped bit, a bad disk).
+  if (rank == 0) {
+    const auto file = dir / "checkpoints" / "step_000000020.h5";
+    const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    const hid_t dataset = H5Dopen2(h5, "state/u", H5P_DEFAULT);
+    std::vector<double> values(n * static_cast<std::size_t>(size));
+    H5Dread(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    values[1] = std::nextafter(values[1], 1.0);
+    H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dclose(dataset);
+    H5Fclose(h5);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  ASSERT_TRUE(checkpoints.latest().has_value());
+  EXPECT_EQ(checkpoints.latest()->filename().string(), "step_000000010.h5");
+
+  // A newer checkpoint of another case: refused, naming the file and the key.
+  const Checkpoints other(MPI_COMM_WORLD, dir,
+                          CheckpointSettings{10, 3, "model = 'lumped'\nvalve.max_area_fraction = 0.5\n"});
+  other.write({30, 0.03, 30}, [&](Hdf5File& h5) { save_block(h5, rank, size, block_of(rank, n, 30.0)); });
+  try {
+    checkpoints.latest();
+    ADD_FAILURE() << "a checkpoint of another case was accepted";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("step_000000030.h5"), std::string::npos) << message;
+    EXPECT_NE(message.find("valve.max_area_fraction is 0.5 there but 0.6 here"), std::string::npos)
+        << message;
+  }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0) std::filesystem::remove_all(dir);
 }
