@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <mpi.h>
 
@@ -32,6 +33,22 @@ class LocalArray {
   Vec v_;
   PetscScalar**** a_ = nullptr;
 };
+
+/// The first grid index and the weights per direction of velocity component d at a prepared point:
+/// component d sits on the faces normal to d, so along d the face set (0), across it the cell-centre
+/// set (1) of the point's 6 support weights.
+std::pair<std::array<int, 3>, std::array<const double*, 3>>
+component_stencil(const std::array<int, 6>& first, const double* weights, int support, int d)
+{
+  std::array<int, 3> f{};
+  std::array<const double*, 3> w{};
+  for (int e = 0; e < 3; ++e) {
+    const int set = e == d ? 0 : 1;
+    f[e] = first[static_cast<std::size_t>(3 * set + e)];
+    w[e] = weights + (3 * set + e) * support;
+  }
+  return {f, w};
+}
 
 /// Sum over the S^3 grid values around `base` (x entries `sx` apart, y rows `sy`, z planes `sz`) weighted
 /// by w0[m] w1[j] w2[k]: the interpolation of one velocity component at an interior point, with the
@@ -215,14 +232,7 @@ void GridInteraction::interpolate(Vec velocity, const PreparedPoints& points, st
     const std::array<int, 6>& first = points.first[p];
     const double* weights = points.weights.data() + 6 * S * p;
     for (int d = 0; d < 3; ++d) {
-      // Component d sits on faces normal to d: face positions along d, cell centres across.
-      std::array<int, 3> f{};
-      std::array<const double*, 3> w{};
-      for (int e = 0; e < 3; ++e) {
-        const int set = e == d ? 0 : 1;
-        f[e] = first[static_cast<std::size_t>(3 * set + e)];
-        w[e] = weights + (3 * set + e) * S;
-      }
+      const auto [f, w] = component_stencil(first, weights, S, d);
       double sum = 0.0;
       if (S == 4 && (points.inside[p] >> d & 1u)) { // the whole stencil inside the box: unrolled loops
         sum = weighted_sum<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
@@ -269,13 +279,7 @@ void GridInteraction::spread(const PreparedPoints& points, std::span<const Vec3>
       for (int d = 0; d < 3; ++d) {
         const double F = forces[p][d] * inverse_volume;
         if (F == 0.0) continue;
-        std::array<int, 3> f{};
-        std::array<const double*, 3> w{};
-        for (int e = 0; e < 3; ++e) {
-          const int set = e == d ? 0 : 1;
-          f[e] = first[static_cast<std::size_t>(3 * set + e)];
-          w[e] = weights + (3 * set + e) * S;
-        }
+        const auto [f, w] = component_stencil(first, weights, S, d);
         if (S == 4 && (points.inside[p] >> d & 1u)) {
           weighted_add<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
                           w[2], F);
