@@ -108,6 +108,11 @@ class NestedNavierStokes {
   Vec velocity() const { return u_; }
   Vec pressure() const { return p_; }
   const NestedStepStatistics& statistics() const { return stats_; }
+  /// The viscous solve is preconditioned by Jacobi when one sweep's error bound, the largest
+  /// sum_{j != i} |H_ij| / |H_ii| of the Helmholtz matrix, is at most this limit; by BoomerAMG otherwise.
+  static constexpr double jacobi_ratio_limit = 1e-3;
+  /// True when the last step's viscous solve was preconditioned by Jacobi.
+  bool velocity_by_jacobi() const { return velocity_by_jacobi_; }
 
   /// The cell-centred velocity u^n (CompositeVelocity::cell_velocity) into three composite cell vectors
   /// (operators().create_cell_vector()). Collective.
@@ -160,10 +165,11 @@ class NestedNavierStokes {
   NestedFluidSettings settings_;
   std::unique_ptr<CompositeOperators> operators_, tangential_;
   std::unique_ptr<CompositeVelocity> velocity_ops_;
-  Mat gradient_ = nullptr;   // G: the gradient of the momentum equation and the projection
-  Mat divergence_ = nullptr; // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
-  Mat projection_ = nullptr; // M = G_d^T W G
-  Mat helmholtz_ = nullptr;  // rho/dt - mu/2 L
+  Mat gradient_ = nullptr;          // G: the gradient of the momentum equation and the projection
+  Mat divergence_ = nullptr;        // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
+  Mat projection_ = nullptr;        // M = G_d^T W G
+  Mat helmholtz_ = nullptr;         // rho/dt - mu/2 L
+  bool velocity_by_jacobi_ = false; // the viscous solve's preconditioner is Jacobi (build_helmholtz)
   KSP velocity_ksp_ = nullptr, pressure_ksp_ = nullptr;
   MatNullSpace constants_ = nullptr;
   Vec u_ = nullptr, p_ = nullptr, force_ = nullptr;
