@@ -14,6 +14,7 @@
 
 #include "io/errors.hpp"
 #include "io/files.hpp"
+#include "io/logger.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -79,6 +80,9 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
   const fs::path file = run_directory / "config.toml";
   if (!fs::exists(file)) return s;
   const toml::table root = io::parse_toml_file(file);
+  // The density of the fluid the run simulated, unless its [report] table gives one.
+  if (const toml::node* n = root.at_path("fluid.density").node(); n && n->is_number())
+    s.density = *n->value<double>();
   const toml::table* report = root["report"].as_table();
   if (!report) return s;
   auto real = [&](const char* key, double& into) {
@@ -106,6 +110,18 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
     }
   }
   return s;
+}
+
+std::optional<double> recorded_period(const fs::path& run_directory)
+{
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return std::nullopt;
+  const toml::table root = io::parse_toml_file(file);
+  const toml::table* report = root["report"].as_table();
+  if (!report) return std::nullopt;
+  const toml::node* n = report->get("period");
+  if (!n || !n->is_number()) return std::nullopt;
+  return *n->value<double>();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -407,6 +423,23 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   if (!fs::exists(series_file))
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
+  // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
+  const double period = options.settings.period;
+  const std::string period_name =
+      options.period_given ? "command line: --period " + format_value(period)
+                           : series_file.string() + ": report.period " + format_value(period) + " s";
+  if (series.t.size() >= 2) {
+    const double span = series.t.back() - series.t.front();
+    const double interval = span / static_cast<double>(series.t.size() - 1);
+    if (period > span * (1.0 + 1e-9))
+      throw InputError(period_name + ": longer than the series (" + format_value(span) + " s of " +
+                       std::to_string(series.t.size()) + " rows)");
+    constexpr double minimum_rows = 10;
+    if (period < minimum_rows * interval)
+      throw InputError(period_name + ": holds about " + std::to_string(std::lround(period / interval)) +
+                       " rows of the series (one every " + format_value(interval) +
+                       " s); a cycle needs at least " + std::to_string(static_cast<int>(minimum_rows)));
+  }
   ValveMetrics metrics;
   try {
     metrics = compute_metrics(series, options.settings);
@@ -419,6 +452,20 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   const Json doc = metrics_document(metrics, options.settings, run_name, run_directory);
 
   ReportFiles files;
+  // One warning line for a period other than the run's cycle, or a regurgitant fraction no valve has.
+  std::string warning;
+  if (options.run_period && std::abs(period - *options.run_period) > 1e-9 * *options.run_period)
+    warning = (options.period_given ? "--period " : "report.period ") + format_value(period) +
+              " s is not the run's cycle (report.period " + format_value(*options.run_period) +
+              " s in config.toml)";
+  const double rf = metrics.value("regurgitant_fraction");
+  if (std::isfinite(rf) && (rf < 0.0 || rf > 100.0))
+    warning += (warning.empty() ? "with the period " + format_value(period) + " s: RF " : ": RF ") +
+               format_value(rf) + " % is outside 0-100 %";
+  if (!warning.empty()) {
+    files.warning = warning + "; the metrics are of a " + format_value(period) + " s window";
+    io::Logger::global().warn(files.warning);
+  }
   files.directory = run_directory / "report";
   fs::create_directories(files.directory);
   files.json = files.directory / "metrics.json";
