@@ -61,8 +61,12 @@ int report(const ReportCommandOptions& options)
 {
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     hemodynamics::ReportOptions report_options;
+    // The run's own settings (its config.toml's [report] table: the period of its cycle, the density)
+    // unless given here; a given period is checked against the run's cycle.
     report_options.settings = hemodynamics::metric_settings_from_run(options.run_directory);
+    report_options.run_period = hemodynamics::recorded_period(options.run_directory);
     if (options.period) report_options.settings.period = *options.period;
+    report_options.period_given = options.period.has_value();
     if (options.cycle) report_options.settings.cycle = *options.cycle;
     if (options.closure_rule)
       report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
@@ -89,7 +93,8 @@ void add_report_command(CLI::App& app, CommandAction& action)
                   "Python with matplotlib and numpy (default: the one CMake found)");
   sub->add_flag("--no-plots", options->no_plots, "skip the plots");
   sub->add_option("--period", options->period,
-                  "cardiac cycle, s (default: report.period of the run, else 0.8)")
+                  "cardiac cycle, s (default: report.period of the run, else 0.8; another than the "
+                  "run's is warned about, one longer than the series or under 10 rows refused)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--cycle", options->cycle, "cycle to analyse (0 = first, -1 = last full)")
       ->check(CLI::Range(-1, 1000000));

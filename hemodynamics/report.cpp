@@ -1,13 +1,20 @@
 #include "hemodynamics/report.hpp"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "io/errors.hpp"
 #include "io/files.hpp"
+#include "io/logger.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -73,6 +80,9 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
   const fs::path file = run_directory / "config.toml";
   if (!fs::exists(file)) return s;
   const toml::table root = io::parse_toml_file(file);
+  // The density of the fluid the run simulated, unless its [report] table gives one.
+  if (const toml::node* n = root.at_path("fluid.density").node(); n && n->is_number())
+    s.density = *n->value<double>();
   const toml::table* report = root["report"].as_table();
   if (!report) return s;
   auto real = [&](const char* key, double& into) {
@@ -100,6 +110,18 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
     }
   }
   return s;
+}
+
+std::optional<double> recorded_period(const fs::path& run_directory)
+{
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return std::nullopt;
+  const toml::table root = io::parse_toml_file(file);
+  const toml::table* report = root["report"].as_table();
+  if (!report) return std::nullopt;
+  const toml::node* n = report->get("period");
+  if (!n || !n->is_number()) return std::nullopt;
+  return *n->value<double>();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -184,11 +206,34 @@ Json metric_json(const std::string& symbol, const std::string& unit, const std::
   return Json(std::move(o));
 }
 
-std::string shell_quote(const std::string& s)
+/// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
+/// stdin from /dev/null, stdout and stderr into `log`, and waits for it: "" when it exited with 0, else
+/// what went wrong (one line).
+std::string run_program(const std::vector<std::string>& args, const fs::path& directory, const fs::path& log)
 {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int error = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (error != 0) return "cannot start " + args[0] + " (" + std::strerror(error) + ")";
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return "lost " + args[0] + " (" + std::strerror(errno) + ")";
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  if (WIFSIGNALED(status)) return args[0] + " was killed by signal " + std::to_string(WTERMSIG(status));
+  std::string tail = fs::exists(log) ? io::read_text_file(log) : std::string();
+  while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
+  const auto cut = tail.rfind('\n');
+  return "exit " + std::to_string(WEXITSTATUS(status)) +
+         (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1)));
 }
 
 } // namespace
@@ -378,6 +423,23 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   if (!fs::exists(series_file))
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
+  // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
+  const double period = options.settings.period;
+  const std::string period_name =
+      options.period_given ? "command line: --period " + format_value(period)
+                           : series_file.string() + ": report.period " + format_value(period) + " s";
+  if (series.t.size() >= 2) {
+    const double span = series.t.back() - series.t.front();
+    const double interval = span / static_cast<double>(series.t.size() - 1);
+    if (period > span * (1.0 + 1e-9))
+      throw InputError(period_name + ": longer than the series (" + format_value(span) + " s of " +
+                       std::to_string(series.t.size()) + " rows)");
+    constexpr double minimum_rows = 10;
+    if (period < minimum_rows * interval)
+      throw InputError(period_name + ": holds about " + std::to_string(std::lround(period / interval)) +
+                       " rows of the series (one every " + format_value(interval) +
+                       " s); a cycle needs at least " + std::to_string(static_cast<int>(minimum_rows)));
+  }
   ValveMetrics metrics;
   try {
     metrics = compute_metrics(series, options.settings);
@@ -390,6 +452,20 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   const Json doc = metrics_document(metrics, options.settings, run_name, run_directory);
 
   ReportFiles files;
+  // One warning line for a period other than the run's cycle, or a regurgitant fraction no valve has.
+  std::string warning;
+  if (options.run_period && std::abs(period - *options.run_period) > 1e-9 * *options.run_period)
+    warning = (options.period_given ? "--period " : "report.period ") + format_value(period) +
+              " s is not the run's cycle (report.period " + format_value(*options.run_period) +
+              " s in config.toml)";
+  const double rf = metrics.value("regurgitant_fraction");
+  if (std::isfinite(rf) && (rf < 0.0 || rf > 100.0))
+    warning += (warning.empty() ? "with the period " + format_value(period) + " s: RF " : ": RF ") +
+               format_value(rf) + " % is outside 0-100 %";
+  if (!warning.empty()) {
+    files.warning = warning + "; the metrics are of a " + format_value(period) + " s window";
+    io::Logger::global().warn(files.warning);
+  }
   files.directory = run_directory / "report";
   fs::create_directories(files.directory);
   files.json = files.directory / "metrics.json";
@@ -403,18 +479,15 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     io::write_file_atomically(script, plot_report_script());
     for (const auto& info : plot_list) fs::remove(files.directory / info.file);
     const fs::path log = files.directory / "plot_log.txt";
-    const std::string command = shell_quote(options.python) + " " + shell_quote(script.string()) + " " +
-                                shell_quote(series_file.string()) + " " + shell_quote(files.json.string()) +
-                                " " + shell_quote(files.directory.string()) + " > " +
-                                shell_quote(log.string()) + " 2>&1";
-    const int status = std::system(command.c_str());
-    if (status != 0) {
-      std::string tail = io::read_text_file(log);
-      while (!tail.empty() && tail.back() == '\n') tail.pop_back();
-      const auto cut = tail.rfind('\n');
-      plot_problem = "plotting with " + options.python + " failed (" + log.string() +
-                     "): " + (cut == std::string::npos ? tail : tail.substr(cut + 1));
-    }
+    // Isolated (-I: neither the script's folder, the report folder, nor the working directory, user
+    // site-packages or PYTHON* variables reach sys.path), from the root folder, with no shell between:
+    // a json.py or matplotlib.py planted in report/ is never imported.
+    const std::string problem =
+        run_program({options.python, "-I", fs::absolute(script).string(), fs::absolute(series_file).string(),
+                     fs::absolute(files.json).string(), fs::absolute(files.directory).string()},
+                    "/", log);
+    if (!problem.empty())
+      plot_problem = "plotting with " + options.python + " failed (" + log.string() + "): " + problem;
     for (const auto& info : plot_list)
       if (fs::exists(files.directory / info.file)) files.plots.push_back(files.directory / info.file);
   }

@@ -2,6 +2,7 @@
 // `ibvalve report`: metrics.json, report.md and report.html (plots by matplotlib) for one run folder,
 // and the metric settings as case-file keys ([report] table).
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,19 +17,30 @@ namespace ibvalve::hemodynamics {
 /// The [report] keys (period, cycle, thresholds, closure rule, density, plots) under `prefix`.
 void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
 MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix = "report");
-/// The settings stored in a run folder's resolved config.toml ([report] table), defaults for keys it
-/// lacks (or when there is no config.toml). A key of the wrong type is an InputError.
+/// The settings stored in a run folder's resolved config.toml ([report] table; the density, when that
+/// table has none, from fluid.density), defaults for keys it lacks (or when there is no config.toml). A
+/// key of the wrong type is an InputError.
 MetricSettings metric_settings_from_run(const std::filesystem::path& run_directory);
+
+/// The cycle length a run folder records (report.period of its config.toml), if it records one.
+std::optional<double> recorded_period(const std::filesystem::path& run_directory);
 
 struct ReportOptions {
   MetricSettings settings;
   std::string python = "/usr/bin/python3"; // an interpreter with matplotlib and numpy
   bool plots = true;
+  /// The settings' period was given on the command line (--period): messages name the option.
+  bool period_given = false;
+  /// The run's own cycle (recorded_period), which a given period is checked against.
+  std::optional<double> run_period;
 };
 
 struct ReportFiles {
   std::filesystem::path directory, json, markdown, html;
   std::vector<std::filesystem::path> plots;
+  /// One line (also logged as a warning) when the period is not the run's cycle or a metric is outside
+  /// its physical range (RF outside 0-100 %), else empty.
+  std::string warning;
 };
 
 /// metrics.json as a document: settings, phases, metrics (value, unit, symbol, description, note),
@@ -39,8 +51,9 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
                       const std::string& run_name, const std::filesystem::path& run_directory);
 
 /// Reads <run>/timeseries.csv, computes the metrics and writes <run>/report/{metrics.json, report.md,
-/// report.html, plot_report.py, *.png}. Bad input (missing file, missing column, bad line) is an
-/// InputError raised before anything is written; a plotting failure is a RunError after the metrics,
+/// report.html, plot_report.py, *.png}. Bad input (missing file, missing column, bad line, a period
+/// longer than the series or holding fewer than 10 of its rows) is an InputError raised before anything
+/// is written; a plotting failure is a RunError after the metrics,
 /// Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 

@@ -119,9 +119,12 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
       const char* begin = fields[i].data();
       const char* end = begin + fields[i].size();
       auto [ptr, ec] = std::from_chars(begin, end, row[i]);
+      // The file may be any readable file (a path in a case file someone sent): the message names the
+      // place and what was expected, never the text found there.
       if (ec != std::errc() || ptr != end)
-        throw InputError(path.string() + ":" + std::to_string(line_number) + ": '" + fields[i] +
-                         "' is not a number (column " + table.columns[i] + ")");
+        throw InputError(path.string() + ":" + std::to_string(line_number) +
+                         ": expected a number in column " + std::to_string(i + 1) + " of " +
+                         std::to_string(fields.size()) + " (a CSV table of numbers under a header row)");
     }
     table.rows.push_back(std::move(row));
   }
