@@ -47,8 +47,8 @@ void Logger::write(std::FILE* stream, std::string_view prefix, std::string_view 
                static_cast<int>(message.size()), message.data());
   std::fflush(stream);
   if (file_) {
-    std::fprintf(file_, "[%9.2f s] %.*s%.*s\n", wall_seconds(), static_cast<int>(prefix.size()), prefix.data(),
-                 static_cast<int>(message.size()), message.data());
+    std::fprintf(file_, "[%9.2f s] %.*s%.*s\n", wall_seconds(), static_cast<int>(prefix.size()),
+                 prefix.data(), static_cast<int>(message.size()), message.data());
     std::fflush(file_);
   }
 }
@@ -63,11 +63,20 @@ void Logger::verbose(std::string_view message)
   if (level_ >= LogLevel::verbose) write(stdout, "", message);
 }
 
-void Logger::always(std::string_view message) { write(stdout, "", message); }
+void Logger::always(std::string_view message)
+{
+  write(stdout, "", message);
+}
 
-void Logger::warn(std::string_view message) { write(stderr, "warning: ", message); }
+void Logger::warn(std::string_view message)
+{
+  write(stderr, "warning: ", message);
+}
 
-void Logger::error(std::string_view message) { write(stderr, "error: ", message); }
+void Logger::error(std::string_view message)
+{
+  write(stderr, "error: ", message);
+}
 
 void Logger::start_clock()
 {
@@ -100,8 +109,9 @@ void Logger::progress(const Progress& p)
   const double fraction = p.end_time > 0 ? p.time / p.end_time : 0.0;
   const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : -1.0;
   char line[200];
-  std::snprintf(line, sizeof line, "step %ld  t = %.6g s / %.6g s (%5.1f %%)  wall %s  ETA %s", p.step, p.time,
-                p.end_time, 100.0 * fraction, format_duration(wall).c_str(), format_duration(eta).c_str());
+  std::snprintf(line, sizeof line, "step %ld  t = %.6g s / %.6g s (%5.1f %%)  wall %s  ETA %s", p.step,
+                p.time, p.end_time, 100.0 * fraction, format_duration(wall).c_str(),
+                format_duration(eta).c_str());
   if (tty_) {
     std::fprintf(stderr, "\r\033[K%s", line);
     std::fflush(stderr);
