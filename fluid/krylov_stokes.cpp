@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fluid/jacobi.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::fluid {
@@ -242,19 +243,13 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   const bool transforms = settings_.subsolver == SubsolverKind::fft;
   if (transforms && !transforms_)
     transforms_ = std::make_unique<TransformSubsolvers>(grid_, bc_, is_u_, is_p_);
-  // With the transform sub-solves, a Helmholtz operator whose diagonal dominates (small viscous
-  // number nu dt / h^2, as in the valve case: 1.5e-4) is inverted by Jacobi sweeps instead: each sweep
-  // multiplies the error by at most the ratio q of the off-diagonal row sum to the diagonal, so two
-  // sweeps are exact to q^2 (2e-8 there) for one matrix product, where the three transforms cost
-  // several (docs/fluid.md, "Sub-solves"). -fluid_helmholtz_jacobi_limit sets the limit on q (0: always
-  // the transforms); the other -fluid_helmholtz_ options override the choice.
-  double off_diagonal = 0.0;
-  for (int e = 0; e < 3; ++e) off_diagonal += parameters_.mu / (grid_.h(e) * grid_.h(e));
-  const double jacobi_ratio = off_diagonal / (parameters_.rho / parameters_.dt + off_diagonal);
-  PetscReal limit = jacobi_ratio_limit; // -fluid_helmholtz_jacobi_limit 0 keeps the transforms
+  // With the transform sub-solves, a Helmholtz operator whose diagonal dominates (fluid/jacobi.hpp) is
+  // inverted by two Jacobi sweeps, exact to q^2, for one matrix product, where the three transforms cost
+  // several (docs/fluid.md). -fluid_helmholtz_jacobi_limit sets the limit on q (0: always the
+  // transforms); the other -fluid_helmholtz_ options override the choice.
+  PetscReal limit = jacobi_ratio_limit;
   PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
-  const bool jacobi_helmholtz = transforms && jacobi_ratio <= limit;
-  helmholtz_by_jacobi_ = jacobi_helmholtz;
+  helmholtz_by_jacobi_ = transforms && jacobi_ratio(H_) <= limit;
   using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
   auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix, ShellApply transform) {
     PETSC_CHECK(KSPCreate(comm, &ksp));
@@ -262,7 +257,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
     PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
     PC pc;
     PETSC_CHECK(KSPGetPC(ksp, &pc));
-    if (jacobi_helmholtz && op == H_) {
+    if (helmholtz_by_jacobi_ && op == H_) {
       PETSC_CHECK(KSPSetType(ksp, KSPRICHARDSON));
       PETSC_CHECK(KSPSetNormType(ksp, KSP_NORM_NONE));
       PETSC_CHECK(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, jacobi_sweeps));

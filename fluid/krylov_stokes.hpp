@@ -41,11 +41,9 @@ class KrylovStokesSolver : public StokesSolver {
   }
 
   /// With transform sub-solves the Helmholtz block is solved by `jacobi_sweeps` Jacobi sweeps when
-  /// q = (mu sum_e 1/h_e^2) / (rho/dt + mu sum_e 1/h_e^2), the bound on a sweep's error reduction,
-  /// is at most this limit (two sweeps then leave at most q^2 = 1e-6 of the sub-solve's error);
-  /// otherwise by the transforms. The option -fluid_helmholtz_jacobi_limit sets
-  /// another limit (0: the transforms always).
-  static constexpr double jacobi_ratio_limit = 1e-3;
+  /// its jacobi_ratio is at most jacobi_ratio_limit (fluid/jacobi.hpp; the option
+  /// -fluid_helmholtz_jacobi_limit sets another limit, 0: the transforms always); otherwise by the
+  /// transforms.
   static constexpr int jacobi_sweeps = 2;
   /// True when set_parameters chose Jacobi sweeps for the Helmholtz block.
   bool helmholtz_by_jacobi() const { return helmholtz_by_jacobi_; }

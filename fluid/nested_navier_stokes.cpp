@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fluid/composite_queries.hpp"
+#include "fluid/jacobi.hpp"
 #include "fluid/solver_clock.hpp"
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
@@ -43,28 +44,6 @@ std::vector<std::string> set_default_amg_options(const std::string& prefix)
     }
   }
   return added;
-}
-
-/// max over the rows of sum_{j != i} |A_ij| / |A_ii|: the bound on one Jacobi sweep's error reduction
-/// (over all ranks).
-double jacobi_ratio(Mat a)
-{
-  PetscInt begin = 0, end = 0;
-  PETSC_CHECK(MatGetOwnershipRange(a, &begin, &end));
-  double ratio = 0.0;
-  for (PetscInt row = begin; row < end; ++row) {
-    PetscInt count = 0;
-    const PetscInt* columns = nullptr;
-    const PetscScalar* values = nullptr;
-    PETSC_CHECK(MatGetRow(a, row, &count, &columns, &values));
-    double diagonal = 0.0, off = 0.0;
-    for (PetscInt k = 0; k < count; ++k) (columns[k] == row ? diagonal : off) += std::abs(values[k]);
-    PETSC_CHECK(MatRestoreRow(a, row, &count, &columns, &values));
-    ratio = std::max(ratio, diagonal > 0.0 ? off / diagonal : 1e300);
-  }
-  PETSC_CHECK(MPI_Allreduce(MPI_IN_PLACE, &ratio, 1, MPI_DOUBLE, MPI_MAX,
-                            PetscObjectComm(reinterpret_cast<PetscObject>(a))));
-  return ratio;
 }
 
 PetscInt floor_div(PetscInt a, PetscInt b)

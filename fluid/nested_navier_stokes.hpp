@@ -108,10 +108,8 @@ class NestedNavierStokes {
   Vec velocity() const { return u_; }
   Vec pressure() const { return p_; }
   const NestedStepStatistics& statistics() const { return stats_; }
-  /// The viscous solve is preconditioned by Jacobi when one sweep's error bound, the largest
-  /// sum_{j != i} |H_ij| / |H_ii| of the Helmholtz matrix, is at most this limit; by BoomerAMG otherwise.
-  static constexpr double jacobi_ratio_limit = 1e-3;
-  /// True when the last step's viscous solve was preconditioned by Jacobi.
+  /// True when the last step's viscous solve was preconditioned by Jacobi (the Helmholtz matrix's
+  /// jacobi_ratio at most jacobi_ratio_limit, fluid/jacobi.hpp), not BoomerAMG.
   bool velocity_by_jacobi() const { return velocity_by_jacobi_; }
 
   /// The cell-centred velocity u^n (CompositeVelocity::cell_velocity) into three composite cell vectors
