@@ -64,8 +64,8 @@ def one_error_line(code, out, err, expected_code=2):
 def lumped_case(case, work, extra_top=""):
     """The lumped case with its waveform path made absolute, and `extra_top` lines before the tables."""
     text = pathlib.Path(case).read_text()
-    waveform = (pathlib.Path(case).parent / "../waveforms/lv_pressure.csv").resolve()
-    text = text.replace('"../waveforms/lv_pressure.csv"', json.dumps(str(waveform)))
+    text = re.sub(r'"(\.\./waveforms/[^"]+)"',
+                  lambda m: json.dumps(str((pathlib.Path(case).parent / m.group(1)).resolve())), text)
     first_table = text.index("\n[")
     text = text[:first_table] + "\n" + extra_top + text[first_table:]
     return text

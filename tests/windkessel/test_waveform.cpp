@@ -185,6 +185,35 @@ TEST(Waveform, TheDefaultLvPressureTableIsPhysiological)
   EXPECT_LT(low, 12.0);
 }
 
+// The default of examples/lumped (issue 18): an elastance beat, end-diastolic about 8 mmHg at t = 0,
+// a systolic peak of about 125 mmHg in early-to-mid systole (docs/windkessel.md), a few mmHg in diastole.
+TEST(Waveform, TheTypeALvPressureTableIsPhysiological)
+{
+  const auto file = std::filesystem::path(IBVALVE_SOURCE_DIR) / "examples/waveforms/lv_pressure_typeA.csv";
+  const auto w =
+      wk::PeriodicWaveform::from_csv(file, "time", "pressure", 1.0, wk::Interpolation::monotone_cubic);
+  EXPECT_NEAR(w.period(), 0.8, 1e-12);
+  double peak = -1e9, low = 1e9, t_peak = 0;
+  for (int i = 0; i < 8000; ++i) {
+    const double t = 0.8 * i / 8000;
+    if (w(t) > peak) {
+      peak = w(t);
+      t_peak = t;
+    }
+    low = std::min(low, w(t));
+  }
+  std::cout << "  Type A LV table: " << w(0.0) << " mmHg at t = 0, peak " << peak << " mmHg at " << t_peak
+            << " s, minimum " << low << " mmHg\n";
+  EXPECT_NEAR(w(0.0), 8.0, 2.0);
+  EXPECT_NEAR(peak, 125.0, 5.0);
+  EXPECT_GT(t_peak, 0.1);
+  EXPECT_LT(t_peak, 0.25);
+  EXPECT_GT(low, 2.0);
+  EXPECT_LT(low, 8.0);
+  // Flat across the period end: the pressure just before and after t = 0 differs by under 0.1 mmHg.
+  EXPECT_LT(std::abs(w(0.799) - w(0.001)), 0.1);
+}
+
 TEST(Waveform, CaseKeysNameTheTableRelativeToTheCaseFile)
 {
   const auto dir = scratch();
