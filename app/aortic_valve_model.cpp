@@ -71,9 +71,10 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_real("time.pressure_ramp",
              "the inlet and outlet pressures rise from zero to their values over this time, as "
              "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
-             "water hammer of a sudden load; 0 = applied at once")
+             "water hammer of a sudden load (docs/speed-2026-12-01.md, \"The time step\"); 0 = applied "
+             "at once")
       .unit("s")
-      .defaults(0.0)
+      .defaults(0.05)
       .non_negative();
   s.add_real("output.fields_interval",
              "simulated time between field snapshots (fields/*.h5 + fields.xdmf for ParaView); 0 = none")
