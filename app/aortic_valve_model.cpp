@@ -68,6 +68,14 @@ void add_aortic_valve_schema(io::Schema& s)
       .unit("s")
       .defaults(5e-5)
       .positive();
+  s.add_real("time.pressure_ramp",
+             "the inlet and outlet pressures rise from zero to their values over this time, as "
+             "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
+             "water hammer of a sudden load (docs/speed-2026-12-01.md, \"The time step\"); 0 = applied "
+             "at once")
+      .unit("s")
+      .defaults(0.05)
+      .non_negative();
   s.add_real("output.fields_interval",
              "simulated time between field snapshots (fields/*.h5 + fields.xdmf for ParaView); 0 = none")
       .unit("s")
@@ -281,6 +289,7 @@ class AorticValveRun : public PreparedRun {
     outlet_radius_ = config.real("outlet.radius") > 0 ? config.real("outlet.radius") : mid_wall;
     inlet_walled_ = config.string("inlet.outside") == "wall";
     outlet_walled_ = config.string("outlet.outside") == "wall";
+    pressure_ramp_ = config.real("time.pressure_ramp");
     period_ = lv_.period();
     if (std::abs(report_.period - period_) > 1e-9 * period_)
       config.fail("report.period", "differs from the LV pressure table's period");
@@ -344,10 +353,10 @@ class AorticValveRun : public PreparedRun {
     }
     const double rin = inlet_radius_, rout = outlet_radius_;
     bc.side(2, 0).pressure = [this, rin](const fluid::Real3& x, double t) {
-      return std::hypot(x[0], x[1]) < rin ? lv_(t) : 0.0;
+      return std::hypot(x[0], x[1]) < rin ? pressure_ramp(t) * lv_(t) : 0.0;
     };
-    bc.side(2, 1).pressure = [&outlet_pressure, rout](const fluid::Real3& x, double) {
-      return std::hypot(x[0], x[1]) < rout ? outlet_pressure : 0.0;
+    bc.side(2, 1).pressure = [this, &outlet_pressure, rout](const fluid::Real3& x, double t) {
+      return std::hypot(x[0], x[1]) < rout ? pressure_ramp(t) * outlet_pressure : 0.0;
     };
     if (inlet_walled_)
       bc.side(2, 0).wall = [rin](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rin; };
@@ -621,6 +630,14 @@ class AorticValveRun : public PreparedRun {
   ib::IbfeSettings ib_;
   bool inlet_walled_ = false, outlet_walled_ = false;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8, backflow_ = 1.0;
+  double pressure_ramp_ = 0; // s: time.pressure_ramp
+
+  /// The factor of both boundary pressures at time t: a smooth rise from 0 to 1 over the ramp.
+  double pressure_ramp(double t) const
+  {
+    if (t >= pressure_ramp_) return 1.0;
+    return 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / pressure_ramp_));
+  }
   long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
