@@ -26,6 +26,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/step_diagnostics.hpp"
 #include "app/stop_signal.hpp"
 #include "app/structure_parts.hpp"
 #include "app/version.hpp"
@@ -510,7 +511,13 @@ class AorticValveRun : public PreparedRun {
 
     RunSummary summary;
     const long steps = cycles_ * steps_per_cycle_;
-    log.start_clock();
+    auto figures = [&] {
+      StepFigures f = nested ? fluid_step_figures(*nested, dt) : fluid_step_figures(*uniform, dt);
+      f.solver.push_back(
+          {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+      return f;
+    };
+    StepDiagnostics diagnostics(context.comm, directory, figures(), context.restart, first_step);
     if (!context.restart) {
       record();
       if (fields_every_ > 0) write_fields(0);
@@ -518,6 +525,7 @@ class AorticValveRun : public PreparedRun {
     long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     int stop_signal = 0;
     std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
+    log.begin_steps(first_step, last_step);
     for (long n = first_step + 1; n <= last_step; ++n) {
       try {
         ibfe.step(dt);
@@ -526,11 +534,13 @@ class AorticValveRun : public PreparedRun {
         throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
                        " s): " + e.what() + " (try a smaller time.step or a finer grid)");
       }
+      const StepFigures f = figures();
       outlet_flow = volume_flux(outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
       if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps)) write_fields(n);
-      log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
+      log.progress(
+          {n, steps, ibfe.time(), static_cast<double>(steps) * dt, diagnostics.write(n, ibfe.time(), f)});
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();
         write_report(context, summary, n / steps_per_cycle_);

@@ -156,7 +156,9 @@ std::vector<double> IbfeIntegrator::project_velocity(Vec velocity, int guess_slo
   points_.add_projection_rhs(prepared_.index, values, rhs);
   MPI_Allreduce(MPI_IN_PLACE, rhs.data(), static_cast<int>(rhs.size()), MPI_DOUBLE, MPI_SUM,
                 fluid_.grid().comm());
-  return velocity_mass_.solve(rhs, guess_slot);
+  std::vector<double> projected = velocity_mass_.solve(rhs, guess_slot);
+  projection_iterations_ += velocity_mass_.last_iterations();
+  return projected;
 }
 
 std::vector<double> IbfeIntegrator::nodal_velocity(Vec velocity, std::span<const double> displacement)
@@ -184,7 +186,9 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
   std::vector<double> density;
   {
     Stopwatch watch(timings_.projection);
-    density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces, 2);
+    const NodalMass& mass = force_mass_ ? *force_mass_ : velocity_mass_;
+    density = mass.solve(nodal_forces, 2);
+    projection_iterations_ += mass.last_iterations();
   }
   Stopwatch watch(timings_.spreading);
   std::vector<Vec3> point_forces(prepared_.size());
@@ -204,6 +208,7 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
 void IbfeIntegrator::step(double dt)
 {
   Stopwatch total(timings_.total);
+  projection_iterations_ = 0;
   if (timings_.steps == 0) {
     const StabilityEstimate s = stability_estimate();
     if (dt > s.dt)

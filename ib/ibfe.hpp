@@ -115,6 +115,8 @@ class IbfeIntegrator {
   const CouplingPoints& coupling_points() const { return points_; }
   std::size_t coupling_point_count() const { return points_.size(); }
   const IbfeTimings& timings() const { return timings_; }
+  /// Krylov iterations of the last step's L2 projections (velocity twice, force once; 0 for direct solves).
+  PetscInt last_projection_iterations() const { return projection_iterations_; }
   StabilityEstimate stability_estimate() const;
 
   /// Writes the structure's state into `group` of a checkpoint (collective): the displacement chi - X
@@ -155,6 +157,7 @@ class IbfeIntegrator {
   GridInteraction::PreparedPoints prepared_; // the coupling points this rank handles, with their stencils
   Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
   IbfeTimings timings_;
+  PetscInt projection_iterations_ = 0; // of the step being taken
   double h_min_ = 0.0;
   bool warned_capped_ = false;
 };
