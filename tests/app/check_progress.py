@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Progress lines and diagnostics.csv (issue 20, item 13).
+"""Progress lines, diagnostics.csv and the valve's end time (issue 20, item 13).
 
     check_progress.py SCENARIO IBVALVE MPIEXEC RANKS CASE RUN_DIR [--set KEY=VALUE ...]
 
@@ -11,6 +11,8 @@ Scenarios:
   diagnostics  a run with checkpoints every 3 steps stopped after 7, its newest checkpoint (step 7)
                removed, restarted from step 6 to the end: diagnostics.csv holds every step exactly once,
                in order, with its columns; the progress line names the stop of --stop-after-steps;
+  valve-end    CASE is the aortic-valve case: a run with --set time.end stopped by --stop-after-steps
+               (a checkpoint, no report), restarted to its end: the report is written.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -133,9 +135,34 @@ def scenario_diagnostics(args, run_dir):
           "the progress line named the stop at step 7")
 
 
+def scenario_valve_end(args, run_dir):
+    end = ["--set", "time.end=0.0003", "--set", "output.every=1", "--set", "report.plots=false",
+           "--set", "output.fields_interval=0", "--set", "log.progress_interval=1e-9"]
+    first = run_piped(command(args, [str(args.case), "-o", str(run_dir), "--overwrite", "--stop-after-steps", "5"]
+                              + end))
+    if (run_dir / "report").exists():
+        fail("--stop-after-steps wrote a report: it is a stop, not the run's end")
+    if "stopped after step 5 of 15" not in first:
+        fail(f"the stopped run does not say it stopped after step 5 of 15:\n{first}")
+    second = run_piped(command(args, ["--restart", str(run_dir)]))
+    metrics = run_dir / "report" / "metrics.json"
+    if not metrics.exists():
+        fail(f"the run to time.end = 0.0003 s wrote no {metrics}:\n{second}")
+    if "report of the run's 0.0003 s" not in second:
+        fail(f"the summary does not name the short run's report:\n{second}")
+    columns, rows = read_diagnostics(run_dir)
+    if [int(r[0]) for r in rows] != list(range(1, 16)):
+        fail(f"diagnostics.csv has steps {[r[0] for r in rows]}, expected 1..15")
+    for c in ("fluid_iterations", "structure_iterations", "max_velocity", "cfl"):
+        if c not in columns:
+            fail(f"diagnostics.csv has no column {c}: {columns}")
+    print("aortic valve, time.end = 0.0003 s (15 steps): stopped after 5 without a report, restarted to its end "
+          "with a report; diagnostics.csv steps 1..15")
+
+
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("scenario", choices=["terminal", "pipe", "diagnostics"])
+    parser.add_argument("scenario", choices=["terminal", "pipe", "diagnostics", "valve-end"])
     parser.add_argument("ibvalve")
     parser.add_argument("mpiexec")
     parser.add_argument("ranks", type=int)
@@ -146,8 +173,8 @@ def main():
     if args.run_dir.exists():
         shutil.rmtree(args.run_dir)
     args.run_dir.parent.mkdir(parents=True, exist_ok=True)
-    {"terminal": scenario_terminal, "pipe": scenario_pipe,
-     "diagnostics": scenario_diagnostics}[args.scenario](args, args.run_dir)
+    {"terminal": scenario_terminal, "pipe": scenario_pipe, "diagnostics": scenario_diagnostics,
+     "valve-end": scenario_valve_end}[args.scenario](args, args.run_dir)
 
 
 if __name__ == "__main__":
