@@ -86,11 +86,28 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   place_points(displacement_);
 
   const StabilityEstimate s = stability_estimate();
-  io::Logger::global().info(
-      "ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
-      std::to_string(points_.size()) + " coupling points at the start; stable time step " + "estimate " +
-      format(s.dt) + " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " + format(s.length) +
-      " cm; inertial limit " + format(s.inertial_dt) + " s, viscous limit " + format(s.viscous_dt) + " s)");
+  io::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
+                            std::to_string(points_.size()) +
+                            " coupling points at the start; stable time step estimate " + format(s.dt) +
+                            " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
+                            format(s.length) + " cm)");
+}
+
+std::string describe_time_step(double dt, const StabilityEstimate& s)
+{
+  // The estimate is the larger of the two limits: the viscous one only holds where viscosity dominates
+  // the stiffest mode (gamma > omega), and then it is the larger. Naming the smaller one bare read like
+  // a violated bound.
+  const bool viscous = s.viscous_dt > s.inertial_dt;
+  const std::string binding =
+      viscous
+          ? "the structure's viscous-regime limit 2 mu/E binds, viscosity dominating its stiffest mode "
+            "(the inertial limit 2/omega, " +
+                format(s.inertial_dt) + " s, holds only where inertia dominates)"
+          : "the structure's inertial limit 2/omega binds (the viscous-regime limit 2 mu/E, " +
+                format(s.viscous_dt) + " s, holds only where viscosity dominates, which it does not here)";
+  return "dt = " + format(dt) + " s " + (dt > s.dt ? "is above" : "is within") +
+         " the stable time step estimate " + format(s.dt) + " s of the explicit IB/FE coupling: " + binding;
 }
 
 IbfeIntegrator::~IbfeIntegrator()
@@ -212,8 +229,9 @@ void IbfeIntegrator::step(double dt)
   if (timings_.steps == 0) {
     const StabilityEstimate s = stability_estimate();
     if (dt > s.dt)
-      io::Logger::global().warn("ib: the time step " + format(dt) + " s is above the stability estimate " +
-                                format(s.dt) + " s of the explicit IB/FE coupling; the run may blow up");
+      io::Logger::global().warn("ib: " + describe_time_step(dt, s) + "; the run may blow up");
+    else
+      io::Logger::global().info("ib: " + describe_time_step(dt, s));
   }
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.

@@ -81,6 +81,10 @@ struct StabilityEstimate {
   double dt = 0.0; ///< the estimate
 };
 
+/// "dt = 2e-05 s is within the stable time step estimate 4.04e-05 s of the explicit IB/FE coupling: the
+/// structure's inertial limit 2/omega binds (...)": the first step's log line, naming the limit that binds.
+std::string describe_time_step(double dt, const StabilityEstimate& estimate);
+
 class IbfeIntegrator {
  public:
   /// The structure on one uniform grid (fluid::NavierStokes, used through UniformFluid).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Progress lines, diagnostics.csv and the valve's end time (issue 20, item 13).
+"""Progress lines, diagnostics.csv, the valve's end time and its time-step line (issue 20, item 13).
 
     check_progress.py SCENARIO IBVALVE MPIEXEC RANKS CASE RUN_DIR [--set KEY=VALUE ...]
 
@@ -12,7 +12,8 @@ Scenarios:
                removed, restarted from step 6 to the end: diagnostics.csv holds every step exactly once,
                in order, with its columns; the progress line names the stop of --stop-after-steps;
   valve-end    CASE is the aortic-valve case: a run with --set time.end stopped by --stop-after-steps
-               (a checkpoint, no report), restarted to its end: the report is written.
+               (a checkpoint, no report), restarted to its end: the report is written, the first step
+               says dt is within the stability estimate and which limit binds.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -144,6 +145,13 @@ def scenario_valve_end(args, run_dir):
         fail("--stop-after-steps wrote a report: it is a stop, not the run's end")
     if "stopped after step 5 of 15" not in first:
         fail(f"the stopped run does not say it stopped after step 5 of 15:\n{first}")
+    wording = ("ib: dt = 2e-05 s is within the stable time step estimate 4.04e-05 s of the explicit IB/FE "
+               "coupling: the structure's inertial limit 2/omega binds (the viscous-regime limit 2 mu/E, "
+               "2.51e-08 s, holds only where viscosity dominates, which it does not here)")
+    if wording not in first:
+        fail(f"the first step's time-step line is not\n  {wording}\n:\n{first}")
+    if "viscous limit 2.51e-08 s)" in first:
+        fail(f"the bare viscous limit is still printed:\n{first}")
     second = run_piped(command(args, ["--restart", str(run_dir)]))
     metrics = run_dir / "report" / "metrics.json"
     if not metrics.exists():
@@ -157,7 +165,8 @@ def scenario_valve_end(args, run_dir):
         if c not in columns:
             fail(f"diagnostics.csv has no column {c}: {columns}")
     print("aortic valve, time.end = 0.0003 s (15 steps): stopped after 5 without a report, restarted to its end "
-          "with a report; diagnostics.csv steps 1..15")
+          "with a report; the first step says dt is within the estimate and the inertial limit binds; "
+          "diagnostics.csv steps 1..15")
 
 
 def main():
