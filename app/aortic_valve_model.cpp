@@ -26,6 +26,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/step_diagnostics.hpp"
 #include "app/stop_signal.hpp"
 #include "app/structure_parts.hpp"
 #include "app/version.hpp"
@@ -64,6 +65,11 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_integer("time.cycles", "cardiac cycles to run (a report after each)")
       .defaults(std::int64_t{1})
       .at_least(1);
+  s.add_real("time.end",
+             "simulated end time; unset = time.cycles x the LV pressure's period; a run shorter than a cycle "
+             "is reported over its whole length")
+      .unit("s")
+      .positive();
   s.add_real("time.step", "time step (rounded so a cycle holds a whole number of steps)")
       .unit("s")
       .defaults(5e-5)
@@ -296,6 +302,7 @@ class AorticValveRun : public PreparedRun {
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
     cycles_ = config.integer("time.cycles");
     every_ = config.integer("output.every");
+    read_end(config);
     const double fields_interval = config.real("output.fields_interval");
     fields_every_ = fields_interval > 0
                         ? std::max<long>(1, std::lround(fields_interval *
@@ -390,8 +397,10 @@ class AorticValveRun : public PreparedRun {
     log.info("aortic valve: " + std::to_string(mesh_.num_elements()) + " elements (" +
              std::to_string(leaflet_elements.size()) + " in the leaflets), " +
              std::to_string(mesh_.num_nodes()) + " nodes; " + grid_description + "; dt " +
-             std::to_string(dt) + " s (stability estimate " + std::to_string(stability.dt) +
-             " s); leaflets " + leaflet_material_.describe() + "; fibers " + config_.string("fibers.rule"));
+             hemodynamics::format_value(dt) + " s (the stability estimate " +
+             hemodynamics::format_value(stability.dt) + " s), " + std::to_string(steps_) +
+             " steps to t = " + hemodynamics::format_value(static_cast<double>(steps_) * dt) +
+             " s; leaflets " + leaflet_material_.describe() + "; fibers " + config_.string("fibers.rule"));
 
     // Probes from the geometry.
     const fluid::Real3 axis{0.0, 0.0, 0.0};
@@ -453,7 +462,7 @@ class AorticValveRun : public PreparedRun {
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     if (context.restart) {
       const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, cycles_ * steps_per_cycle_, [&](const io::Hdf5File& h5) {
+          restart_from_latest(checkpoints, context, steps_, [&](const io::Hdf5File& h5) {
             const std::vector<double> saved = h5.read("aortic_valve/outlet");
             if (saved.size() != 7)
               throw InputError(h5.path().string() + ": aortic_valve/outlet has the wrong size");
@@ -518,8 +527,14 @@ class AorticValveRun : public PreparedRun {
     };
 
     RunSummary summary;
-    const long steps = cycles_ * steps_per_cycle_;
-    log.start_clock();
+    const long steps = steps_;
+    auto figures = [&] {
+      StepFigures f = nested ? fluid_step_figures(*nested, dt) : fluid_step_figures(*uniform, dt);
+      f.solver.push_back(
+          {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+      return f;
+    };
+    StepDiagnostics diagnostics(context.comm, directory, figures(), context.restart, first_step);
     if (!context.restart) {
       record();
       if (fields_every_ > 0) write_fields(0);
@@ -527,6 +542,7 @@ class AorticValveRun : public PreparedRun {
     long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     int stop_signal = 0;
     std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
+    log.begin_steps(first_step, last_step);
     for (long n = first_step + 1; n <= last_step; ++n) {
       try {
         ibfe.step(dt);
@@ -535,14 +551,24 @@ class AorticValveRun : public PreparedRun {
         throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
                        " s): " + e.what() + " (try a smaller time.step or a finer grid)");
       }
+      const StepFigures f = figures();
       outlet_flow = volume_flux(outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
       if (n % every_ == 0 || n == steps) record();
       if (fields_every_ > 0 && (n % fields_every_ == 0 || n == steps)) write_fields(n);
-      log.progress({n, ibfe.time(), static_cast<double>(steps) * dt});
+      log.progress(
+          {n, steps, ibfe.time(), static_cast<double>(steps) * dt, diagnostics.write(n, ibfe.time(), f)});
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();
         write_report(context, summary, n / steps_per_cycle_);
+      } else if (n == steps && steps < steps_per_cycle_) {
+        log.finish_progress();
+        write_report(context, summary, 0, static_cast<double>(steps) * dt);
+      } else if (n == steps) {
+        summary.lines.push_back("the last " +
+                                hemodynamics::format_value(static_cast<double>(n % steps_per_cycle_) * dt) +
+                                " s after cycle " + std::to_string(n / steps_per_cycle_) +
+                                " are not a whole cycle: no report of them");
       }
       saved.clear();
       if (checkpoints.due(n, steps)) saved = save(n);
@@ -577,6 +603,26 @@ class AorticValveRun : public PreparedRun {
  private:
   static std::string leaflet(int k) { return "leaflet" + std::to_string(k); }
 
+  // The run's last step: time.end when given (it wins over time.cycles), else whole cycles. A run
+  // shorter than a cycle gets its report over its whole length, which needs rows enough for one.
+  void read_end(const io::Config& config)
+  {
+    steps_ = cycles_ * steps_per_cycle_;
+    if (!config.has("time.end")) return;
+    const double dt = period_ / static_cast<double>(steps_per_cycle_);
+    steps_ = std::max<long>(1, std::lround(config.real("time.end") / dt));
+    if (steps_ >= steps_per_cycle_) return;
+    const long rows = steps_ / every_ + (steps_ % every_ != 0 ? 1 : 0) + 1;
+    constexpr long report_rows = 11; // hemodynamics::write_report: a window of at least 10 intervals
+    if (rows < report_rows)
+      config.fail("time.end", "a run shorter than a cycle (" + hemodynamics::format_value(period_) +
+                                  " s) is reported over its whole length, which holds " +
+                                  std::to_string(rows) +
+                                  " time-series rows (output.every = " + std::to_string(every_) +
+                                  " steps); the report needs " + std::to_string(report_rows) +
+                                  ": a smaller output.every or a longer time.end");
+  }
+
   // Nested levels (docs/nested.md): placed around the valve and tube (or given as [[nested.box]]), the
   // finest level one box holding the whole structure with the kernel's reach.
   void read_levels(const io::Config& config)
@@ -602,17 +648,24 @@ class AorticValveRun : public PreparedRun {
     return s.str();
   }
 
-  void write_report(const RunContext& context, RunSummary& summary, long cycle) const
+  /// The report of cycle `cycle` (1, 2, ...), or, for a run shorter than a cycle (cycle 0), of its
+  /// whole `length`.
+  void write_report(const RunContext& context, RunSummary& summary, long cycle, double length = 0.0) const
   {
     hemodynamics::ReportOptions options;
     options.settings = report_;
+    if (cycle == 0) options.settings.period = length;
     options.python = python_executable;
     options.plots = plots_;
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
     if (rank == 0) {
       const auto files = hemodynamics::write_report(context.run_directory, options);
-      summary.lines.push_back("cycle " + std::to_string(cycle) + " report: " + files.html.string());
+      summary.lines.push_back((cycle > 0 ? "cycle " + std::to_string(cycle) + " report: "
+                                         : "report of the run's " + hemodynamics::format_value(length) +
+                                               " s (shorter than a " + hemodynamics::format_value(period_) +
+                                               " s cycle: its metrics are of that window): ") +
+                              files.html.string());
     }
     MPI_Barrier(context.comm);
   }
@@ -638,7 +691,7 @@ class AorticValveRun : public PreparedRun {
     if (t >= pressure_ramp_) return 1.0;
     return 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / pressure_ramp_));
   }
-  long steps_per_cycle_ = 1, cycles_ = 1, every_ = 1, fields_every_ = 0;
+  long steps_per_cycle_ = 1, cycles_ = 1, steps_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
   bool plots_ = true;

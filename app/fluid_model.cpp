@@ -16,6 +16,7 @@
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/restart.hpp"
+#include "app/step_diagnostics.hpp"
 #include "app/stop_signal.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
@@ -261,6 +262,8 @@ class FluidRun : public PreparedRun {
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;
+    StepDiagnostics diagnostics(context.comm, directory, fluid_step_figures(*fluid, dt_), context.restart,
+                                first_step);
     auto record = [&](long step) {
       const double umax = fluid::max_velocity_magnitude(*fluid);
       if (!std::isfinite(umax))
@@ -328,6 +331,7 @@ class FluidRun : public PreparedRun {
     long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     int stop_signal = 0;
     std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
+    log.begin_steps(first_step, last_step);
     for (long step = first_step + 1; step <= last_step; ++step) {
       try {
         fluid->step(dt_);
@@ -335,7 +339,8 @@ class FluidRun : public PreparedRun {
         throw RunError(e.what());
       }
       record(step);
-      log.progress({step, fluid->time(), static_cast<double>(steps) * dt_});
+      log.progress({step, steps, fluid->time(), static_cast<double>(steps) * dt_,
+                    diagnostics.write(step, fluid->time(), fluid_step_figures(*fluid, dt_))});
       saved.clear();
       if (checkpoints.due(step, steps)) saved = save(step);
       // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.

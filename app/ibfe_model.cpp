@@ -263,6 +263,7 @@ class IbfeRun : public PreparedRun {
       fluid.save(h5, "fluid");
     };
     hooks.restore = [&](const io::Hdf5File& h5) { fluid.restore(h5, "fluid"); };
+    hooks.step_figures = [&](double dt) { return fluid_step_figures(fluid, dt); };
     return run_ibfe_loop(context, ibfe, mesh_, {end_, dt_, every_, checkpoint_settings_}, hooks);
   }
 

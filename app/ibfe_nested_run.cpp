@@ -99,6 +99,7 @@ RunSummary run_ibfe_on_nested_levels(const RunContext& context, const NestedIbfe
     return "; fluid iterations: velocity " + std::to_string(fluid.statistics().velocity_iterations) +
            ", pressure " + std::to_string(fluid.statistics().pressure_iterations);
   };
+  hooks.step_figures = [&](double dt) { return fluid_step_figures(fluid, dt); };
   return run_ibfe_loop(context, ibfe, *c.mesh, {c.end, c.dt, c.output_every, c.checkpoints}, hooks);
 }
 

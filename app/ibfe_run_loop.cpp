@@ -65,15 +65,25 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
       ibfe.save(h5, "ibfe");
     });
   };
-  log.start_clock();
+  // The fluid's figures and the structure's projections (0 iterations for the default direct solves).
+  auto figures = [&] {
+    StepFigures f = fluid.step_figures(settings.dt);
+    f.solver.push_back(
+        {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+    return f;
+  };
+  StepDiagnostics diagnostics(context.comm, directory, figures(), context.restart, first_step);
   if (!context.restart) record(0);
   long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
   int stop_signal = 0;
   std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
+  log.begin_steps(first_step, last_step);
   for (long step = first_step + 1; step <= last_step; ++step) {
     ibfe.step(settings.dt);
+    const StepFigures f = figures();
     record(step);
-    log.progress({step, ibfe.time(), steps * settings.dt});
+    log.progress({step, steps, ibfe.time(), static_cast<double>(steps) * settings.dt,
+                  diagnostics.write(step, ibfe.time(), f)});
     saved.clear();
     if (checkpoints.due(step, steps)) saved = save(step);
     // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.

@@ -2,11 +2,13 @@
 // The time loop of the `ibfe` run model, shared by its runs on one grid level (app/ibfe_model.cpp) and on
 // nested levels (app/ibfe_nested_run.cpp): restart from the newest checkpoint, timeseries.csv (t, volume,
 // volume change, largest node speed and displacement, the fluid's kinetic energy), field snapshots every
-// `output_every` steps and at the end, checkpoints, --stop-after-steps, and the closing summary.
+// `output_every` steps and at the end, diagnostics.csv, checkpoints, --stop-after-steps, and the closing
+// summary.
 #include <functional>
 #include <string>
 
 #include "app/model.hpp"
+#include "app/step_diagnostics.hpp"
 #include "fe/mesh.hpp"
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
@@ -25,6 +27,9 @@ struct IbfeFluidHooks {
   std::function<void(const io::Hdf5File&)> restore;
   /// Appended to the summary's timing line (e.g. solver iterations); may be empty.
   std::function<std::string()> solver_summary;
+  /// The fluid's figures of the last step of `dt` for diagnostics.csv and the progress line
+  /// (fluid_step_figures). Collective.
+  std::function<StepFigures(double dt)> step_figures;
 };
 
 struct IbfeLoopSettings {

@@ -267,6 +267,7 @@ class LumpedRun : public PreparedRun {
     long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
     int stop_signal = 0;
     std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
+    log.begin_steps(first_step, last_step);
     for (long n = first_step; n < last_step; ++n) {
       const double t = static_cast<double>(n) * dt;
       y = system.step(t, y, dt);
@@ -274,7 +275,7 @@ class LumpedRun : public PreparedRun {
         throw RunError("lumped model: the state is not finite at t = " + std::to_string(t + dt) +
                        " s (try a smaller time.step)");
       if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
-      if ((n + 1) % 1000 == 0) log.progress({n + 1, static_cast<double>(n + 1) * dt, end_time});
+      if ((n + 1) % 1000 == 0) log.progress({n + 1, steps, static_cast<double>(n + 1) * dt, end_time, ""});
       saved.clear();
       if (checkpoints.due(n + 1, steps)) saved = save(n + 1);
       // SIGINT/SIGTERM (app/stop_signal.hpp), agreed with the other ranks every 1000 steps (a

@@ -86,11 +86,28 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   place_points(displacement_);
 
   const StabilityEstimate s = stability_estimate();
-  io::Logger::global().info(
-      "ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
-      std::to_string(points_.size()) + " coupling points at the start; stable time step " + "estimate " +
-      format(s.dt) + " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " + format(s.length) +
-      " cm; inertial limit " + format(s.inertial_dt) + " s, viscous limit " + format(s.viscous_dt) + " s)");
+  io::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
+                            std::to_string(points_.size()) +
+                            " coupling points at the start; stable time step estimate " + format(s.dt) +
+                            " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
+                            format(s.length) + " cm)");
+}
+
+std::string describe_time_step(double dt, const StabilityEstimate& s)
+{
+  // The estimate is the larger of the two limits: the viscous one only holds where viscosity dominates
+  // the stiffest mode (gamma > omega), and then it is the larger. Naming the smaller one bare read like
+  // a violated bound.
+  const bool viscous = s.viscous_dt > s.inertial_dt;
+  const std::string binding =
+      viscous
+          ? "the structure's viscous-regime limit 2 mu/E binds, viscosity dominating its stiffest mode "
+            "(the inertial limit 2/omega, " +
+                format(s.inertial_dt) + " s, holds only where inertia dominates)"
+          : "the structure's inertial limit 2/omega binds (the viscous-regime limit 2 mu/E, " +
+                format(s.viscous_dt) + " s, holds only where viscosity dominates, which it does not here)";
+  return "dt = " + format(dt) + " s " + (dt > s.dt ? "is above" : "is within") +
+         " the stable time step estimate " + format(s.dt) + " s of the explicit IB/FE coupling: " + binding;
 }
 
 IbfeIntegrator::~IbfeIntegrator()
@@ -156,7 +173,9 @@ std::vector<double> IbfeIntegrator::project_velocity(Vec velocity, int guess_slo
   points_.add_projection_rhs(prepared_.index, values, rhs);
   MPI_Allreduce(MPI_IN_PLACE, rhs.data(), static_cast<int>(rhs.size()), MPI_DOUBLE, MPI_SUM,
                 fluid_.grid().comm());
-  return velocity_mass_.solve(rhs, guess_slot);
+  std::vector<double> projected = velocity_mass_.solve(rhs, guess_slot);
+  projection_iterations_ += velocity_mass_.last_iterations();
+  return projected;
 }
 
 std::vector<double> IbfeIntegrator::nodal_velocity(Vec velocity, std::span<const double> displacement)
@@ -184,7 +203,9 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
   std::vector<double> density;
   {
     Stopwatch watch(timings_.projection);
-    density = (force_mass_ ? *force_mass_ : velocity_mass_).solve(nodal_forces, 2);
+    const NodalMass& mass = force_mass_ ? *force_mass_ : velocity_mass_;
+    density = mass.solve(nodal_forces, 2);
+    projection_iterations_ += mass.last_iterations();
   }
   Stopwatch watch(timings_.spreading);
   std::vector<Vec3> point_forces(prepared_.size());
@@ -204,11 +225,13 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
 void IbfeIntegrator::step(double dt)
 {
   Stopwatch total(timings_.total);
+  projection_iterations_ = 0;
   if (timings_.steps == 0) {
     const StabilityEstimate s = stability_estimate();
     if (dt > s.dt)
-      io::Logger::global().warn("ib: the time step " + format(dt) + " s is above the stability estimate " +
-                                format(s.dt) + " s of the explicit IB/FE coupling; the run may blow up");
+      io::Logger::global().warn("ib: " + describe_time_step(dt, s) + "; the run may blow up");
+    else
+      io::Logger::global().info("ib: " + describe_time_step(dt, s));
   }
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.

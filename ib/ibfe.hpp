@@ -81,6 +81,10 @@ struct StabilityEstimate {
   double dt = 0.0; ///< the estimate
 };
 
+/// "dt = 2e-05 s is within the stable time step estimate 4.04e-05 s of the explicit IB/FE coupling: the
+/// structure's inertial limit 2/omega binds (...)": the first step's log line, naming the limit that binds.
+std::string describe_time_step(double dt, const StabilityEstimate& estimate);
+
 class IbfeIntegrator {
  public:
   /// The structure on one uniform grid (fluid::NavierStokes, used through UniformFluid).
@@ -115,6 +119,8 @@ class IbfeIntegrator {
   const CouplingPoints& coupling_points() const { return points_; }
   std::size_t coupling_point_count() const { return points_.size(); }
   const IbfeTimings& timings() const { return timings_; }
+  /// Krylov iterations of the last step's L2 projections (velocity twice, force once; 0 for direct solves).
+  PetscInt last_projection_iterations() const { return projection_iterations_; }
   StabilityEstimate stability_estimate() const;
 
   /// Writes the structure's state into `group` of a checkpoint (collective): the displacement chi - X
@@ -155,6 +161,7 @@ class IbfeIntegrator {
   GridInteraction::PreparedPoints prepared_; // the coupling points this rank handles, with their stencils
   Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
   IbfeTimings timings_;
+  PetscInt projection_iterations_ = 0; // of the step being taken
   double h_min_ = 0.0;
   bool warned_capped_ = false;
 };

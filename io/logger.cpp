@@ -1,11 +1,46 @@
 #include "io/logger.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace ibvalve::io {
+
+namespace {
+
+/// Whether file descriptor `fd` of this process's parent is a terminal (read through /proc).
+bool parent_descriptor_is_terminal(int fd)
+{
+  const std::string path = "/proc/" + std::to_string(getppid()) + "/fd/" + std::to_string(fd);
+  const int opened = open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+  if (opened < 0) return false;
+  const bool terminal = isatty(opened) != 0;
+  close(opened);
+  return terminal;
+}
+
+/// The stream a progress line can be redrawn on, or null when the output does not reach a terminal.
+std::FILE* progress_terminal()
+{
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr) return isatty(fileno(stderr)) ? stderr : nullptr;
+  // Open MPI's mpiexec gives every rank a pseudo-terminal as stdout (a file or pipe behind mpiexec
+  // included) and a pipe as stderr, and forwards both, carriage returns and unfinished lines as they
+  // come. So the rank's own isatty says nothing: ask mpiexec's stdout, the rank's parent on the node
+  // it was started from (a remote rank's parent is Open MPI's daemon, whose stdout is no terminal),
+  // and draw on stdout, the channel the other messages take, so that the two stay in order. Tagged or
+  // time-stamped output prefixes every piece forwarded and a redrawn line would be garbled.
+  for (const char* prefixing :
+       {"OMPI_MCA_orte_tag_output", "OMPI_MCA_orte_timestamp_output", "OMPI_MCA_orte_output_filename"})
+    if (const char* value = std::getenv(prefixing); value != nullptr && *value != '\0' && *value != '0')
+      return nullptr;
+  return parent_descriptor_is_terminal(1) ? stdout : nullptr;
+}
+
+} // namespace
 
 Logger& Logger::global()
 {
@@ -13,7 +48,7 @@ Logger& Logger::global()
   return logger;
 }
 
-Logger::Logger() : tty_(isatty(fileno(stderr)) != 0), start_(std::chrono::steady_clock::now())
+Logger::Logger() : draw_(progress_terminal()), start_(std::chrono::steady_clock::now())
 {
   set_communicator(MPI_COMM_WORLD);
 }
@@ -102,31 +137,60 @@ std::string format_duration(double seconds)
   return buffer;
 }
 
+double eta_seconds(long step, long first_step, long last_step, double seconds)
+{
+  const long measured = step - first_step;
+  if (measured <= 0 || seconds < 0) return -1.0;
+  return static_cast<double>(std::max(0L, last_step - step)) * seconds / static_cast<double>(measured);
+}
+
+void Logger::begin_steps(long first_step, long last_step)
+{
+  first_step_ = interval_step_ = first_step;
+  last_step_ = last_step;
+  steps_wall_ = interval_wall_ = wall_seconds();
+  step_seconds_ = -1.0;
+}
+
 void Logger::progress(const Progress& p)
 {
   if (!root_ || level_ < LogLevel::normal) return;
   const double wall = wall_seconds();
-  const double fraction = p.end_time > 0 ? p.time / p.end_time : 0.0;
-  const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : -1.0;
-  char line[200];
-  std::snprintf(line, sizeof line, "step %ld  t = %.6g s / %.6g s (%5.1f %%)  wall %s  ETA %s", p.step,
-                p.time, p.end_time, 100.0 * fraction, format_duration(wall).c_str(),
-                format_duration(eta).c_str());
-  if (tty_) {
-    std::fprintf(stderr, "\r\033[K%s", line);
-    std::fflush(stderr);
+  // The time a step averaged over the current interval (the last one's once it is a step old).
+  if (p.step > interval_step_)
+    step_seconds_ = (wall - interval_wall_) / static_cast<double>(p.step - interval_step_);
+  if (wall - interval_wall_ >= progress_interval_) {
+    interval_step_ = p.step;
+    interval_wall_ = wall;
+  }
+  const long last = last_step_ > first_step_ ? last_step_ : p.steps;
+  const double eta = eta_seconds(p.step, first_step_, last, wall - steps_wall_);
+  std::ostringstream line;
+  line.precision(4);
+  line << "step " << p.step << "/" << p.steps << "  t = " << p.time << " s / " << p.end_time << " s  ";
+  if (step_seconds_ >= 0)
+    line << step_seconds_ << " s/step";
+  else
+    line << "-- s/step";
+  line << "  ETA " << format_duration(eta);
+  if (last < p.steps) line << " (stop at step " << last << ")";
+  if (!p.details.empty()) line << "  " << p.details;
+  const std::string text = line.str();
+  if (draw_) {
+    std::fprintf(draw_, "\r\033[K%s", text.c_str());
+    std::fflush(draw_);
     progress_drawn_ = true;
   } else if (last_progress_wall_ < 0 || wall - last_progress_wall_ >= progress_interval_) {
     last_progress_wall_ = wall;
-    write(stdout, "", line);
+    write(stdout, "", text);
   }
 }
 
 void Logger::finish_progress()
 {
   if (progress_drawn_) {
-    std::fputc('\n', stderr);
-    std::fflush(stderr);
+    std::fputc('\n', draw_);
+    std::fflush(draw_);
     progress_drawn_ = false;
   }
 }

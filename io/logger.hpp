@@ -2,9 +2,12 @@
 // The one logger every rank-0 message goes through.
 //
 // Only rank 0 of the run's communicator writes. On a terminal, progress is a single line redrawn in
-// place (step, simulated time, wall time, ETA); in a pipe or file it becomes a plain log line every
-// `progress_interval` wall seconds, so CI logs stay readable. Everything is also appended to the
-// run folder's log.txt once a run has one.
+// place (step/total, simulated time, wall time a step, ETA, the model's solver figures); in a pipe or
+// file it becomes a plain log line every `progress_interval` wall seconds, so CI logs stay readable.
+// Under Open MPI's mpiexec a rank's own stdout is always a pseudo-terminal and its stderr a pipe,
+// whatever mpiexec's output is, so there the terminal test asks mpiexec's stdout (docs/runs.md,
+// "Progress and diagnostics"). Everything is also appended to the run folder's log.txt once a run has
+// one.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,10 +21,18 @@ namespace ibvalve::io {
 enum class LogLevel { quiet = 0, normal = 1, verbose = 2 };
 
 struct Progress {
-  long step = 0;
+  long step = 0;         // the step just taken
+  long steps = 0;        // the run's last step
   double time = 0.0;     // simulated time, s
   double end_time = 0.0; // simulated end time, s
+  std::string details;   // the model's figures of the step (solver iterations, max |u|, CFL); may be empty
 };
+
+/// Wall seconds left of this invocation: the steps from `step` to `last_step` (the run's end, or its stop
+/// by --stop-after-steps when that comes first) at the mean time a step this invocation has measured,
+/// `seconds` for the steps since `first_step` (0, or the checkpoint's step on --restart). Negative
+/// (unknown) before a step was measured.
+double eta_seconds(long step, long first_step, long last_step, double seconds);
 
 class Logger {
  public:
@@ -48,10 +59,15 @@ class Logger {
   /// One line on stderr (and in the log file), whatever the level.
   void error(std::string_view message);
 
-  /// Restarts the wall clock that progress and ETA are measured from.
+  /// Restarts the wall clock of the run (log file stamps, "finished in").
   void start_clock();
   double wall_seconds() const;
+  /// This invocation takes the steps after `first_step` up to `last_step`: the ETA and the time a step
+  /// are measured from here.
+  void begin_steps(long first_step, long last_step);
   void progress(const Progress& progress);
+  /// Whether progress is redrawn in place (a terminal), else printed as plain lines.
+  bool progress_in_place() const { return draw_ != nullptr; }
   /// Ends a progress line drawn in place, so the next message starts on a fresh line.
   void finish_progress();
 
@@ -60,11 +76,16 @@ class Logger {
   void write(std::FILE* stream, std::string_view prefix, std::string_view message);
 
   bool root_ = true;
-  bool tty_ = false;
+  std::FILE* draw_ = nullptr; // the stream progress is redrawn on, when it reaches a terminal
   bool progress_drawn_ = false;
   LogLevel level_ = LogLevel::normal;
   double progress_interval_ = 10.0;
   double last_progress_wall_ = -1.0;
+  long first_step_ = 0, last_step_ = 0; // this invocation's steps (begin_steps)
+  double steps_wall_ = 0.0;             // wall seconds when they began
+  long interval_step_ = 0;              // the step and wall time the current
+  double interval_wall_ = 0.0;          // averaging interval of "s/step" began at
+  double step_seconds_ = -1.0;          // time a step over the last interval
   std::FILE* file_ = nullptr;
   std::chrono::steady_clock::time_point start_;
 };

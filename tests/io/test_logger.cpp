@@ -1,5 +1,6 @@
-// The logger: rank 0 alone prints; in a pipe progress is a plain line at most once per interval; every
-// message also lands in the run's log file.
+// The logger: rank 0 alone prints; in a pipe progress is a plain line at most once per interval; the ETA
+// counts this invocation's steps at this invocation's pace; every message also lands in the run's log file.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -29,17 +30,59 @@ TEST(Logger, ProgressInAPipeIsThrottledAndOnlyRankZeroPrints)
   log.set_communicator(MPI_COMM_WORLD);
   log.set_progress_interval(1000.0);
   log.start_clock();
+  log.begin_steps(0, 8);
   ::testing::internal::CaptureStdout();
-  log.progress({1, 0.1, 0.8});
-  log.progress({2, 0.2, 0.8});
+  log.progress({1, 8, 0.1, 0.8, "fluid it 7, max|u| 2 cm/s, CFL 0.01"});
+  log.progress({2, 8, 0.2, 0.8, ""});
   log.info("a message");
   const std::string out = ::testing::internal::GetCapturedStdout();
   if (rank == 0) {
-    EXPECT_NE(out.find("step 1  t = 0.1 s / 0.8 s ( 12.5 %)"), std::string::npos) << out;
+    EXPECT_NE(out.find("step 1/8  t = 0.1 s / 0.8 s  "), std::string::npos) << out;
+    EXPECT_NE(out.find(" s/step  ETA "), std::string::npos) << out;
+    EXPECT_NE(out.find("  fluid it 7, max|u| 2 cm/s, CFL 0.01\n"), std::string::npos) << out;
     EXPECT_EQ(out.find("step 2"), std::string::npos) << "throttled: " << out;
     EXPECT_NE(out.find("a message\n"), std::string::npos);
   } else {
     EXPECT_EQ(out, "");
+  }
+}
+
+// The ETA is this invocation's remaining steps at its own measured pace: a restart at step k of N has
+// N - k steps to take, not the fraction of simulated time since t = 0 (which showed 18 min for 2.3 h
+// left), and --stop-after-steps s ends it at k + s when that comes first.
+TEST(Logger, EtaCountsTheStepsLeftInThisInvocation)
+{
+  // A fresh run of 100 steps, 10 taken in 5 s: 90 left at 0.5 s each.
+  EXPECT_DOUBLE_EQ(eta_seconds(10, 0, 100, 5.0), 45.0);
+  // Restarted at step 60 of 100: 10 steps in 5 s, 30 left, 15 s (not the 5 s x 0.3 / 0.7 of the old
+  // fraction-of-time estimate, which counted the 60 earlier steps as taken in these 5 s).
+  EXPECT_DOUBLE_EQ(eta_seconds(70, 60, 100, 5.0), 15.0);
+  // Restarted at 60 of 100 with --stop-after-steps 20: the invocation ends at step 80.
+  const long last = std::min(100L, 60L + 20L);
+  EXPECT_DOUBLE_EQ(eta_seconds(70, 60, last, 5.0), 5.0);
+  // A stop beyond the end: the end comes first.
+  EXPECT_DOUBLE_EQ(eta_seconds(70, 60, std::min(100L, 60L + 500L), 5.0), 15.0);
+  // Nothing measured yet: unknown, printed as --:--.
+  EXPECT_LT(eta_seconds(60, 60, 100, 0.0), 0.0);
+  EXPECT_EQ(format_duration(eta_seconds(60, 60, 100, 0.0)), "--:--");
+  // At the last step nothing is left.
+  EXPECT_DOUBLE_EQ(eta_seconds(80, 60, 80, 5.0), 0.0);
+}
+
+TEST(Logger, ProgressNamesTheStopOfThisInvocation)
+{
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  Logger& log = Logger::global();
+  log.set_progress_interval(1000.0);
+  log.start_clock();
+  log.begin_steps(60, 80); // restarted at step 60 of 100, --stop-after-steps 20
+  ::testing::internal::CaptureStdout();
+  log.progress({61, 100, 0.61, 1.0, ""});
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  if (rank == 0) {
+    EXPECT_NE(out.find("step 61/100  "), std::string::npos) << out;
+    EXPECT_NE(out.find(" (stop at step 80)"), std::string::npos) << out;
   }
 }
 
