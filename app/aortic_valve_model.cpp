@@ -499,7 +499,8 @@ class AorticValveRun : public PreparedRun {
     };
     io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
     io::on_root(context.comm, [&] {
-      csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart);
+      csv = io::CsvWriter(directory / "timeseries.csv", hemodynamics::standard_columns(), context.restart,
+                          hemodynamics::standard_units());
     });
     auto record = [&] {
       const double t = ibfe.time();

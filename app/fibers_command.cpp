@@ -100,9 +100,9 @@ int run_fibers(const FibersCommandOptions& options)
     directions.insert(directions.end(), {f[0], f[1], f[2]});
     with_fibers += f.squaredNorm() > 0;
   }
-  const std::vector<fe::MeshField> fields{{"potential", io::Center::node, 1, field.potential},
-                                          {"dirichlet", io::Center::node, 1, field.dirichlet},
-                                          {"fiber", io::Center::cell, 3, directions}};
+  const std::vector<fe::MeshField> fields{{"potential", io::Center::node, 1, field.potential, "1"},
+                                          {"dirichlet", io::Center::node, 1, field.dirichlet, "1"},
+                                          {"fiber", io::Center::cell, 3, directions, "1"}};
   io::XdmfTimeSeries series(PETSC_COMM_WORLD, options.output / "fibers.xdmf");
   series.add_step(0.0, {fe::write_mesh_fields(PETSC_COMM_WORLD, mesh, options.output / "fibers.h5",
                                               options.output, "fibers", fields)});

@@ -229,16 +229,21 @@ class FluidRun : public PreparedRun {
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};
+    // Kinetic energy 1/2 rho int |u|^2, enstrophy 1/2 int |omega|^2 (fluid/queries.hpp).
+    std::vector<std::string> column_units{"s", "1", "cm/s", "erg", "cm^3/s^2", "1/s", "1"};
     std::vector<int> flux_sides;
     for (int side = 0; side < 6; ++side)
       if (!box_.periodic[side / 2]) {
         flux_sides.push_back(side);
         columns.push_back("outflow_" + fluid::side_name(side));
+        column_units.push_back("mL/s");
       }
     columns.push_back("p_center");
+    column_units.push_back("dyn/cm^2");
     if (!exact_.kind.empty()) {
       columns.push_back("u_error_max");
       columns.push_back("p_error_max");
+      column_units.insert(column_units.end(), {"cm/s", "dyn/cm^2"});
     }
     // The state of a continued run (docs/runs.md): the fluid's, and the counts of rows and field files.
     const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
@@ -257,8 +262,9 @@ class FluidRun : public PreparedRun {
     }
     io::CsvWriter csv;
     // Rank 0's; a failure to open it reaches every rank.
-    io::on_root(context.comm,
-                [&] { csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart); });
+    io::on_root(context.comm, [&] {
+      csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart, column_units);
+    });
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;

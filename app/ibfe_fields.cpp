@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstdio>
+#include <span>
 #include <sstream>
 #include <vector>
 
@@ -12,6 +13,15 @@
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
+
+namespace {
+
+// The structure's geometry is where the body is now, so ParaView shows the motion as it opens the file.
+const std::string geometry_description =
+    "current positions x = X + displacement (cm): shown as is; Warp By Vector with displacement "
+    "would move the body twice (the reference X = coordinates - displacement)";
+
+} // namespace
 
 void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directory)
 {
@@ -25,33 +35,83 @@ std::string fields_file_name(long step)
   return name;
 }
 
+std::vector<std::int64_t> structure_part_ids(const fe::SolidModel& solid)
+{
+  std::vector<std::int64_t> ids(solid.mesh().num_elements(), 0);
+  const auto& parts = solid.parts();
+  for (std::size_t p = 0; p < parts.size(); ++p)
+    for (int e : parts[p].elements) ids[static_cast<std::size_t>(e)] = static_cast<std::int64_t>(p + 1);
+  return ids;
+}
+
+std::string structure_part_table(const fe::SolidModel& solid)
+{
+  std::string table;
+  const auto& parts = solid.parts();
+  for (std::size_t p = 0; p < parts.size(); ++p)
+    table += (p ? ", " : "") + std::to_string(p + 1) + " = " + parts[p].name;
+  return table;
+}
+
 io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
                                     const std::string& file)
 {
   // The mesh is replicated on every rank: current coordinates, nodal and element fields.
   const std::size_t nodes = mesh.num_nodes(), elements = mesh.num_elements();
   const std::size_t per_element = static_cast<std::size_t>(mesh.nodes_per_element());
+  const fe::SolidModel& solid = ibfe.solid();
   std::vector<std::int64_t> connectivity(mesh.connectivity().begin(), mesh.connectivity().end());
   std::vector<double> coordinates(3 * nodes);
   const auto x = ibfe.positions();
   for (std::size_t i = 0; i < nodes; ++i)
     for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
-  const fe::ElementFields ef = ibfe.solid().element_fields(ibfe.displacement());
+  const fe::ElementFields ef = solid.element_fields(ibfe.displacement());
+  // Fibers per element: the reference f0 (the element's frame, zero where a part has none) and the
+  // current f = F f0 / |F f0| that element_fields already averages; both unit vectors or zero.
+  std::vector<double> fiber_reference(3 * elements), fiber_direction(3 * elements);
+  for (std::size_t e = 0; e < elements; ++e) {
+    const Eigen::Vector3d f0 = solid.centre_fibers(e).f0;
+    const Eigen::Vector3d r = f0.norm() > 0 ? Eigen::Vector3d(f0.normalized()) : Eigen::Vector3d::Zero();
+    for (int d = 0; d < 3; ++d) {
+      fiber_reference[3 * e + d] = r[d];
+      fiber_direction[3 * e + d] = ef.fiber_direction[e][d];
+    }
+  }
   const std::vector<hsize_t> node_vector{nodes, 3}, cell_scalar{elements}, cell_nodes{elements, per_element};
   h5.write_root("mesh/connectivity", connectivity, cell_nodes);
   h5.write_root("mesh/coordinates", coordinates, node_vector);
-  h5.write_root("mesh/displacement", ibfe.displacement(), node_vector);
-  h5.write_root("mesh/velocity", ibfe.velocity(), node_vector);
-  h5.write_root("mesh/J", ef.J, cell_scalar);
-  h5.write_root("mesh/fiber_strain", ef.fiber_strain, cell_scalar);
-  h5.write_root("mesh/fiber_stress", ef.fiber_stress, cell_scalar);
+  h5.write_string_attribute("mesh/coordinates", "units", "cm");
+  h5.write_string_attribute("mesh/coordinates", "description", geometry_description);
+  h5.write_root("mesh/part", structure_part_ids(solid), cell_scalar);
+  h5.write_string_attribute("mesh/part", "parts", structure_part_table(solid));
   auto structure = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh.shape()), elements, per_element,
                                       file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
-  structure.add_field("displacement", io::Center::node, {nodes, 3}, file + ":/mesh/displacement")
-      .add_field("velocity", io::Center::node, {nodes, 3}, file + ":/mesh/velocity")
-      .add_field("J", io::Center::cell, {elements}, file + ":/mesh/J")
-      .add_field("fiber_strain", io::Center::cell, {elements}, file + ":/mesh/fiber_strain")
-      .add_field("fiber_stress", io::Center::cell, {elements}, file + ":/mesh/fiber_stress");
+  structure.add_information("geometry", geometry_description)
+      .add_information("part", structure_part_table(solid))
+      .add_field("part", io::Center::cell, {elements}, file + ":/mesh/part", "", true);
+  struct Field {
+    const char* name;
+    io::Center center;
+    std::span<const double> values;
+    bool vector;
+    const char* units;
+  };
+  const Field fields[] = {{"displacement", io::Center::node, ibfe.displacement(), true, "cm"},
+                          {"velocity", io::Center::node, ibfe.velocity(), true, "cm/s"},
+                          {"J", io::Center::cell, ef.J, false, "1"},
+                          {"fiber_strain", io::Center::cell, ef.fiber_strain, false, "1"},
+                          {"fiber_stress", io::Center::cell, ef.fiber_stress, false, "dyn/cm^2"},
+                          {"fiber_direction", io::Center::cell, fiber_direction, true, "1"},
+                          {"fiber_reference", io::Center::cell, fiber_reference, true, "1"}};
+  for (const Field& f : fields) {
+    const std::size_t count = f.center == io::Center::node ? nodes : elements;
+    std::vector<hsize_t> dims{count};
+    if (f.vector) dims.push_back(3);
+    const std::string dataset = std::string("mesh/") + f.name;
+    h5.write_root(dataset, f.values, dims);
+    h5.write_string_attribute(dataset, "units", f.units);
+    structure.add_field(f.name, f.center, {dims.begin(), dims.end()}, file + ":/" + dataset, f.units);
+  }
   return structure;
 }
 
@@ -86,9 +146,9 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   } velocity;
   for (Vec& v : velocity.components) v = fluid.operators().create_cell_vector();
   fluid.cell_velocity(velocity.components);
-  std::vector<io::XdmfGrid> grids =
-      fluid::write_composite_fields(h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid",
-                                    file, "fluid_", {{"velocity", velocity.components}});
+  std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
+      h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_",
+      {{"velocity", velocity.components}}, {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
   grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   series.add_step(ibfe.time(), grids);
 }

@@ -1,8 +1,10 @@
 #pragma once
 // Field snapshots of an IB/FE run (the ibfe and aortic-valve models, on one level or nested levels): one
 // HDF5 file per snapshot, <run>/fields/step_<n>.h5, with the fluid's fields (each rank writes its block)
-// and the structure's current mesh with its displacement, velocity, J and fiber strain and stress, plus
-// one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both together.
+// and the structure's current mesh with its displacement, velocity, J, fiber strain and stress, fiber
+// directions and part ids, plus one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both
+// together. Units (CGS) are in each dataset's `units` attribute and in the XDMF names.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -24,8 +26,16 @@ void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directo
 /// "fields/step_<n>.h5": the snapshot file of step n, relative to the run folder.
 std::string fields_file_name(long step);
 
+/// The structure's part id of every element: 1 + the index of its body part in the solid (the
+/// aortic valve: leaflet1-3 = 1-3, tube = 4), 0 for an element in no part.
+std::vector<std::int64_t> structure_part_ids(const fe::SolidModel& solid);
+/// "1 = leaflet1, 2 = leaflet2, ...": the ids' names, as the field files state them.
+std::string structure_part_table(const fe::SolidModel& solid);
+
 /// Writes the structure's mesh/* datasets into `h5` (rank 0 writes; collective) and returns their XDMF
-/// grid; `file` is the HDF5 file as the XDMF file names it.
+/// grid; `file` is the HDF5 file as the XDMF file names it. The geometry is the current positions;
+/// every real dataset has a `units` attribute; `part` (int64 per element) names its ids in its
+/// `parts` attribute and in the grid's Information "part".
 io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
                                     const std::string& file);
 

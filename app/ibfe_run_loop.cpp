@@ -45,7 +45,7 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
     csv = io::CsvWriter(
         directory / "timeseries.csv",
         {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"},
-        context.restart);
+        context.restart, {"s", "cm^3", "1", "cm/s", "cm", "erg"});
   });
   const double V0 = mesh.volume();
   auto record = [&](long step) {

@@ -229,6 +229,8 @@ class LumpedRun : public PreparedRun {
     const double end_time = static_cast<double>(cycles_) * period_;
     std::vector<std::string> columns = hemodynamics::standard_columns();
     columns.push_back("valve_state");
+    std::vector<std::string> column_units = hemodynamics::standard_units();
+    column_units.push_back("1");
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
     // Rank 0 alone holds the state, so the checkpoints are its own (MPI_COMM_SELF).
@@ -248,7 +250,7 @@ class LumpedRun : public PreparedRun {
       first_step = static_cast<long>(header.step);
       rows = header.timeseries_rows;
     }
-    io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart);
+    io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart, column_units);
     auto save = [&](long step) {
       const std::array<hsize_t, 1> dims{y.size()};
       return checkpoints.write({step, static_cast<double>(step) * dt, rows},

@@ -18,12 +18,18 @@ io::XdmfGrid write_mesh_fields(MPI_Comm comm, const Mesh& mesh, const std::files
   const std::array<hsize_t, 2> node_dims{mesh.num_nodes(), 3};
   const std::array<hsize_t, 2> cell_dims{mesh.num_elements(), static_cast<hsize_t>(mesh.nodes_per_element())};
   file.write_root("coordinates", coordinates, node_dims);
+  file.write_string_attribute("coordinates", "units", "cm");
+  file.write_string_attribute("coordinates", "description",
+                              "reference positions X (cm): Warp By Vector with displacement shows the "
+                              "deformed body");
   file.write_root("connectivity", connectivity, cell_dims);
 
   const std::string relative = std::filesystem::relative(h5_path, xdmf_directory).generic_string();
   io::XdmfGrid grid = io::XdmfGrid::mesh(grid_name, xdmf_topology(mesh.shape()), mesh.num_elements(),
                                          mesh.nodes_per_element(), relative + ":/connectivity",
                                          mesh.num_nodes(), relative + ":/coordinates");
+  grid.add_information("geometry", "reference positions X (cm): Warp By Vector with displacement shows the "
+                                   "deformed body");
   for (const MeshField& field : fields) {
     const std::size_t count = field.center == io::Center::node ? mesh.num_nodes() : mesh.num_elements();
     std::vector<std::size_t> dims{count};
@@ -32,7 +38,8 @@ io::XdmfGrid write_mesh_fields(MPI_Comm comm, const Mesh& mesh, const std::files
       throw std::logic_error("write_mesh_fields: field '" + field.name + "' has the wrong size");
     const std::vector<hsize_t> h5_dims(dims.begin(), dims.end());
     file.write_root(field.name, field.values, h5_dims);
-    grid.add_field(field.name, field.center, dims, relative + ":/" + field.name);
+    if (!field.units.empty()) file.write_string_attribute(field.name, "units", field.units);
+    grid.add_field(field.name, field.center, dims, relative + ":/" + field.name, field.units);
   }
   return grid;
 }
@@ -57,12 +64,12 @@ std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const dou
   const Mesh& mesh = solid.mesh();
   const ElementFields element = solid.element_fields(u);
   std::vector<MeshField> fields;
-  fields.push_back({"displacement", io::Center::node, 3, std::vector<double>(u.begin(), u.end())});
-  fields.push_back({"J", io::Center::cell, 1, element.J});
-  fields.push_back({"fiber_strain", io::Center::cell, 1, element.fiber_strain});
-  fields.push_back({"fiber_stress", io::Center::cell, 1, element.fiber_stress});
-  MeshField current{"fiber_direction", io::Center::cell, 3, {}},
-      reference{"fiber_reference", io::Center::cell, 3, {}};
+  fields.push_back({"displacement", io::Center::node, 3, std::vector<double>(u.begin(), u.end()), "cm"});
+  fields.push_back({"J", io::Center::cell, 1, element.J, "1"});
+  fields.push_back({"fiber_strain", io::Center::cell, 1, element.fiber_strain, "1"});
+  fields.push_back({"fiber_stress", io::Center::cell, 1, element.fiber_stress, "dyn/cm^2"});
+  MeshField current{"fiber_direction", io::Center::cell, 3, {}, "1"},
+      reference{"fiber_reference", io::Center::cell, 3, {}, "1"};
   for (std::size_t e = 0; e < mesh.num_elements(); ++e) {
     const Vec3& f = element.fiber_direction[e];
     current.values.insert(current.values.end(), {f[0], f[1], f[2]});
@@ -73,11 +80,11 @@ std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const dou
   fields.push_back(std::move(reference));
   if (projection) {
     const PointFields points = solid.point_fields(u);
-    fields.push_back({"J_nodal", io::Center::node, 1, projection->project(points.J, 1)});
+    fields.push_back({"J_nodal", io::Center::node, 1, projection->project(points.J, 1), "1"});
     fields.push_back(
-        {"fiber_strain_nodal", io::Center::node, 1, projection->project(points.fiber_strain, 1)});
+        {"fiber_strain_nodal", io::Center::node, 1, projection->project(points.fiber_strain, 1), "1"});
     fields.push_back(
-        {"fiber_stress_nodal", io::Center::node, 1, projection->project(points.fiber_stress, 1)});
+        {"fiber_stress_nodal", io::Center::node, 1, projection->project(points.fiber_stress, 1), "dyn/cm^2"});
   }
   return fields;
 }

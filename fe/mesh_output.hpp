@@ -1,8 +1,10 @@
 #pragma once
-// Mesh fields to HDF5 + XDMF for ParaView: one HDF5 file per output step holding the reference node
-// coordinates, the connectivity and the fields (node- or cell-centred, scalars or 3-vectors), and an
-// XDMF time series (io/xdmf.hpp) pointing at them. Open <name>.xdmf in ParaView ("Xdmf3 Reader"), and
-// use "Warp By Vector" with `displacement` to see the deformed body.
+// Mesh fields to HDF5 + XDMF for ParaView: one HDF5 file per output step holding the REFERENCE node
+// coordinates, the connectivity and the fields (node- or cell-centred, scalars or 3-vectors, each with
+// its `units` attribute and "name [units]" in the XDMF), and an XDMF time series (io/xdmf.hpp) pointing
+// at them. Open <name>.xdmf in ParaView ("Xdmf3 Reader"), and use "Warp By Vector" with `displacement`
+// to see the deformed body. (A run's fields/step_*.h5, app/ibfe_fields.hpp, hold the current positions
+// instead: no warp there.)
 #include <filesystem>
 #include <span>
 #include <string>
@@ -21,6 +23,7 @@ struct MeshField {
   io::Center center = io::Center::cell;
   int components = 1; ///< 1 or 3
   std::vector<double> values;
+  std::string units = ""; ///< CGS, "1" for a pure number
 };
 
 /// Writes the mesh and `fields` to `h5_path` (collective; rank 0 writes the replicated data) and

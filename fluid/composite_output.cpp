@@ -54,7 +54,8 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
                                                  const std::vector<std::pair<std::string, Vec>>& fields,
                                                  const std::string& group, const std::string& file_reference,
                                                  const std::string& grid_prefix,
-                                                 const std::vector<CompositeVectorField>& vector_fields)
+                                                 const std::vector<CompositeVectorField>& vector_fields,
+                                                 const std::map<std::string, std::string>& units)
 {
   const GridHierarchy& h = cells.hierarchy();
   std::vector<io::XdmfGrid> grids;
@@ -83,6 +84,8 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
     std::vector<std::vector<std::vector<std::vector<double>>>> arrays;
     for (Vec v : components) arrays.push_back(level_arrays(cells, v));
     const std::size_t m = components.size();
+    const auto unit = units.find(name);
+    const std::string field_units = unit == units.end() ? "" : unit->second;
     std::size_t g = 0;
     for (int l = 0; l < h.levels(); ++l) {
       const auto boxes = h.boxes(l);
@@ -101,8 +104,9 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
         const std::string dataset =
             group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
         file.write_root(dataset, std::span<const double>(values), dims);
+        if (!field_units.empty()) file.write_string_attribute(dataset, "units", field_units);
         grids[g].add_field(name, io::Center::cell, {dims.begin(), dims.end()},
-                           file_reference + ":/" + dataset);
+                           file_reference + ":/" + dataset, field_units);
       }
     }
   }

@@ -6,6 +6,7 @@
 // by two finer levels holds the average of the finest data). One uniform XDMF grid per level box, so
 // ParaView shows each level as a regular grid (hide or threshold the coarse levels to see the finest data).
 #include <array>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,11 +27,13 @@ using CompositeVectorField = std::pair<std::string, std::array<Vec, 3>>;
 /// Writes each field (a composite cell vector) as `group`/level<l>_box<b>/<name>, and each vector field
 /// (three composite cell vectors, one per component) as one cells x 3 dataset there, and returns one XDMF
 /// regular grid per level box, named "<grid_prefix>level<l>_box<b>"; `file_reference` is the HDF5 file as
-/// the XDMF file names it. Collective.
+/// the XDMF file names it. A field named in `units` gets them as its datasets' `units` attribute and in
+/// its XDMF name ("pressure [dyn/cm^2]"). Collective.
 std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const CompositeCells& cells,
                                                  const std::vector<std::pair<std::string, Vec>>& fields,
                                                  const std::string& group, const std::string& file_reference,
                                                  const std::string& grid_prefix = "",
-                                                 const std::vector<CompositeVectorField>& vector_fields = {});
+                                                 const std::vector<CompositeVectorField>& vector_fields = {},
+                                                 const std::map<std::string, std::string>& units = {});
 
 } // namespace ibvalve::fluid

@@ -1,7 +1,8 @@
 #pragma once
 // Fluid fields to HDF5 (io/hdf5.hpp) with their XDMF description (io/xdmf.hpp): the cell-centred
 // velocity (average of the two faces), vorticity (average of the four edges around the cell) and
-// pressure, each rank writing its block of the global C-order arrays [Nz][Ny][Nx](, 3).
+// pressure, each rank writing its block of the global C-order arrays [Nz][Ny][Nx](, 3). Each dataset
+// has a `units` attribute (cm/s, 1/s, dyn/cm^2) and the XDMF names carry them ("velocity [cm/s]").
 #include <string>
 
 #include "fluid/navier_stokes.hpp"

@@ -22,6 +22,11 @@ std::vector<std::string> standard_columns()
           column::orifice_area};
 }
 
+std::vector<std::string> standard_units()
+{
+  return {"s", "mL/s", "mL/s", "mmHg", "mmHg", "mmHg", "mmHg", "mmHg", "cm^2"};
+}
+
 std::vector<std::vector<double>*> ValveSeries::columns()
 {
   std::vector<std::vector<double>*> all{&t,

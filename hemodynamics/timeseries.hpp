@@ -25,6 +25,8 @@ inline constexpr const char* orifice_area = "orifice_area";  // cm^2 (geometric,
 
 /// The standard columns in the order runs write them.
 std::vector<std::string> standard_columns();
+/// Their units, in the same order (timeseries.csv's units line, io::CsvWriter).
+std::vector<std::string> standard_units();
 
 /// Samples of one run (report units). Optional columns are empty when the file lacks them.
 struct ValveSeries {

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include <unistd.h>
@@ -34,9 +35,13 @@ std::string read_text_file(const std::filesystem::path& path)
   return os.str();
 }
 
-CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append)
+CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append,
+                     const std::vector<std::string>& units)
     : columns_(std::move(columns))
 {
+  if (!units.empty() && units.size() != columns_.size())
+    throw std::logic_error("CsvWriter: " + std::to_string(units.size()) + " units for " +
+                           std::to_string(columns_.size()) + " columns of " + path.string());
   const bool exists = append && std::filesystem::exists(path);
   out_.open(path, exists ? std::ios::app : std::ios::trunc);
   if (!out_) throw std::runtime_error("cannot write " + path.string());
@@ -44,6 +49,12 @@ CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string>
   if (!exists) {
     for (std::size_t i = 0; i < columns_.size(); ++i) out_ << (i ? "," : "") << columns_[i];
     out_ << "\n";
+    // A continued run appends to the file as it is: an older series without this line stays without.
+    if (!units.empty()) {
+      out_ << "# units: ";
+      for (std::size_t i = 0; i < units.size(); ++i) out_ << (i ? "," : "") << units[i];
+      out_ << "\n";
+    }
     out_.flush();
   }
 }

@@ -17,10 +17,14 @@ std::string read_text_file(const std::filesystem::path& path);
 
 /// Appends rows to a CSV time series, flushing each row so a run that stops keeps every row so far.
 /// The header is written when the file is created; reopening an existing file (restart) appends.
+/// With `units` (one per column; "1" for a pure number) a comment line `# units: s,mL/s,...` follows
+/// the header: the column names stay plain identifiers for every reader, and readers that skip '#'
+/// lines (read_csv, pandas comment='#', numpy genfromtxt/loadtxt) see a plain table (docs/runs.md).
 class CsvWriter {
  public:
   CsvWriter() = default;
-  CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append = false);
+  CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append = false,
+            const std::vector<std::string>& units = {});
   void write_row(const std::vector<double>& values);
   const std::vector<std::string>& columns() const { return columns_; }
   bool is_open() const { return out_.is_open(); }

@@ -169,29 +169,61 @@ double Hdf5File::read_attribute(const std::string& name) const
   return value;
 }
 
-void Hdf5File::write_string_attribute(const std::string& name, const std::string& value)
+namespace {
+
+void write_string_attribute_at(hid_t location, const std::string& name, const std::string& value)
 {
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   check(H5Tset_size(type, std::max<std::size_t>(value.size(), 1)), "string type");
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attribute(check_id(H5Acreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+  Handle attribute(check_id(H5Acreate2(location, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
                             "create attribute " + name),
                    H5Aclose);
   std::string padded = value.empty() ? std::string(1, '\0') : value;
   check(H5Awrite(attribute, type, padded.data()), "write attribute " + name);
 }
 
-std::string Hdf5File::read_string_attribute(const std::string& name) const
+std::string read_string_attribute_at(hid_t location, const std::string& name, const std::string& where)
 {
   Handle attribute(
-      check_id(H5Aopen(file_, name.c_str(), H5P_DEFAULT), "no attribute " + name + " in " + path_.string()),
+      check_id(H5Aopen(location, name.c_str(), H5P_DEFAULT), "no attribute " + name + " in " + where),
       H5Aclose);
   Handle type(H5Aget_type(attribute), H5Tclose);
   if (H5Tget_class(type) != H5T_STRING || H5Tis_variable_str(type) > 0)
-    throw std::runtime_error("HDF5: attribute " + name + " in " + path_.string() + " is not a string");
+    throw std::runtime_error("HDF5: attribute " + name + " in " + where + " is not a string");
   std::string value(H5Tget_size(type), '\0');
   check(H5Aread(attribute, type, value.data()), "read attribute " + name);
   return value.substr(0, value.find('\0'));
+}
+
+} // namespace
+
+void Hdf5File::write_string_attribute(const std::string& name, const std::string& value)
+{
+  write_string_attribute_at(file_, name, value);
+}
+
+void Hdf5File::write_string_attribute(const std::string& object, const std::string& name,
+                                      const std::string& value)
+{
+  // Attribute creation is collective in parallel HDF5: every rank makes the same call.
+  Handle target(
+      check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "no " + object + " in " + path_.string()),
+      H5Oclose);
+  write_string_attribute_at(target, name, value);
+}
+
+std::string Hdf5File::read_string_attribute(const std::string& object, const std::string& name) const
+{
+  Handle target(
+      check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "no " + object + " in " + path_.string()),
+      H5Oclose);
+  return read_string_attribute_at(target, name, path_.string() + ":/" + object);
+}
+
+std::string Hdf5File::read_string_attribute(const std::string& name) const
+{
+  return read_string_attribute_at(file_, name, path_.string());
 }
 
 bool Hdf5File::has_attribute(const std::string& name) const

@@ -39,6 +39,9 @@ class Hdf5File {
   void write_string_attribute(const std::string& name, const std::string& value);
   std::string read_string_attribute(const std::string& name) const;
   bool has_attribute(const std::string& name) const;
+  /// A string attribute on the dataset or group `object` (a field's `units`, say).
+  void write_string_attribute(const std::string& object, const std::string& name, const std::string& value);
+  std::string read_string_attribute(const std::string& object, const std::string& name) const;
 
   /// A 64-bit FNV-1a hash of the file's content as stored: every dataset (name, shape, the bytes of its
   /// values) in name order, then the root attributes but those named in `skip_attributes`. Reads the

@@ -35,9 +35,16 @@ XdmfGrid XdmfGrid::mesh(std::string name, std::string topology, std::size_t elem
 }
 
 XdmfGrid& XdmfGrid::add_field(std::string field_name, Center center, std::vector<std::size_t> dims,
-                              std::string data)
+                              std::string data, std::string units, bool integer)
 {
-  fields.push_back({std::move(field_name), center, std::move(dims), std::move(data)});
+  fields.push_back(
+      {std::move(field_name), center, std::move(dims), std::move(data), std::move(units), integer});
+  return *this;
+}
+
+XdmfGrid& XdmfGrid::add_information(std::string info_name, std::string value)
+{
+  information.push_back({std::move(info_name), std::move(value)});
   return *this;
 }
 
@@ -104,17 +111,45 @@ std::string dims_text(const std::vector<std::size_t>& dims)
   return s;
 }
 
+/// `text` as XML attribute text: part names come from a user's mesh file.
+std::string xml_escaped(const std::string& text)
+{
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    default:
+      out += c;
+    }
+  }
+  return out;
+}
+
 void data_item(std::ostringstream& os, const std::vector<std::size_t>& dims, const std::string& number_type,
                const std::string& data, const std::string& indent)
 {
   os << indent << "<DataItem Dimensions=\"" << dims_text(dims) << "\" NumberType=\"" << number_type
-     << "\" Precision=\"8\" Format=\"HDF\">" << data << "</DataItem>\n";
+     << "\" Precision=\"8\" Format=\"HDF\">" << xml_escaped(data) << "</DataItem>\n";
 }
 
 void grid_text(std::ostringstream& os, const XdmfGrid& g)
 {
   const std::string in = "        ";
-  os << "      <Grid Name=\"" << g.name << "\" GridType=\"Uniform\">\n";
+  os << "      <Grid Name=\"" << xml_escaped(g.name) << "\" GridType=\"Uniform\">\n";
+  for (const XdmfInformation& info : g.information)
+    os << in << "<Information Name=\"" << xml_escaped(info.name) << "\" Value=\"" << xml_escaped(info.value)
+       << "\"/>\n";
   std::size_t grid_rank = 0;
   if (g.topology.empty()) {
     // XDMF orders regular-grid dimensions slowest first: z, y, x (points, not cells).
@@ -142,9 +177,9 @@ void grid_text(std::ostringstream& os, const XdmfGrid& g)
     std::string type = "Scalar";
     if (f.dims.size() > grid_rank)
       type = f.dims.back() == 3 ? "Vector" : f.dims.back() == 9 ? "Tensor" : "Matrix";
-    os << in << "<Attribute Name=\"" << f.name << "\" AttributeType=\"" << type << "\" Center=\""
-       << (f.center == Center::cell ? "Cell" : "Node") << "\">\n";
-    data_item(os, f.dims, "Float", f.data, in + "  ");
+    os << in << "<Attribute Name=\"" << xml_escaped(f.shown_name()) << "\" AttributeType=\"" << type
+       << "\" Center=\"" << (f.center == Center::cell ? "Cell" : "Node") << "\">\n";
+    data_item(os, f.dims, f.integer ? "Int" : "Float", f.data, in + "  ");
     os << in << "</Attribute>\n";
   }
   os << "      </Grid>\n";

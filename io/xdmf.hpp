@@ -4,6 +4,10 @@
 // A run's fields.xdmf is a temporal collection; each output time holds a spatial collection of grids
 // (the fluid's regular grid and the structure's mesh side by side), so one ParaView state shows both.
 // The file is rewritten atomically after every output, so it is always complete.
+//
+// Outputs explain themselves: a field with units is shown as "name [units]" (the name ParaView lists;
+// spaces and brackets are plain XML attribute text), and a grid may carry Information elements
+// (name/value text, e.g. the structure's part ids and what its coordinates are).
 #include <array>
 #include <cstddef>
 #include <filesystem>
@@ -23,6 +27,17 @@ struct XdmfField {
   std::vector<std::size_t> dims;
   /// "path/relative/to/the/xdmf.h5:/dataset"
   std::string data;
+  /// CGS units ("cm/s", "dyn/cm^2", "1" for a pure number); empty for labels such as part ids.
+  std::string units;
+  /// int64 data (part ids) rather than doubles.
+  bool integer = false;
+  /// The name with its units, as ParaView lists it: "velocity [cm/s]"; a pure number ("1") or a label
+  /// keeps its bare name ("J", "part").
+  std::string shown_name() const { return units.empty() || units == "1" ? name : name + " [" + units + "]"; }
+};
+
+struct XdmfInformation {
+  std::string name, value;
 };
 
 struct XdmfGrid {
@@ -39,13 +54,16 @@ struct XdmfGrid {
   std::string connectivity; // "file.h5:/dataset" of elements x nodes_per_element int64
   std::string coordinates;  // "file.h5:/dataset" of nodes x 3 doubles
   std::vector<XdmfField> fields;
+  std::vector<XdmfInformation> information;
 
   static XdmfGrid regular(std::string name, std::array<std::size_t, 3> cells, std::array<double, 3> origin,
                           std::array<double, 3> spacing);
   static XdmfGrid mesh(std::string name, std::string topology, std::size_t elements,
                        std::size_t nodes_per_element, std::string connectivity, std::size_t nodes,
                        std::string coordinates);
-  XdmfGrid& add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data);
+  XdmfGrid& add_field(std::string field_name, Center center, std::vector<std::size_t> dims, std::string data,
+                      std::string units = "", bool integer = false);
+  XdmfGrid& add_information(std::string info_name, std::string value);
 };
 
 class XdmfTimeSeries {

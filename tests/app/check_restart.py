@@ -107,7 +107,8 @@ def main():
         sys.exit(f"FAIL: the stopped run left no checkpoint {stop_checkpoint}")
     stopped_rows = 0
     if args.start is None:
-        stopped_rows = len((split / "timeseries.csv").read_text().splitlines())
+        stopped_rows = sum(1 for line in (split / "timeseries.csv").read_text().splitlines()
+                           if not line.startswith("#"))
     until = [f"--stop-after-steps={args.steps - args.stop}"] if args.steps else []
     output = run(launch + ["--restart", str(split)] + until)
     if "FFTW did not accept" in output:
@@ -123,7 +124,7 @@ def main():
             if x != y:
                 sys.exit(f"FAIL: timeseries.csv differs first at line {i + 1}:\n  whole: {x}\n  split: {y}")
         sys.exit(f"FAIL: timeseries.csv has {len(a)} lines whole, {len(b)} split")
-    rows = len(series_whole.decode().splitlines()) - 1
+    rows = sum(1 for line in series_whole.decode().splitlines() if not line.startswith("#")) - 1
     if args.start is None:
         print(f"timeseries.csv: {rows} rows identical byte for byte ({stopped_rows - 1} written before the stop)")
     else:

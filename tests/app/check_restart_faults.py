@@ -109,12 +109,14 @@ def same_series(whole, continued, what):
                 fail(f"{what}: timeseries.csv differs first at line {i + 1}:\n  whole: {p}\n  {what}: {q}")
         fail(f"{what}: timeseries.csv has {len(x)} lines uninterrupted, {len(y)} {what}")
     print(f"{what}: timeseries.csv identical byte for byte to the uninterrupted run's "
-          f"({len(a.decode().splitlines()) - 1} rows)")
+          f"({sum(1 for line in a.decode().splitlines() if not line.startswith('#')) - 1} rows)")
 
 
 def data_rows(folder):
     path = folder / "timeseries.csv"
-    return max(len(path.read_text().splitlines()) - 1, 0) if path.exists() else 0
+    # The header and the '#' units line are not rows.
+    lines = [line for line in path.read_text().splitlines() if not line.startswith("#")] if path.exists() else []
+    return max(len(lines) - 1, 0)
 
 
 def processes_of(launcher):

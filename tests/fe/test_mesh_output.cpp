@@ -66,9 +66,15 @@ TEST(MeshOutput, SolidFieldsRoundTripThroughHdf5AndXdmf)
   EXPECT_TRUE(std::equal(connectivity.begin(), connectivity.end(), mesh.connectivity().begin()));
   const std::string xdmf = io::read_text_file(directory / "solid.xdmf");
   EXPECT_NE(xdmf.find("TopologyType=\"Tetrahedron\""), std::string::npos);
-  for (const char* name :
-       {"displacement", "J", "fiber_strain", "fiber_stress", "fiber_direction", "fiber_reference"})
+  // The names ParaView lists carry the units (none for pure numbers); so does each dataset.
+  for (const char* name : {"displacement [cm]", "J", "fiber_strain", "fiber_stress [dyn/cm^2]",
+                           "fiber_direction", "fiber_reference"})
     EXPECT_NE(xdmf.find(std::string("Name=\"") + name + "\""), std::string::npos) << name;
+  EXPECT_EQ(file.read_string_attribute("displacement", "units"), "cm");
+  EXPECT_EQ(file.read_string_attribute("fiber_stress", "units"), "dyn/cm^2");
+  EXPECT_EQ(file.read_string_attribute("J", "units"), "1");
+  EXPECT_EQ(file.read_string_attribute("coordinates", "units"), "cm");
+  EXPECT_NE(xdmf.find("<Information Name=\"geometry\" Value=\"reference positions"), std::string::npos);
   EXPECT_NE(xdmf.find("solid_000001.h5:/J"), std::string::npos);
   EXPECT_NE(xdmf.find("<Time Value=\"0.5\"/>"), std::string::npos);
 }

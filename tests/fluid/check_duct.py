@@ -5,7 +5,8 @@ import csv
 import sys
 from pathlib import Path
 
-rows = list(csv.DictReader(open(Path(sys.argv[1]) / "timeseries.csv")))
+# The '#' line under the header holds the units.
+rows = list(csv.DictReader(line for line in open(Path(sys.argv[1]) / "timeseries.csv") if not line.startswith("#")))
 assert len(rows) >= 5, len(rows)
 mmHg = 1333.22
 last = rows[-1]

@@ -45,6 +45,33 @@ TEST(Files, CsvRoundTripAndAppend)
   std::filesystem::remove(path);
 }
 
+TEST(Files, CsvUnitsLineFollowsTheHeaderOnceAndReadersSkipIt)
+{
+  // A new series: header, then "# units: ..."; a restart appends rows only. An older series without
+  // the line (a run folder from before) is appended to as it is.
+  const auto path = temp("units.csv"), old = temp("old.csv");
+  {
+    CsvWriter w(path, {"t", "Q"}, false, {"s", "mL/s"});
+    w.write_row({0.0, 1.5});
+  }
+  {
+    CsvWriter w(path, {"t", "Q"}, /*append=*/true, {"s", "mL/s"});
+    w.write_row({0.1, -2.25});
+  }
+  EXPECT_EQ(read_text_file(path), "t,Q\n# units: s,mL/s\n0,1.5\n0.1,-2.25\n");
+  const CsvTable table = read_csv(path);
+  EXPECT_EQ(table.columns, (std::vector<std::string>{"t", "Q"}));
+  EXPECT_EQ(table.values("Q"), (std::vector<double>{1.5, -2.25}));
+  std::ofstream(old) << "t,Q\n0,1.5\n";
+  {
+    CsvWriter w(old, {"t", "Q"}, /*append=*/true, {"s", "mL/s"});
+    w.write_row({0.1, -2.25});
+  }
+  EXPECT_EQ(read_text_file(old), "t,Q\n0,1.5\n0.1,-2.25\n");
+  EXPECT_THROW(CsvWriter(temp("wrong.csv"), {"t", "Q"}, false, {"s"}), std::logic_error);
+  for (const auto& p : {path, old, temp("wrong.csv")}) std::filesystem::remove(p);
+}
+
 TEST(Files, MalformedCsvLineIsNamed)
 {
   const auto path = temp("bad.csv");

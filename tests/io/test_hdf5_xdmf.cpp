@@ -83,6 +83,56 @@ TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
   EXPECT_EQ(series.steps(), 1u);
 }
 
+TEST(Hdf5File, DatasetsCarryStringAttributes)
+{
+  // Every rank makes the same (collective) attribute call; every rank reads it back.
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const auto path = shared_temp_path("units");
+  {
+    Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::create);
+    const std::vector<double> p{1.0, 2.0};
+    file.write_root("fluid/pressure", p, std::vector<hsize_t>{2});
+    file.write_string_attribute("fluid/pressure", "units", "dyn/cm^2");
+    EXPECT_THROW(file.write_string_attribute("fluid/none", "units", "cm"), std::runtime_error);
+  }
+  {
+    Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::read);
+    EXPECT_EQ(file.read_string_attribute("fluid/pressure", "units"), "dyn/cm^2");
+    EXPECT_THROW(file.read_string_attribute("fluid/pressure", "description"), std::runtime_error);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove(path);
+}
+
+TEST(XdmfTimeSeries, NamesCarryUnitsAndGridsCarryInformation)
+{
+  // What ParaView lists: "velocity [cm/s]"; a pure number or a label keeps its bare name. Information
+  // text from a user's mesh (part names) is escaped, so the file stays XML.
+  const auto path = shared_temp_path("units").replace_extension(".xdmf"); // collective: once, on every rank
+  XdmfTimeSeries series(MPI_COMM_WORLD, path);
+  auto mesh = XdmfGrid::mesh("structure", "Hexahedron", 2, 8, "m.h5:/cells", 12, "m.h5:/x");
+  mesh.add_information("part", "1 = leaflet<1>, 2 = \"tube\" & wall")
+      .add_field("velocity", Center::node, {12, 3}, "m.h5:/v", "cm/s")
+      .add_field("J", Center::cell, {2}, "m.h5:/J", "1")
+      .add_field("part", Center::cell, {2}, "m.h5:/part", "", true);
+  series.add_step(0.0, {mesh});
+  const std::string text = series.text();
+  EXPECT_NE(text.find("<Attribute Name=\"velocity [cm/s]\" AttributeType=\"Vector\" Center=\"Node\">"),
+            std::string::npos);
+  EXPECT_NE(text.find("<Attribute Name=\"J\" "), std::string::npos);
+  EXPECT_NE(text.find("Dimensions=\"2\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">m.h5:/part<"),
+            std::string::npos);
+  EXPECT_NE(
+      text.find(
+          "<Information Name=\"part\" Value=\"1 = leaflet&lt;1&gt;, 2 = &quot;tube&quot; &amp; wall\"/>"),
+      std::string::npos);
+  MPI_Barrier(MPI_COMM_WORLD);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) std::filesystem::remove(path);
+}
+
 TEST(XdmfTimeSeries, ResumeTakesOverTheStepsUpToTheCheckpointFromTheFile)
 {
   // A run wrote outputs at t = 0, 1/3 and 2/3 and was stopped; its checkpoint is at t = 1/3 (a time

@@ -12,7 +12,7 @@ from pathlib import Path
 
 run = Path(sys.argv[1])
 with open(run / "timeseries.csv", newline="") as f:
-    rows = [r for r in csv.DictReader(f)]
+    rows = [r for r in csv.DictReader(line for line in f if not line.startswith("#"))]
 t = [float(r["t"]) for r in rows]
 area = [float(r["orifice_area"]) for r in rows]
 failures = []
