@@ -53,10 +53,17 @@ StepDiagnostics::StepDiagnostics(MPI_Comm comm, const std::filesystem::path& dir
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   root_ = rank == 0;
-  std::vector<std::string> columns{"step", "t", "wall_step"};
-  for (const StepFigure& f : layout.solver) columns.push_back(f.column);
+  // The units line as in timeseries.csv (docs/runs.md); iteration counts, residuals and the CFL
+  // number are pure numbers.
+  std::vector<std::string> columns{"step", "t", "wall_step"}, units{"1", "s", "s"};
+  for (const StepFigure& f : layout.solver) {
+    columns.push_back(f.column);
+    units.push_back("1");
+  }
   columns.push_back("max_velocity");
+  units.push_back("cm/s");
   columns.push_back("cfl");
+  units.push_back("1");
   const std::filesystem::path path = directory / "diagnostics.csv";
   io::on_root(comm, [&] {
     // A folder from before diagnostics.csv existed starts a new one; otherwise the steps after the
@@ -71,7 +78,7 @@ StepDiagnostics::StepDiagnostics(MPI_Comm comm, const std::filesystem::path& dir
         append = false;
       }
     }
-    csv_ = io::CsvWriter(path, columns, append);
+    csv_ = io::CsvWriter(path, columns, append, units);
   });
   last_wall_ = io::Logger::global().wall_seconds();
 }

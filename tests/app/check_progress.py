@@ -73,7 +73,7 @@ def check_line_content(text, steps):
 
 def read_diagnostics(run_dir):
     with open(run_dir / "diagnostics.csv", newline="") as f:
-        rows = list(csv.reader(f))
+        rows = [row for row in csv.reader(f) if row and not row[0].startswith("#")]
     return rows[0], [[float(v) for v in row] for row in rows[1:]]
 
 
