@@ -90,8 +90,16 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_integer("output.every", "write a time-series row every this many steps")
       .defaults(std::int64_t{10})
       .at_least(1);
-  s.add_real("fluid.density", "blood density").unit("g/mL").defaults(1.0).positive();
-  s.add_real("fluid.viscosity", "blood viscosity").unit("cP").defaults(4.0).positive();
+  s.add_real("fluid.density", "blood density")
+      .unit("g/mL")
+      .defaults(1.0)
+      .positive()
+      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
+  s.add_real("fluid.viscosity", "blood viscosity")
+      .unit("cP")
+      .defaults(4.0)
+      .positive()
+      .typical(1.0, 20.0, "blood is 3.5 to 4 cP; 1000 times less is a value in Pa s, 100 times less in P");
   s.add_integer_list("fluid.cells", "grid cells in x, y, z")
       .size(3)
       .defaults(std::vector<std::int64_t>{16, 16, 28});
@@ -124,9 +132,17 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_string("mesh.file", "a Gmsh mesh with the groups of `ibvalve mesh aortic-valve`; unset = generate it")
       .file(true);
   const fe::ValveMeshParameters d;
-  s.add_real("mesh.tube_radius", "tube inner radius").unit("cm").defaults(d.tube_radius).positive();
+  s.add_real("mesh.tube_radius", "tube inner radius")
+      .unit("cm")
+      .defaults(d.tube_radius)
+      .positive()
+      .typical(0.5, 3.0, "an aortic root is about 1.2 cm; 10 times more is a value in mm");
   s.add_real("mesh.tube_wall", "tube wall thickness").unit("cm").defaults(d.tube_wall).positive();
-  s.add_real("mesh.tube_length", "tube length").unit("cm").defaults(d.tube_length).positive();
+  s.add_real("mesh.tube_length", "tube length")
+      .unit("cm")
+      .defaults(d.tube_length)
+      .positive()
+      .typical(1.0, 30.0, "a few aortic root radii; 10 times more is a value in mm");
   s.add_real("mesh.leaflet_thickness", "leaflet thickness")
       .unit("cm")
       .defaults(d.leaflet_thickness)

@@ -21,6 +21,9 @@ struct PetscArguments {
 
 using CommandAction = std::function<int(const PetscArguments&)>;
 
+/// The PETSc options prefixes of the solvers `ibvalve run` uses, with an example (for --help).
+std::string petsc_options_help();
+
 /// Registers `ibvalve run CASE.toml`; sets `action` when the subcommand is chosen.
 void add_run_command(CLI::App& app, CommandAction& action);
 /// What `ibvalve run` is told on its command line.
@@ -36,6 +39,8 @@ struct RunOptions {
 };
 /// Validates and runs one case (what `ibvalve run` does; `ibvalve study` calls it once per case).
 int run_case(RunOptions options, const PetscArguments& petsc);
+/// Registers `ibvalve keys [MODEL] [--format markdown|toml]` (app/keys_command.cpp).
+void add_keys_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve study STUDY.toml` (app/study_command.cpp).
 void add_study_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve fit --law W1 DATA.csv ...` (planar biaxial fitting, materials/fitting.hpp).

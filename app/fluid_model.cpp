@@ -36,14 +36,29 @@ constexpr double two_pi = 2.0 * std::numbers::pi;
 
 void add_fluid_schema(io::Schema& s)
 {
-  s.add_real("fluid.density", "fluid density").unit("g/mL").defaults(1.0).positive();
-  s.add_real("fluid.viscosity", "dynamic viscosity").unit("cP").defaults(1.0).non_negative();
-  s.add_integer_list("fluid.cells", "grid cells in x, y, z").required().size(3);
+  s.add_real("fluid.density", "fluid density")
+      .unit("g/mL")
+      .defaults(1.0)
+      .positive()
+      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
+  s.add_real("fluid.viscosity", "dynamic viscosity")
+      .unit("cP")
+      .defaults(1.0)
+      .non_negative()
+      .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
+  s.add_integer_list("fluid.cells", "grid cells in x, y, z")
+      .required()
+      .size(3)
+      .example(std::vector<std::int64_t>{16, 16, 16});
   s.add_real_list("fluid.lower", "lower corner of the box")
       .unit("cm")
       .defaults(std::vector<double>{0, 0, 0})
       .size(3);
-  s.add_real_list("fluid.upper", "upper corner of the box").unit("cm").required().size(3);
+  s.add_real_list("fluid.upper", "upper corner of the box")
+      .unit("cm")
+      .required()
+      .size(3)
+      .example(std::vector<double>{1.0, 1.0, 1.0});
   s.add_string("fluid.solver",
                "Stokes solver: fft (periodic boxes), krylov (any sides), auto (fft when periodic)")
       .defaults(std::string("auto"))
@@ -100,8 +115,8 @@ void add_fluid_schema(io::Schema& s)
       .unit("cm/s")
       .defaults(std::vector<double>{0, 0, 0})
       .size(3);
-  s.add_real("time.end", "simulated time").unit("s").required().positive();
-  s.add_real("time.step", "time step").unit("s").required().positive();
+  s.add_real("time.end", "simulated time").unit("s").required().positive().example(0.01);
+  s.add_real("time.step", "time step").unit("s").required().positive().example(0.001);
   s.add_integer("output.fields_every",
                 "write fields every this many steps (and the first and last; 0: those only)")
       .defaults(std::int64_t{0})

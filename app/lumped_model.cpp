@@ -119,7 +119,8 @@ void add_lumped_schema(io::Schema& s)
   s.add_real("valve.annulus_radius", "radius of the annulus (A_ann = pi r^2)")
       .unit("cm")
       .defaults(1.3)
-      .positive();
+      .positive()
+      .typical(0.5, 3.0, "an aortic annulus is about 1.2 cm; 10 times more is a value in mm");
   s.add_real("valve.max_area_fraction", "M_st: largest effective area / A_ann")
       .defaults(0.6)
       .above(0.0)
@@ -144,7 +145,11 @@ void add_lumped_schema(io::Schema& s)
   s.add_real("valve.closing_pressure", "dp_close: pressure difference below which the valve closes")
       .unit("mmHg")
       .defaults(0.0);
-  s.add_real("fluid.density", "blood density").unit("g/mL").defaults(1.0).positive();
+  s.add_real("fluid.density", "blood density")
+      .unit("g/mL")
+      .defaults(1.0)
+      .positive()
+      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
   hemodynamics::add_report_schema(s, "report");
   io::add_checkpoint_schema(s);
 }

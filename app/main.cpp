@@ -48,7 +48,8 @@ int main(int argc, char** argv)
   io::Logger::global().set_communicator(PETSC_COMM_WORLD);
 
   CLI::App cli{"ibvalve: immersed-boundary / finite-element heart-valve simulator.\n"
-               "PETSc options go after `--`, e.g. ibvalve run case.toml -- -ksp_monitor",
+               "Case-file keys: ibvalve keys [MODEL] (--format toml for a case skeleton).\n" +
+                   app::petsc_options_help(),
                "ibvalve"};
   cli.set_version_flag("--version", std::string("ibvalve ") + version_string + " (PETSc " +
                                         std::to_string(PETSC_VERSION_MAJOR) + "." +
@@ -57,6 +58,7 @@ int main(int argc, char** argv)
   cli.require_subcommand(1);
   app::CommandAction action;
   app::add_run_command(cli, action);
+  app::add_keys_command(cli, action);
   // A build of a subset of the folders (IBVALVE_FOLDERS) has the subcommands whose folders it has.
 #if IBVALVE_HAVE_MATERIALS
   app::add_fit_command(cli, action);

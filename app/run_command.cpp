@@ -30,11 +30,34 @@ std::string PetscArguments::joined() const
 
 namespace {
 
+/// The spec of `key` in the case schema of the model `table` names, or of any model when it names none
+/// (so that --set reads a bare word for a string key, io::apply_overrides).
+const io::KeySpec* case_key(const toml::table& table, std::string_view key)
+{
+  static const io::Schema common = common_schema();
+  if (const io::KeySpec* spec = common.find(key)) return spec;
+  static const std::vector<std::pair<std::string, io::Schema>> own = [] {
+    std::vector<std::pair<std::string, io::Schema>> list;
+    for (const Model& m : models()) {
+      io::Schema s;
+      m.add_schema(s);
+      list.emplace_back(m.name, std::move(s));
+    }
+    return list;
+  }();
+  const std::string named = table.get("model") ? table.get("model")->value_or(std::string{}) : std::string{};
+  for (const auto& [name, schema] : own)
+    if (name == named) return schema.find(key);
+  for (const auto& [name, schema] : own)
+    if (const io::KeySpec* spec = schema.find(key)) return spec;
+  return nullptr;
+}
+
 io::Config load_case(const RunOptions& options)
 {
 
   toml::table table = io::parse_toml_file(options.case_file);
-  io::apply_overrides(table, options.overrides);
+  io::apply_overrides(table, options.overrides, [&](std::string_view key) { return case_key(table, key); });
   const toml::node* model_node = table.get("model");
   // Validate against the common keys first when the model is missing or unknown, so that the error
   // names the `model` key and lists the models there are.
@@ -203,6 +226,8 @@ int run_case(RunOptions options, const PetscArguments& petsc)
                                        : io::LogLevel::normal);
   }
   log.set_progress_interval(config.real("log.progress_interval"));
+  // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
+  for (const std::string& warning : config.warnings()) log.warn(warning);
   // Case options first, then the command line's, so that the command line wins; those of the case that
   // read or write files are refused first (the command line's are the user's own).
   check_case_petsc_options(config);
@@ -259,12 +284,30 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   return summary.exit_code;
 }
 
+std::string petsc_options_help()
+{
+  // The prefixes the solvers set (KSPSetOptionsPrefix in fluid/, ib/, fibers/); README lists them too.
+  return "PETSc options go after `--` (and in petsc.options); each solver has its prefix:\n"
+         "  -fluid_stokes_       Krylov (FGMRES) Stokes solve each step: fluid (not periodic), ibfe\n"
+         "                       (fluid.boundary = walls), aortic-valve (one grid)\n"
+         "  -fluid_helmholtz_    its viscous (Helmholtz) sub-solve; -fluid_poisson_: its pressure sub-solve\n"
+         "  -fluid_fftw_planner  estimate|measure|patient: FFTW plans (fluid, ibfe, aortic-valve)\n"
+         "  -nested_pressure_    pressure solve on nested levels (nested.ratios); -nested_velocity_: "
+         "viscous\n"
+         "  -ib_velocity_mass_   consistent L2 projection to the nodes (ibfe, aortic-valve);\n"
+         "                       -ib_force_mass_: the force projection when it differs\n"
+         "  -fibers_             fiber Laplace solves (aortic-valve, ibvalve fibers)\n"
+         "e.g. ibvalve run case.toml -- -fluid_stokes_ksp_converged_reason  (why each Stokes solve stopped)";
+}
+
 void add_run_command(CLI::App& app, CommandAction& action)
 {
   auto options = std::make_shared<RunOptions>();
   std::string model_list;
   for (const Model& m : models()) model_list += "\n  " + m.name + ": " + m.description;
-  CLI::App* sub = app.add_subcommand("run", "Run a case file (TOML). Models:" + model_list);
+  CLI::App* sub = app.add_subcommand("run", "Run a case file (TOML). Models:" + model_list +
+                                                "\nTheir keys: ibvalve keys [MODEL].");
+  sub->footer(petsc_options_help());
   sub->add_option("case", options->case_file, "the case file (TOML)");
   sub->add_option("--restart", options->restart,
                   "continue the run in this folder from its last checkpoint (its config.toml is the case)");
@@ -272,8 +315,10 @@ void add_run_command(CLI::App& app, CommandAction& action)
       "--stop-after-steps", options->stop_after_steps,
       "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end");
   sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
-  sub->add_option("--set", options->overrides,
-                  "override a key, e.g. --set fluid.viscosity=0.05 (repeatable)");
+  sub->add_option(
+      "--set", options->overrides,
+      "override a key, e.g. --set fluid.viscosity=3.5 or --set fibers.rule=FD2 (a bare word for a "
+      "string key; repeatable)");
   sub->add_flag(
       "--overwrite", options->overwrite,
       "replace the run in an existing folder (its config, log, series, fields, checkpoints, report)");

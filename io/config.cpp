@@ -1,6 +1,7 @@
 #include "io/config.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -31,6 +32,12 @@ KeyBuilder& KeyBuilder::required()
 KeyBuilder& KeyBuilder::defaults(Value value)
 {
   spec_->default_value = std::move(value);
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::example(Value value)
+{
+  spec_->example = std::move(value);
   return *this;
 }
 
@@ -79,6 +86,22 @@ KeyBuilder& KeyBuilder::file(bool must_exist)
 {
   spec_->is_path = true;
   spec_->must_exist = must_exist;
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::typical(double lo, double hi, std::string why)
+{
+  spec_->typical_min = lo;
+  spec_->typical_max = hi;
+  spec_->typical_why = std::move(why);
+  return *this;
+}
+
+KeyBuilder& KeyBuilder::preset(std::string preset_key,
+                               std::function<std::optional<Value>(const std::string&)> value)
+{
+  spec_->preset_key = std::move(preset_key);
+  spec_->from_preset = std::move(value);
   return *this;
 }
 
@@ -186,12 +209,18 @@ std::string kind_name(ValueKind kind)
   return "?";
 }
 
+/// The shortest text that reads back as `x` (no ".0" added: for messages and tables).
 std::string format_number(double x)
 {
-  std::ostringstream os;
-  os.precision(15);
-  os << x;
-  return os.str();
+  char buffer[64];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, x);
+  if (error != std::errc{}) return "?";
+  return std::string(buffer, end);
+}
+
+std::string join_key(std::string_view prefix, std::string_view key)
+{
+  return prefix.empty() ? std::string(key) : std::string(prefix) + "." + std::string(key);
 }
 
 std::string range_text(const KeySpec& s)
@@ -216,7 +245,129 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
   return out;
 }
 
+/// "typical 1-20 cP" for a key with a typical range ("" otherwise).
+std::string typical_text(const KeySpec& s)
+{
+  const bool has_min = std::isfinite(s.typical_min), has_max = std::isfinite(s.typical_max);
+  std::string text;
+  if (has_min && has_max)
+    text = format_number(s.typical_min) + " to " + format_number(s.typical_max);
+  else if (has_min)
+    text = "at least " + format_number(s.typical_min);
+  else if (has_max)
+    text = "at most " + format_number(s.typical_max);
+  if (!text.empty() && !s.unit.empty()) text += " " + s.unit;
+  return text;
+}
+
 } // namespace
+
+std::string format_real(double x)
+{
+  std::string text = format_number(x);
+  if (std::isfinite(x) && text.find_first_of(".eE") == std::string::npos) text += ".0";
+  return text;
+}
+
+namespace {
+
+/// A schema value as TOML text.
+std::string value_text(const Value& value)
+{
+  auto scalar = [](const auto& v) -> std::string {
+    using T = std::decay_t<decltype(v)>;
+    if constexpr (std::is_same_v<T, double>) {
+      return format_real(v);
+    } else {
+      std::ostringstream os;
+      os << toml::value<T>(v);
+      return os.str();
+    }
+  };
+  return std::visit(
+      [&](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> ||
+                      std::is_same_v<T, double> || std::is_same_v<T, std::string>) {
+          return scalar(v);
+        } else {
+          std::string out = "[";
+          for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + scalar(v[i]);
+          return out + "]";
+        }
+      },
+      value);
+}
+
+/// "[unit] meaning; allowed ...; typical ..." for a skeleton's comment.
+std::string skeleton_comment(const KeySpec& spec)
+{
+  std::string c = spec.unit.empty() ? "" : "[" + spec.unit + "] ";
+  c += spec.doc;
+  const std::string allowed = spec.choices.empty() ? range_text(spec) : join(spec.choices, ", ");
+  if (!allowed.empty()) c += "; allowed: " + allowed;
+  if (const std::string typical = typical_text(spec); !typical.empty()) c += "; typical " + typical;
+  return c;
+}
+
+/// One key of a skeleton: at its default, at its example (required keys), else commented out.
+using Fixed = std::span<const std::pair<std::string, Value>>;
+
+std::string skeleton_line(const KeySpec& spec, const std::string& name, std::string_view comment_out,
+                          Fixed fixed)
+{
+  const std::string comment = "  # " + skeleton_comment(spec);
+  for (const auto& [key, value] : fixed)
+    if (key == spec.key) return std::string(comment_out) + name + " = " + value_text(value) + comment;
+  if (spec.default_value)
+    return std::string(comment_out) + name + " = " + value_text(*spec.default_value) + comment;
+  if (spec.example)
+    return std::string(comment_out) + name + " = " + value_text(*spec.example) +
+           (spec.required ? "  # REQUIRED (an example value); " : "  # an example value (no default); ") +
+           skeleton_comment(spec);
+  if (spec.required) return "# " + name + " =   # REQUIRED; " + skeleton_comment(spec);
+  if (!spec.preset_key.empty())
+    return "# " + name + " =   # optional; else from " + spec.preset_key + "; " + skeleton_comment(spec);
+  return "# " + name + " =   # optional, no default; " + skeleton_comment(spec);
+}
+
+void write_skeleton(std::ostringstream& os, const Schema& schema, std::string_view header_prefix,
+                    std::string_view comment_out, Fixed fixed)
+{
+  std::vector<std::string> sections;
+  for (const auto& spec : schema.keys()) {
+    if (spec->kind == ValueKind::table_list) continue;
+    const auto dot = spec->key.find('.');
+    if (dot == std::string::npos)
+      os << skeleton_line(*spec, spec->key, comment_out, fixed) << "\n";
+    else if (std::find(sections.begin(), sections.end(), spec->key.substr(0, dot)) == sections.end())
+      sections.push_back(spec->key.substr(0, dot));
+  }
+  for (const std::string& section : sections) {
+    os << "\n" << comment_out << "[" << join_key(header_prefix, section) << "]\n";
+    for (const auto& spec : schema.keys())
+      if (spec->kind != ValueKind::table_list && spec->key.starts_with(section + "."))
+        os << skeleton_line(*spec, spec->key.substr(section.size() + 1), comment_out, fixed) << "\n";
+  }
+  // A table list has no default: one element shown, commented out.
+  for (const auto& spec : schema.keys()) {
+    if (spec->kind != ValueKind::table_list) continue;
+    const std::string name = join_key(header_prefix, spec->key);
+    os << "\n# [[" << name << "]]  # " << spec->doc << " (repeat the block for each; none by default)\n";
+    write_skeleton(os, *spec->element, name, "# ", {});
+  }
+}
+
+} // namespace
+
+std::string Schema::toml_skeleton(std::string_view head,
+                                  std::span<const std::pair<std::string, Value>> fixed) const
+{
+  std::ostringstream os;
+  os << head;
+  write_skeleton(os, *this, "", "", fixed);
+  return os.str();
+}
 
 std::string Schema::markdown() const
 {
@@ -243,6 +394,9 @@ std::string Schema::markdown() const
           *spec->default_value);
     }
     std::string allowed = spec->choices.empty() ? range_text(*spec) : join(spec->choices, ", ");
+    if (const std::string typical = typical_text(*spec); !typical.empty())
+      allowed += (allowed.empty() ? "" : "; ") + std::string("typical ") + typical;
+    if (!spec->preset_key.empty() && def.empty()) def = "(from `" + spec->preset_key + "`)";
     os << "| `" << spec->key << "` | " << kind_name(spec->kind) << " | " << spec->unit << " | " << def
        << " | " << allowed << " | " << spec->doc << " |\n";
     if (spec->element) {
@@ -314,22 +468,52 @@ std::string suggestion(const Schema& schema, std::string_view key)
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
-std::string join_key(std::string_view prefix, std::string_view key)
-{
-  return prefix.empty() ? std::string(key) : std::string(prefix) + "." + std::string(key);
-}
-
 std::string display_value(const toml::node& node)
 {
   std::ostringstream os;
-  node.visit([&](const auto& v) { os << v; });
+  if (const auto* x = node.as_floating_point())
+    os << format_number(x->get()); // as written (0.004), not toml++'s 17 digits
+  else
+    node.visit([&](const auto& v) { os << v; });
   std::string text = os.str();
   if (text.size() > 40) text = text.substr(0, 37) + "...";
   return text;
 }
 
+/// The names of the tables at the level of `prefix` ("fluid", "time", ... for the root).
+std::vector<std::string> table_names(const Schema& schema, std::string_view prefix)
+{
+  std::vector<std::string> names;
+  const std::string start = prefix.empty() ? "" : std::string(prefix) + ".";
+  for (const auto& spec : schema.keys()) {
+    if (!spec->key.starts_with(start)) continue;
+    const std::string rest = spec->key.substr(start.size());
+    const auto dot = rest.find('.');
+    const std::string name = dot == std::string::npos ? rest : rest.substr(0, dot);
+    const bool is_table = dot != std::string::npos || spec->kind == ValueKind::table_list;
+    if (is_table && std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  }
+  return names;
+}
+
+std::string table_suggestion(const Schema& schema, std::string_view prefix, std::string_view name,
+                             std::string_view display_prefix)
+{
+  std::string best;
+  std::size_t best_distance = 3;
+  for (const std::string& table : table_names(schema, prefix)) {
+    const std::size_t d = edit_distance(table, name);
+    if (d < best_distance) {
+      best_distance = d;
+      best = table;
+    }
+  }
+  return best.empty() ? "" : " (did you mean '" + join_key(display_prefix, best) + "'?)";
+}
+
 struct Validator {
   const std::filesystem::path& file;
+  std::vector<std::string>& warnings;
 
   void check_number(const toml::node& node, const KeySpec& spec, std::string_view display_key, double x) const
   {
@@ -339,6 +523,12 @@ struct Validator {
     if (low || high)
       input_error(&node, file, display_key,
                   display_value(node) + " is out of range (must be " + range_text(spec) + ")");
+    if (x < spec.typical_min || x > spec.typical_max) {
+      const std::string unit = spec.unit.empty() ? "" : " " + spec.unit;
+      warnings.push_back(location(&node, file) + ": " + std::string(display_key) + ": " +
+                         display_value(node) + unit + " is outside the typical " + typical_text(spec) +
+                         (spec.typical_why.empty() ? "" : " (" + spec.typical_why + ")"));
+    }
   }
 
   double number(const toml::node& node, std::string_view display_key, bool integer) const
@@ -439,6 +629,10 @@ struct Validator {
         std::string where = region.begin.line > 0
                                 ? source_name(region, file) + ":" + std::to_string(region.begin.line)
                                 : location(&node, file);
+        // A table ([fluuid] or fluuid.viscosity = ...) is compared with the table names.
+        if (node.is_table())
+          throw InputError(where + ": " + display_key + ": unknown table" +
+                           table_suggestion(schema, schema_prefix, k.str(), display_prefix));
         throw InputError(where + ": " + display_key + ": unknown key" + suggestion(schema, key));
       }
     }
@@ -501,7 +695,89 @@ toml::table parse_toml_file(const std::filesystem::path& file)
   }
 }
 
-void apply_overrides(toml::table& table, std::span<const std::string> overrides)
+namespace {
+
+std::string trimmed(std::string_view text)
+{
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return "";
+  const auto last = text.find_last_not_of(" \t");
+  return std::string(text.substr(first, last - first + 1));
+}
+
+bool is_quoted(std::string_view value)
+{
+  return !value.empty() && (value.front() == '"' || value.front() == '\'');
+}
+
+/// A bare word as a TOML string (toml++ escapes it).
+std::string toml_string(const std::string& word)
+{
+  std::ostringstream os;
+  os << toml::value<std::string>(word);
+  return os.str();
+}
+
+/// A string list given on the command line: bare elements quoted, quoted ones kept; a single bare
+/// word is a list of one.
+std::string quoted_list(const std::string& value)
+{
+  if (value.size() < 2 || value.front() != '[' || value.back() != ']') return "[" + toml_string(value) + "]";
+  std::vector<std::string> items;
+  std::string item;
+  char quote = 0;
+  for (char c : std::string_view(value).substr(1, value.size() - 2)) {
+    if (quote) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == ',') {
+      items.push_back(trimmed(item));
+      item.clear();
+      continue;
+    }
+    item += c;
+  }
+  if (!trimmed(item).empty() || !items.empty()) items.push_back(trimmed(item));
+  std::string out = "[";
+  for (std::size_t i = 0; i < items.size(); ++i)
+    out += (i ? ", " : "") + (is_quoted(items[i]) ? items[i] : toml_string(items[i]));
+  return out + "]";
+}
+
+/// One override as a TOML table holding its dotted key.
+toml::table parse_override(const std::string& text, const KeyLookup& lookup)
+{
+  const auto equals = text.find('=');
+  const std::string key = trimmed(std::string_view(text).substr(0, equals));
+  const std::string value = trimmed(std::string_view(text).substr(equals + 1));
+  const KeySpec* spec = lookup ? lookup(key) : nullptr;
+  const std::string source = "command line (--set " + text + ")";
+  std::string toml_text = text;
+  if (spec && spec->kind == ValueKind::string && !is_quoted(value))
+    toml_text = key + " = " + toml_string(value);
+  else if (spec && spec->kind == ValueKind::string_list)
+    toml_text = key + " = " + quoted_list(value);
+  try {
+    return toml::parse(toml_text, source);
+  } catch (const toml::parse_error& error) {
+    // A value that is no TOML (fluid.viscosity=abc) is kept as the word it is, so that validation
+    // names the key and the type it expects; a broken list, table or string is a syntax error.
+    const bool structured =
+        !value.empty() && std::string_view("[{\"'").find(value.front()) != std::string::npos;
+    if (!structured) {
+      try {
+        return toml::parse(key + " = " + toml_string(value), source);
+      } catch (const toml::parse_error&) {
+      }
+    }
+    throw InputError("command line: --set " + text + ": " + std::string(error.description()));
+  }
+}
+
+} // namespace
+
+void apply_overrides(toml::table& table, std::span<const std::string> overrides, const KeyLookup& lookup)
 {
   for (const std::string& text : overrides) {
     const auto equals = text.find('=');
@@ -514,12 +790,7 @@ void apply_overrides(toml::table& table, std::span<const std::string> overrides)
     }
     if (equals == std::string::npos || equals == 0)
       throw InputError("command line: --set " + text + ": expected key=value");
-    toml::table parsed;
-    try {
-      parsed = toml::parse(text, "command line (--set " + text + ")");
-    } catch (const toml::parse_error& error) {
-      throw InputError("command line: --set " + text + ": " + std::string(error.description()));
-    }
+    toml::table parsed = parse_override(text, lookup);
     // Merge the parsed dotted key into the file's tables, replacing any value given there.
     std::function<void(toml::table&, toml::table&)> merge = [&](toml::table& into, toml::table& from) {
       for (auto&& [k, node] : from) {
@@ -536,8 +807,9 @@ void apply_overrides(toml::table& table, std::span<const std::string> overrides)
 
 Config Config::validate(toml::table table, const std::filesystem::path& file, const Schema& schema)
 {
-  Validator{file}.validate_table(table, schema, "");
-  auto state = std::make_shared<State>(State{std::move(table), file, schema});
+  std::vector<std::string> warnings;
+  Validator{file, warnings}.validate_table(table, schema, "");
+  auto state = std::make_shared<State>(State{std::move(table), file, schema, std::move(warnings)});
   const State* raw = state.get();
   return Config(std::move(state), &raw->root, &raw->schema, "");
 }
@@ -546,7 +818,7 @@ Config Config::load(const std::filesystem::path& file, const Schema& schema,
                     std::span<const std::string> overrides)
 {
   toml::table table = parse_toml_file(file);
-  apply_overrides(table, overrides);
+  apply_overrides(table, overrides, [&](std::string_view key) { return schema.find(key); });
   return validate(std::move(table), file, schema);
 }
 
@@ -661,11 +933,83 @@ void Config::fail(std::string_view key, std::string_view message) const
 
 namespace {
 
+/// A value as TOML; floats in their shortest exact form (2e-05, not 2.0000000000000002e-05).
 std::string format_node(const toml::node& node)
 {
+  if (const auto* x = node.as_floating_point()) return format_real(x->get());
+  if (const auto* array = node.as_array()) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < array->size(); ++i) out += (i ? ", " : "") + format_node(*array->get(i));
+    return out + "]";
+  }
   std::ostringstream os;
   node.visit([&](const auto& v) { os << v; });
   return os.str();
+}
+
+/// A value a preset supplies, as the case file writes it: a real converted from CGS to the key's unit.
+/// Nothing when the converted value would not read back as exactly the value the run uses (then the
+/// preset stays in charge and the value goes into a comment).
+std::optional<std::string> format_preset_value(const Value& value, const KeySpec& spec)
+{
+  const double factor = *units::to_cgs(spec.unit);
+  // Of the doubles next to cgs / factor, the shortest that reads back (times the factor) exactly.
+  auto exact = [&](double cgs) -> std::optional<std::string> {
+    double x = cgs / factor;
+    for (int i = 0; i < 3; ++i) x = std::nextafter(x, -HUGE_VAL);
+    std::optional<std::string> best;
+    for (int i = 0; i < 7; ++i, x = std::nextafter(x, HUGE_VAL)) {
+      const std::string text = format_real(x);
+      if (x * factor == cgs && (!best || text.size() < best->size())) best = text;
+    }
+    return best;
+  };
+  return std::visit(
+      [&](const auto& v) -> std::optional<std::string> {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          return exact(v);
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          std::string out = "[";
+          for (std::size_t i = 0; i < v.size(); ++i) {
+            const auto item = exact(v[i]);
+            if (!item) return std::nullopt;
+            out += (i ? ", " : "") + *item;
+          }
+          return out + "]";
+        } else if constexpr (std::is_same_v<T, bool> || std::is_same_v<T, std::int64_t> ||
+                             std::is_same_v<T, std::string>) {
+          return format_node(toml::value<T>(v));
+        } else {
+          toml::array array;
+          for (const auto& item : v) array.push_back(item);
+          return format_node(array);
+        }
+      },
+      value);
+}
+
+/// The line for a key the case does not give: the preset's value where a preset supplies it, else
+/// "(not set)" in a comment.
+std::string unset_line(const toml::table& table, const KeySpec& spec, const std::string& name,
+                       const std::string& comment)
+{
+  if (spec.from_preset) {
+    const toml::node* preset = table.at_path(spec.preset_key).node();
+    if (preset && preset->is_string()) {
+      const std::string preset_name = *preset->value<std::string>();
+      if (const std::optional<Value> value = spec.from_preset(preset_name)) {
+        const std::string from =
+            "  # from " + spec.preset_key + " = \"" + preset_name + "\";" + comment.substr(3);
+        if (const auto text = format_preset_value(*value, spec)) return name + " = " + *text + from + "\n";
+        // Not exactly representable in the key's unit: kept to the preset (a shortest decimal here).
+        const double* x = std::get_if<double>(&*value);
+        return "# " + name + " = " + (x ? format_number(*x / *units::to_cgs(spec.unit)) : "...") + from +
+               "\n";
+      }
+    }
+  }
+  return "# " + name + " = (not set)" + comment + "\n";
 }
 
 /// A value as written, except that a relative file path becomes absolute (resolved against `folder`, the
@@ -710,7 +1054,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       if (const toml::node* n = table.at_path(spec->key).node())
         os << rest << " = " << format_value(*n, *spec, folder) << comment(*spec) << "\n";
       else
-        os << "# " << rest << " = (not set)" << comment(*spec) << "\n";
+        os << unset_line(table, *spec, rest, comment(*spec));
     }
   }
   for (const auto& spec : schema.keys()) {

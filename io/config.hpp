@@ -8,12 +8,14 @@
 // A valid Config holds every key, defaults filled in, and hands out values converted to CGS.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -35,6 +37,7 @@ struct KeySpec {
   std::string unit; // as written in the case file; read back in CGS
   bool required = false;
   std::optional<Value> default_value;
+  std::optional<Value> example; // a required key's value to start from (Schema::toml_skeleton)
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();
   bool min_inclusive = true;
@@ -45,6 +48,15 @@ struct KeySpec {
   bool is_path = false;    // a string naming a file, relative to the case file's folder
   bool must_exist = false; // ... which must exist when read
   std::shared_ptr<const Schema> element; // table_list: the schema of each element
+  // Numbers (and list elements) outside [typical_min, typical_max] are valid but warned about: a
+  // value written in another unit system (Pa s as cP, Pa as mmHg, mm as cm) lands far outside.
+  double typical_min = -std::numeric_limits<double>::infinity();
+  double typical_max = std::numeric_limits<double>::infinity();
+  std::string typical_why;
+  // A key a named preset supplies when it is not given: the key naming the preset (same table) and
+  // the value the preset gives, as the case file would write it (nothing when it gives none).
+  std::string preset_key;
+  std::function<std::optional<Value>(const std::string& preset)> from_preset;
 };
 
 /// Sets the properties of one key; returned by the Schema::add_* calls.
@@ -54,6 +66,8 @@ public:
   KeyBuilder& unit(std::string unit);
   KeyBuilder& required();
   KeyBuilder& defaults(Value value);
+  /// A value to start from for a required key (written into `ibvalve keys --format toml`).
+  KeyBuilder& example(Value value);
   KeyBuilder& at_least(double min);
   KeyBuilder& above(double min);
   KeyBuilder& at_most(double max);
@@ -65,6 +79,10 @@ public:
   KeyBuilder& sizes(std::size_t min, std::size_t max);
   /// A path relative to the case file's folder; `must_exist` makes a missing file an input error.
   KeyBuilder& file(bool must_exist = true);
+  /// Values outside [lo, hi] (in the key's unit) get a warning naming the range and `why`.
+  KeyBuilder& typical(double lo, double hi, std::string why);
+  /// When the key is not given, the preset named by `preset_key` supplies `value(preset name)`.
+  KeyBuilder& preset(std::string preset_key, std::function<std::optional<Value>(const std::string&)> value);
 
 private:
   KeySpec* spec_;
@@ -91,6 +109,11 @@ public:
   std::span<const std::unique_ptr<KeySpec>> keys() const { return keys_; }
   /// A Markdown table of every key (for docs and `ibvalve run --help-config`).
   std::string markdown() const;
+  /// A commented TOML case file with every key at its default (required keys at their example,
+  /// optional keys without a default and table lists commented out), preceded by `head`; the keys in
+  /// `fixed` at the value given there.
+  std::string toml_skeleton(std::string_view head,
+                            std::span<const std::pair<std::string, Value>> fixed = {}) const;
 
   Schema() = default;
   Schema(const Schema& other) { merge(other); }
@@ -105,8 +128,16 @@ private:
 
 /// Parses a TOML file; a syntax error or a missing file throws InputError naming file and line.
 toml::table parse_toml_file(const std::filesystem::path& file);
-/// Applies "key=value" overrides (value in TOML syntax) given on the command line.
-void apply_overrides(toml::table& table, std::span<const std::string> overrides);
+/// Finds a key's spec by its dotted name (nullptr when unknown); lets overrides read bare words.
+using KeyLookup = std::function<const KeySpec*(std::string_view key)>;
+/// Applies "key=value" overrides given on the command line. The value is TOML, except that for a
+/// string key (by `lookup`) a bare word is the string itself (--set fibers.rule=FD2), and for a
+/// string list a bare word may be an element ([tube_outer, tube_inlet]). A value that is no TOML is
+/// kept as a string, so that validation names the key and the type it expects.
+void apply_overrides(toml::table& table, std::span<const std::string> overrides, const KeyLookup& lookup = {});
+/// The shortest text that reads back as exactly `x` (std::to_chars), with ".0" on a whole number so
+/// that TOML reads it back as a float.
+std::string format_real(double x);
 
 /// A validated case file (or one element of a table list within it).
 class Config {
@@ -136,7 +167,11 @@ public:
   [[noreturn]] void fail(std::string_view key, std::string_view message) const;
 
   const std::filesystem::path& file() const { return state_->file; }
-  /// The whole resolved configuration as TOML, every default written out, units in comments.
+  /// Values outside their key's typical range, one line each ("file:line: key: ..."), for the caller
+  /// to print as warnings.
+  const std::vector<std::string>& warnings() const { return state_->warnings; }
+  /// The whole resolved configuration as TOML, every default written out, units in comments; a key a
+  /// preset supplies is written with the preset's value (the file still validates as a case file).
   std::string resolved_toml() const;
 
 private:
@@ -144,6 +179,7 @@ private:
     toml::table root;
     std::filesystem::path file;
     Schema schema;
+    std::vector<std::string> warnings;
   };
   Config(std::shared_ptr<const State> state, const toml::table* table, const Schema* schema, std::string prefix)
       : state_(std::move(state)), table_(table), schema_(schema), prefix_(std::move(prefix))

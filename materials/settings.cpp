@@ -95,16 +95,37 @@ io::Schema material_schema(const std::string& prefix)
   std::vector<std::string> law_choices, preset_choices;
   for (const LawInfo& law : all_laws()) law_choices.push_back(law.name);
   for (const Preset& preset : presets()) preset_choices.push_back(preset.name);
+  // Keys left out take the preset's values (config.toml writes them out, naming the preset).
+  const std::string preset_key = p + "preset";
   schema.add_string(p + "law", "constitutive law (" + law_names() + "); implied by `preset` when omitted")
-      .choices(law_choices);
+      .choices(law_choices)
+      .preset(preset_key, [](const std::string& name) -> std::optional<io::Value> {
+        const Preset* preset = find_preset(name);
+        if (!preset) return std::nullopt;
+        return law_info(preset->law).name;
+      });
+  // A case needs a law or a preset: the skeleton of `ibvalve keys --format toml` starts from a preset.
   schema.add_string(p + "preset", "named parameter set; explicit parameter keys override its values")
-      .choices(preset_choices);
+      .choices(preset_choices)
+      .example(std::string("zhu2021-W1"));
   for (const auto& [name, info] : all_parameters()) {
     std::string used_by;
     for (const LawInfo& law : all_laws())
       for (const ParameterInfo& q : law.parameters)
         if (q.name == name) used_by += (used_by.empty() ? "" : ", ") + law.name;
-    auto key = schema.add_real(p + name, info->doc + " (" + used_by + ")").non_negative();
+    const std::string parameter = name;
+    auto key =
+        schema.add_real(p + name, info->doc + " (" + used_by + ")")
+            .non_negative()
+            .preset(preset_key, [parameter](const std::string& preset_name) -> std::optional<io::Value> {
+              const Preset* preset = find_preset(preset_name);
+              if (!preset) return std::nullopt;
+              const auto& parameters = law_info(preset->law).parameters;
+              for (std::size_t i = 0; i < parameters.size() && i < preset->values.size(); ++i)
+                if (parameters[i].name == parameter) // the run's value, in CGS
+                  return preset->values[i] * (parameters[i].is_modulus ? units::kPa : 1.0);
+              return std::nullopt;
+            });
     if (info->is_modulus) key.unit("kPa");
     if (info->upper < 1e300) key.at_most(info->upper);
   }

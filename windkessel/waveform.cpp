@@ -142,6 +142,7 @@ void add_waveform_schema(io::Schema& schema, const std::string& prefix, const st
       .add_string(prefix + ".file",
                   doc + ": CSV table with a header, one period, last row = first row one period later")
       .required()
+      .example(std::string("lv_pressure.csv"))
       .file();
   schema.add_string(prefix + ".time_column", "the table's time column (s)").defaults(std::string("time"));
   schema.add_string(prefix + ".value_column", "the table's value column").defaults(std::string("pressure"));

@@ -17,14 +17,17 @@ void WindkesselParameters::check() const
 
 std::optional<WindkesselParameters> preset(std::string_view name)
 {
-  using namespace units;
+  // Values in the units a case file writes, converted as a written value is (io::Config::real), so a
+  // run folder's config.toml, which writes them out, reads back to exactly these.
+  const double resistance = *units::to_cgs("mmHg s/mL"), compliance = *units::to_cgs("mL/mmHg");
+  const double pressure = *units::to_cgs("mmHg");
   if (name == "stergiopulos-typeA") {
     WindkesselParameters p;
-    p.proximal_resistance = 0.033 * mmHg / mL;
-    p.distal_resistance = 0.79 * mmHg / mL;
-    p.compliance = 1.75 * mL / mmHg;
-    p.distal_pressure = 0.0;
-    p.initial_pressure = 85.0 * mmHg;
+    p.proximal_resistance = 0.033 * resistance;
+    p.distal_resistance = 0.79 * resistance;
+    p.compliance = 1.75 * compliance;
+    p.distal_pressure = 0.0 * pressure;
+    p.initial_pressure = 85.0 * pressure;
     return p;
   }
   return std::nullopt;
@@ -89,15 +92,35 @@ void add_schema(io::Schema& schema, const std::string& prefix)
   schema.add_string(prefix + ".preset", "named Windkessel parameters; the keys below override them")
       .defaults(std::string("stergiopulos-typeA"))
       .choices(presets);
+  // A key left out takes the preset's value (config.toml writes it out, naming the preset).
+  auto from_preset = [](double WindkesselParameters::*member) {
+    return [member](const std::string& name) -> std::optional<io::Value> {
+      const auto p = preset(name);
+      if (!p) return std::nullopt;
+      return (*p).*member;
+    };
+  };
+  const std::string preset_key = prefix + ".preset";
   schema.add_real(prefix + ".proximal_resistance", "R_c, proximal (characteristic) resistance")
       .unit("mmHg s/mL")
-      .non_negative();
+      .non_negative()
+      .preset(preset_key, from_preset(&WindkesselParameters::proximal_resistance));
   schema.add_real(prefix + ".distal_resistance", "R_p, distal (peripheral) resistance")
       .unit("mmHg s/mL")
-      .positive();
-  schema.add_real(prefix + ".compliance", "C, compliance").unit("mL/mmHg").positive();
-  schema.add_real(prefix + ".distal_pressure", "P_d, distal (venous) pressure").unit("mmHg");
-  schema.add_real(prefix + ".initial_pressure", "P_Wk(0), initial reservoir pressure").unit("mmHg");
+      .positive()
+      .preset(preset_key, from_preset(&WindkesselParameters::distal_resistance));
+  schema.add_real(prefix + ".compliance", "C, compliance")
+      .unit("mL/mmHg")
+      .positive()
+      .preset(preset_key, from_preset(&WindkesselParameters::compliance));
+  schema.add_real(prefix + ".distal_pressure", "P_d, distal (venous) pressure")
+      .unit("mmHg")
+      .typical(-10.0, 50.0, "venous pressure is 0 to 20 mmHg; 133 times more is a value in Pa")
+      .preset(preset_key, from_preset(&WindkesselParameters::distal_pressure));
+  schema.add_real(prefix + ".initial_pressure", "P_Wk(0), initial reservoir pressure")
+      .unit("mmHg")
+      .typical(0.0, 250.0, "arterial pressure is 60 to 140 mmHg; 133 times more is a value in Pa")
+      .preset(preset_key, from_preset(&WindkesselParameters::initial_pressure));
 }
 
 WindkesselParameters parameters_from_config(const io::Config& config, const std::string& prefix)

@@ -26,7 +26,11 @@ Schema example_schema()
   Schema s;
   s.add_string("model", "what to run").required().choices({"fluid", "lumped"});
   s.add_real("fluid.density", "fluid density").unit("g/mL").defaults(1.0).positive();
-  s.add_real("fluid.viscosity", "dynamic viscosity").unit("cP").defaults(4.0).positive();
+  s.add_real("fluid.viscosity", "dynamic viscosity")
+      .unit("cP")
+      .defaults(4.0)
+      .positive()
+      .typical(1.0, 20.0, "blood is 3.5 to 4 cP");
   s.add_integer_list("grid.cells", "cells per direction")
       .size(3)
       .defaults(std::vector<std::int64_t>{16, 16, 16})
@@ -36,12 +40,21 @@ Schema example_schema()
       .size(3)
       .defaults(std::vector<double>{1.0, 1.0, 1.0})
       .positive();
-  s.add_real("time.dt", "time step").unit("s").required().positive();
+  s.add_real("time.dt", "time step").unit("s").required().positive().example(1e-3);
   s.add_integer("time.steps", "number of steps").defaults(std::int64_t{10}).at_least(1);
   s.add_boolean("output.fields", "write fields").defaults(true);
   s.add_string("mesh.file", "a mesh file").file(true);
   s.add_real("windkessel.compliance", "C").unit("mL/mmHg").defaults(1.75).positive();
   s.add_table_list("fluid.boundary", boundary, "boundary conditions");
+  s.add_string("fibers.rule", "fiber rule").defaults(std::string("FD1")).choices({"FD1", "FD2"});
+  s.add_string_list("tether.surfaces", "tethered surfaces").defaults(std::vector<std::string>{});
+  s.add_string("wk.preset", "named parameters").defaults(std::string("typeA")).choices({"none", "typeA"});
+  s.add_real("wk.compliance", "C")
+      .unit("mL/mmHg")
+      .positive()
+      .preset("wk.preset", [](const std::string& name) {
+        return name == "typeA" ? std::optional<Value>(1.75 * *units::to_cgs("mL/mmHg")) : std::nullopt;
+      });
   return s;
 }
 
@@ -131,7 +144,14 @@ struct BadCase {
 const BadCase bad_cases[] = {
     {"unknown key, with a suggestion", "model = \"fluid\"\n[fluid]\nviscosty = 4\n[time]\ndt = 1\n",
      ":3: fluid.viscosty: unknown key (did you mean 'fluid.viscosity'?)"},
-    {"unknown section", "model = \"fluid\"\n[time]\ndt = 1\n[solver]\nrtol = 1\n", ":4: solver: unknown key"},
+    {"unknown section", "model = \"fluid\"\n[time]\ndt = 1\n[solver]\nrtol = 1\n",
+     ":4: solver: unknown table"},
+    {"misspelt table", "model = \"fluid\"\n[time]\ndt = 1\n[fluuid]\nviscosity = 4\n",
+     ":4: fluuid: unknown table (did you mean 'fluid'?)"},
+    {"misspelt table of a dotted key", "model = \"fluid\"\nfluuid.viscosity = 4\n[time]\ndt = 1\n",
+     ":2: fluuid: unknown table (did you mean 'fluid'?)"},
+    {"misspelt table list", "model = \"fluid\"\n[time]\ndt = 1\n[[fluid.boundry]]\nface = \"x-\"\n",
+     ":4: fluid.boundry: unknown key (did you mean 'fluid.boundary'?)"},
     {"wrong type: string for a number", "model = \"fluid\"\n[time]\ndt = \"small\"\n",
      ":3: time.dt: expected a number, got 'small'"},
     {"wrong type: real for an integer", "model = \"fluid\"\n[time]\ndt = 1\nsteps = 2.5\n",
@@ -185,6 +205,101 @@ TEST(Config, BadOverrideNamesTheCommandLine)
   } catch (const InputError& error) {
     EXPECT_EQ(std::string(error.what()), "command line: --set time.dt: expected key=value");
   }
+}
+
+Config load_with(const std::string& text, const std::vector<std::string>& overrides)
+{
+  CaseFile file(text);
+  return Config::load(file.path(), example_schema(), overrides);
+}
+
+std::string override_error(const std::vector<std::string>& overrides)
+{
+  try {
+    load_with("model = \"fluid\"\n[time]\ndt = 1\n", overrides);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no error for --set " << overrides.front();
+  return "";
+}
+
+TEST(Config, OverrideOfAStringKeyTakesABareWord)
+{
+  const std::string text = "model = \"fluid\"\n[time]\ndt = 1\n";
+  EXPECT_EQ(load_with(text, {"fibers.rule=FD2"}).string("fibers.rule"), "FD2");
+  EXPECT_EQ(load_with(text, {"fibers.rule=\"FD2\""}).string("fibers.rule"), "FD2");
+  EXPECT_EQ(load_with(text, {"fibers.rule='FD2'"}).string("fibers.rule"), "FD2");
+  EXPECT_EQ(load_with(text, {"model=lumped"}).string("model"), "lumped");
+  EXPECT_EQ(load_with(text, {"tether.surfaces=[tube_outer, \"tube, inlet\"]"}).strings("tether.surfaces"),
+            (std::vector<std::string>{"tube_outer", "tube, inlet"}));
+  EXPECT_EQ(load_with(text, {"tether.surfaces=tube_outer"}).strings("tether.surfaces"),
+            (std::vector<std::string>{"tube_outer"}));
+}
+
+TEST(Config, BareWordForANumberNamesTheKeyAndTheType)
+{
+  EXPECT_EQ(override_error({"fluid.viscosity=abc"}),
+            "command line (--set fluid.viscosity=abc):1: fluid.viscosity: expected a number, got 'abc'");
+  EXPECT_EQ(override_error({"output.fields=FD2"}),
+            "command line (--set output.fields=FD2):1: output.fields: expected true or false, got 'FD2'");
+  EXPECT_EQ(override_error({"fibers.rule=FD3"}), "command line (--set fibers.rule=FD3):1: fibers.rule: "
+                                                 "\"FD3\" is not one of the allowed values: FD1, FD2");
+  EXPECT_EQ(override_error({"grid.cells=[8, 8"}).rfind("command line: --set grid.cells=[8, 8: ", 0), 0u)
+      << "a broken list stays a syntax error";
+}
+
+TEST(Config, MisspeltTableOnTheCommandLineGetsASuggestion)
+{
+  EXPECT_EQ(override_error({"fluuid.viscosity=4"}),
+            "command line (--set fluuid.viscosity=4):1: fluuid: unknown table (did you mean 'fluid'?)");
+}
+
+TEST(Config, ValueOffByAUnitSystemIsWarnedAbout)
+{
+  CaseFile file("model = \"fluid\"\n[fluid]\nviscosity = 0.004\n[time]\ndt = 1\n");
+  const Config c = Config::load(file.path(), example_schema());
+  ASSERT_EQ(c.warnings().size(), 1u);
+  EXPECT_EQ(c.warnings()[0],
+            file.path().string() +
+                ":3: fluid.viscosity: 0.004 cP is outside the typical 1 to 20 cP (blood is 3.5 to 4 cP)");
+  EXPECT_TRUE(
+      load_with("model = \"fluid\"\n[fluid]\nviscosity = 3.5\n[time]\ndt = 1\n", {}).warnings().empty());
+  EXPECT_EQ(load_with("model = \"fluid\"\n[time]\ndt = 1\n", {"fluid.viscosity=4000"}).warnings().size(), 1u);
+}
+
+TEST(Config, ResolvedFileWritesShortestNumbersAndPresetValues)
+{
+  const Config c = load_with("model = \"fluid\"\n[time]\ndt = 2e-5\n[grid]\nlengths = [0.1, 0.2, 0.3]\n", {});
+  const std::string text = c.resolved_toml();
+  EXPECT_NE(text.find("\ndt = 2e-05  #"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nlengths = [0.1, 0.2, 0.3]  #"), std::string::npos) << text;
+  EXPECT_EQ(text.find("0000000"), std::string::npos) << text;
+  EXPECT_NE(text.find("\ncompliance = 1.75  # from wk.preset = \"typeA\"; [mL/mmHg] C"), std::string::npos)
+      << text;
+  CaseFile resolved(text);
+  const Config again = Config::load(resolved.path(), example_schema());
+  EXPECT_EQ(again.real("time.dt"), c.real("time.dt"));
+  EXPECT_EQ(again.real("wk.compliance"), 1.75 * *units::to_cgs("mL/mmHg")) << "exactly the preset's value";
+  EXPECT_EQ(again.reals("grid.lengths"), c.reals("grid.lengths"));
+
+  const Config none = load_with("model = \"fluid\"\n[time]\ndt = 1\n[wk]\npreset = \"none\"\n", {});
+  EXPECT_NE(none.resolved_toml().find("# compliance = (not set)"), std::string::npos) << none.resolved_toml();
+}
+
+TEST(Config, SkeletonIsACaseFile)
+{
+  const Schema schema = example_schema();
+  const std::vector<std::pair<std::string, Value>> fixed{{"model", std::string("lumped")}};
+  const std::string text = schema.toml_skeleton("# a skeleton\n", fixed);
+  EXPECT_EQ(text.rfind("# a skeleton\nmodel = 'lumped'", 0), 0u) << text;
+  EXPECT_NE(text.find("\ndt = 0.001  # REQUIRED"), std::string::npos) << text;
+  EXPECT_NE(text.find("\n# [[fluid.boundary]]"), std::string::npos) << text;
+  CaseFile file(text);
+  const Config c = Config::load(file.path(), schema);
+  EXPECT_EQ(c.string("model"), "lumped");
+  EXPECT_DOUBLE_EQ(c.real("fluid.viscosity"), 4.0 * units::cP);
+  EXPECT_FALSE(c.has("mesh.file"));
 }
 
 TEST(Config, SchemaRejectsUnknownUnitsAndDuplicateKeys)
