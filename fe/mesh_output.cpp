@@ -34,6 +34,7 @@ io::XdmfGrid write_mesh_fields(MPI_Comm comm, const Mesh& mesh, const std::files
     file.write_root(field.name, field.values, h5_dims);
     grid.add_field(field.name, field.center, dims, relative + ":/" + field.name);
   }
+  file.close(); // a failure to write it (a full disk) is a RunError on every rank
   return grid;
 }
 

@@ -61,5 +61,23 @@ TEST(Files, MalformedCsvLineIsNamed)
   std::filesystem::remove(path);
 }
 
+TEST(Files, AFullDiskIsARunErrorNamingTheFileAndTheReason)
+{
+  // /dev/full answers every write with ENOSPC, as a full disk does.
+  try {
+    CsvWriter w("/dev/full", {"t", "Q"});
+    FAIL() << "no error";
+  } catch (const RunError& error) {
+    EXPECT_EQ(std::string(error.what()), "/dev/full: cannot write: No space left on device");
+  }
+  try {
+    write_file_atomically("/nonexistent_folder/config.toml", "x");
+    FAIL() << "no error";
+  } catch (const RunError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "/nonexistent_folder/config.toml: cannot write: No such file or directory");
+  }
+}
+
 } // namespace
 } // namespace ibvalve::io
