@@ -165,6 +165,12 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
     }
     if (table.columns.empty())
       for (std::size_t i = 0; i < fields.size(); ++i) table.columns.push_back("c" + std::to_string(i));
+    // A last line without its line end was cut off while being written (a run killed, or stopped by a
+    // full disk, mid-row): say so rather than blame the file's content.
+    if (fields.size() != table.columns.size() && in.eof())
+      throw InputError(path.string() + ":" + std::to_string(line_number) +
+                       ": the last row is torn (cut off while it was being written: a run killed or "
+                       "stopped by a full disk); ibvalve run --restart rewrites it from a checkpoint");
     if (fields.size() != table.columns.size())
       throw InputError(path.string() + ":" + std::to_string(line_number) + ": expected " +
                        std::to_string(table.columns.size()) + " values, found " +

@@ -79,5 +79,19 @@ TEST(Files, AFullDiskIsARunErrorNamingTheFileAndTheReason)
   }
 }
 
+TEST(Files, ATornLastRowIsNamedAsTorn)
+{
+  const auto path = temp("torn.csv");
+  std::ofstream(path) << "t,P,Q\n0,1,2\n0.1,1.5";
+  try {
+    read_csv(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path.string() + ":3: the last row is torn"), std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
 } // namespace
 } // namespace ibvalve::io
