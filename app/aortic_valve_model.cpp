@@ -337,8 +337,6 @@ class AorticValveRun : public PreparedRun {
   RunSummary run(const RunContext& context) override
   {
     auto& log = io::Logger::global();
-    int rank = 0;
-    MPI_Comm_rank(context.comm, &rank);
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
 
     // Fibers (rule FD1/FD2) from each leaflet's groups, computed on the mesh at start-up.
@@ -529,10 +527,12 @@ class AorticValveRun : public PreparedRun {
       if (!std::isfinite(q_valve) || !std::isfinite(p_nlv))
         throw RunError("aortic-valve: the flow is not finite at t = " + std::to_string(t) +
                        " s (try a smaller time.step)");
-      if (rank == 0)
+      // Rank 0's row; a failure to write it (a full disk) reaches every rank.
+      io::on_root(context.comm, [&] {
         csv.write_row({t, q_valve / units::mL, outlet_flow / units::mL, p_lv / units::mmHg,
                        p_ao / units::mmHg, outlet.reservoir_pressure() / units::mmHg, p_nlv / units::mmHg,
                        p_nao / units::mmHg, area});
+      });
       ++rows;
     };
 
@@ -674,17 +674,15 @@ class AorticValveRun : public PreparedRun {
     if (cycle == 0) options.settings.period = length;
     options.python = python_executable;
     options.plots = plots_;
-    int rank = 0;
-    MPI_Comm_rank(context.comm, &rank);
-    if (rank == 0) {
+    // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
+    io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
       summary.lines.push_back((cycle > 0 ? "cycle " + std::to_string(cycle) + " report: "
                                          : "report of the run's " + hemodynamics::format_value(length) +
                                                " s (shorter than a " + hemodynamics::format_value(period_) +
                                                " s cycle: its metrics are of that window): ") +
                               files.html.string());
-    }
-    MPI_Barrier(context.comm);
+    });
   }
 
   io::Config config_;

@@ -238,8 +238,6 @@ class FluidRun : public PreparedRun {
              std::to_string(dt_) + " s");
 
     const std::filesystem::path directory = context.run_directory;
-    int rank = 0;
-    MPI_Comm_rank(context.comm, &rank);
     io::create_directories_on_root(context.comm, directory / "fields");
     io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
@@ -327,7 +325,8 @@ class FluidRun : public PreparedRun {
           row.push_back(e.velocity_max);
           row.push_back(e.pressure_max);
         }
-        if (rank == 0) csv.write_row(row);
+        // Rank 0's row; a failure to write it (a full disk) reaches every rank.
+        io::on_root(context.comm, [&] { csv.write_row(row); });
         ++rows;
       }
       if (step == 0 || step == steps || (fields_every_ > 0 && step % fields_every_ == 0)) {
@@ -336,7 +335,9 @@ class FluidRun : public PreparedRun {
         io::Hdf5File h5(context.comm, directory / name, io::Hdf5File::Mode::create);
         h5.write_attribute("time", fluid->time());
         h5.write_attribute("pressure_time", fluid->pressure_time());
-        series.add_step(fluid->time(), {fluid::write_fields(h5, *fluid, "fluid", name)});
+        io::XdmfGrid grid = fluid::write_fields(h5, *fluid, "fluid", name);
+        h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
+        series.add_step(fluid->time(), {grid});
         ++fields_written;
       }
     };

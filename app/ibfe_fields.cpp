@@ -124,6 +124,7 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   // The grid: cell-centred velocity, vorticity and pressure (fluid/output.hpp).
   io::XdmfGrid grid = fluid::write_fields(h5, fluid, "fluid", file);
   io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
+  h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
   series.add_step(ibfe.time(), {grid, structure});
 }
 
@@ -150,6 +151,7 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
       h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_",
       {{"velocity", velocity.components}}, {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
   grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
+  h5.close();
   series.add_step(ibfe.time(), grids);
 }
 

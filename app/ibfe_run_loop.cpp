@@ -21,8 +21,6 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
 {
   auto& log = io::Logger::global();
   const std::filesystem::path& directory = context.run_directory;
-  int rank = 0;
-  MPI_Comm_rank(context.comm, &rank);
   create_fields_directory(context.comm, directory);
   io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
   // A checkpoint holds the fluid's state and the structure's (docs/runs.md).
@@ -55,7 +53,10 @@ RunSummary run_ibfe_loop(const RunContext& context, ib::IbfeIntegrator& ibfe, co
       displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
     }
     const double volume = ibfe.volume(), energy = fluid.kinetic_energy();
-    if (rank == 0) csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+    // Rank 0's row; a failure to write it (a full disk) reaches every rank.
+    io::on_root(context.comm, [&] {
+      csv.write_row({ibfe.time(), volume, volume / V0 - 1.0, speed, displacement, energy});
+    });
     ++rows;
     if (step % settings.output_every == 0 || step == steps) fluid.write_fields(series, step);
   };

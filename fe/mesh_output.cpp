@@ -41,6 +41,7 @@ io::XdmfGrid write_mesh_fields(MPI_Comm comm, const Mesh& mesh, const std::files
     if (!field.units.empty()) file.write_string_attribute(field.name, "units", field.units);
     grid.add_field(field.name, field.center, dims, relative + ":/" + field.name, field.units);
   }
+  file.close(); // a failure to write it (a full disk) is a RunError on every rank
   return grid;
 }
 

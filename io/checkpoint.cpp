@@ -10,6 +10,7 @@
 
 #include "io/collective.hpp"
 #include "io/errors.hpp"
+#include "io/files.hpp"
 #include "io/logger.hpp"
 
 namespace ibvalve::io {
@@ -203,26 +204,24 @@ std::filesystem::path Checkpoints::write(const CheckpointHeader& header,
                                          const std::function<void(Hdf5File&)>& save) const
 {
   const std::filesystem::path final_path = directory_ / file_name(header.step);
-  const std::filesystem::path temporary = final_path.string() + ".partial";
-  on_root(comm_, [&] { std::filesystem::create_directories(directory_); });
+  create_directories_on_root(comm_, directory_);
   {
-    Hdf5File file(comm_, temporary, Hdf5File::Mode::create);
+    // Built in memory by rank 0 and written at close() beside its name, then renamed into place
+    // (io/hdf5.hpp): a run that fails or is killed meanwhile leaves the previous checkpoint the newest.
+    Hdf5File file(comm_, final_path, Hdf5File::Mode::create);
     save(file);
     file.write_attribute("step", static_cast<double>(header.step));
     file.write_attribute("time", header.time);
     file.write_attribute("timeseries_rows", static_cast<double>(header.timeseries_rows));
     file.write_string_attribute("case", settings_.case_record);
+    // The seal: the checksum of everything stored, then `complete` (a file without it was not
+    // finished). Rank 0 hashes what it built; the other ranks' value is not used.
+    file.write_string_attribute("checksum", hex(file.content_hash(unhashed_attributes)));
+    file.write_attribute("complete", 1.0);
+    file.close();
   }
-  MPI_Barrier(comm_);
-  // Rank 0 seals the file (the checksum of what is on disk, then `complete`: a file without it was not
-  // finished), renames it into place and prunes; a failure there reaches every rank.
+  // Rank 0 prunes; a failure there reaches every rank.
   on_root(comm_, [&] {
-    {
-      Hdf5File file(MPI_COMM_SELF, temporary, Hdf5File::Mode::append);
-      file.write_string_attribute("checksum", hex(file.content_hash(unhashed_attributes)));
-      file.write_attribute("complete", 1.0);
-    }
-    std::filesystem::rename(temporary, final_path);
     const auto files = list_newest_first(MPI_COMM_SELF, directory_);
     for (std::size_t i = static_cast<std::size_t>(settings_.keep); i < files.size(); ++i)
       std::filesystem::remove(files[i]);
@@ -278,13 +277,7 @@ void truncate_csv_rows(const std::filesystem::path& path, std::int64_t rows)
     throw InputError(path.string() + ": has " + std::to_string(std::max<std::int64_t>(data_rows, 0)) +
                      " rows but the checkpoint expects " + std::to_string(rows));
   in.close();
-  const std::filesystem::path temporary = path.string() + ".truncating";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << kept;
-    if (!out) throw std::runtime_error("cannot write " + temporary.string());
-  }
-  std::filesystem::rename(temporary, path);
+  write_file_atomically(path, kept);
 }
 
 } // namespace ibvalve::io

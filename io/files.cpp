@@ -2,28 +2,58 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "io/errors.hpp"
 
 namespace ibvalve::io {
 
+namespace {
+
+/// The line of a write that failed: the file and the OS reason (errno), e.g. "No space left on device".
+RunError write_error(const std::filesystem::path& path, int error)
+{
+  return RunError(path.string() + ": cannot write: " + (error ? std::strerror(error) : "write failed"));
+}
+
+/// Writes all of `content` to the open descriptor `fd`; the errno of the write that failed, else 0.
+int write_all(int fd, std::string_view content)
+{
+  while (!content.empty()) {
+    const ssize_t written = ::write(fd, content.data(), content.size());
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    content.remove_prefix(static_cast<std::size_t>(written));
+  }
+  return 0;
+}
+
+} // namespace
+
 void write_file_atomically(const std::filesystem::path& path, std::string_view content)
 {
+  // POSIX calls rather than a stream: each failure has its errno, and close() is checked too (a
+  // network filesystem may report a full disk only there).
   const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + temporary.string() + ": " + std::strerror(errno));
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throw write_error(path, errno);
+  int error = write_all(fd, content);
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
+  if (error != 0) {
+    // What was written of it goes: it would hold the space a full disk needs, under no useful name.
+    ::unlink(temporary.c_str());
+    throw write_error(path, error);
   }
-  std::filesystem::rename(temporary, path);
 }
 
 std::string read_text_file(const std::filesystem::path& path)
@@ -37,33 +67,58 @@ std::string read_text_file(const std::filesystem::path& path)
 
 CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string> columns, bool append,
                      const std::vector<std::string>& units)
-    : columns_(std::move(columns))
+    : path_(path), columns_(std::move(columns))
 {
   if (!units.empty() && units.size() != columns_.size())
     throw std::logic_error("CsvWriter: " + std::to_string(units.size()) + " units for " +
                            std::to_string(columns_.size()) + " columns of " + path.string());
   const bool exists = append && std::filesystem::exists(path);
+  errno = 0;
   out_.open(path, exists ? std::ios::app : std::ios::trunc);
-  if (!out_) throw std::runtime_error("cannot write " + path.string());
+  if (!out_) throw write_error(path, errno);
   out_.precision(12);
   if (!exists) {
-    for (std::size_t i = 0; i < columns_.size(); ++i) out_ << (i ? "," : "") << columns_[i];
-    out_ << "\n";
+    std::ostringstream header;
+    for (std::size_t i = 0; i < columns_.size(); ++i) header << (i ? "," : "") << columns_[i];
+    header << "\n";
     // A continued run appends to the file as it is: an older series without this line stays without.
     if (!units.empty()) {
-      out_ << "# units: ";
-      for (std::size_t i = 0; i < units.size(); ++i) out_ << (i ? "," : "") << units[i];
-      out_ << "\n";
+      header << "# units: ";
+      for (std::size_t i = 0; i < units.size(); ++i) header << (i ? "," : "") << units[i];
+      header << "\n";
     }
-    out_.flush();
+    put(header.str());
   }
+  std::error_code ignored;
+  const auto size = std::filesystem::file_size(path, ignored);
+  complete_size_ = ignored ? 0 : size;
 }
 
 void CsvWriter::write_row(const std::vector<double>& values)
 {
-  for (std::size_t i = 0; i < values.size(); ++i) out_ << (i ? "," : "") << values[i];
-  out_ << "\n";
+  std::ostringstream row;
+  row.precision(out_.precision());
+  for (std::size_t i = 0; i < values.size(); ++i) row << (i ? "," : "") << values[i];
+  row << "\n";
+  put(row.str());
+}
+
+void CsvWriter::put(const std::string& text)
+{
+  errno = 0;
+  out_ << text;
   out_.flush();
+  if (out_) {
+    complete_size_ += text.size();
+    return;
+  }
+  const int error = errno;
+  // A row cut off by a full disk is taken back, so the file ends with its last whole row (what a
+  // restart from a checkpoint, or a reader, expects); the run stops here.
+  out_.close();
+  std::error_code ignored;
+  std::filesystem::resize_file(path_, complete_size_, ignored);
+  throw write_error(path_, error);
 }
 
 std::size_t CsvTable::column(std::string_view name) const
@@ -121,6 +176,12 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
     }
     if (table.columns.empty())
       for (std::size_t i = 0; i < fields.size(); ++i) table.columns.push_back("c" + std::to_string(i));
+    // A last line without its line end was cut off while being written (a run killed, or stopped by a
+    // full disk, mid-row): say so rather than blame the file's content.
+    if (fields.size() != table.columns.size() && in.eof())
+      throw InputError(path.string() + ":" + std::to_string(line_number) +
+                       ": the last row is torn (cut off while it was being written: a run killed or "
+                       "stopped by a full disk); ibvalve run --restart rewrites it from a checkpoint");
     if (fields.size() != table.columns.size())
       throw InputError(path.string() + ":" + std::to_string(line_number) + ": expected " +
                        std::to_string(table.columns.size()) + " values, found " +

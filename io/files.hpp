@@ -1,6 +1,7 @@
 #pragma once
 // Files a run writes: never half-written. A file is written beside its final name and renamed into
 // place, so a reader (or a crash) sees the old file or the new one, never a torn one.
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,7 +10,8 @@
 
 namespace ibvalve::io {
 
-/// Writes `content` to `path` atomically (temporary file + rename).
+/// Writes `content` to `path` atomically (temporary file + rename). A failure (a full disk) is a
+/// RunError "PATH: cannot write: <OS reason>", and no temporary file is left.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
 /// Reads a whole text file; InputError when it cannot be read.
@@ -20,6 +22,8 @@ std::string read_text_file(const std::filesystem::path& path);
 /// With `units` (one per column; "1" for a pure number) a comment line `# units: s,mL/s,...` follows
 /// the header: the column names stay plain identifiers for every reader, and readers that skip '#'
 /// lines (read_csv, pandas comment='#', numpy genfromtxt/loadtxt) see a plain table (docs/runs.md).
+/// A write that fails (a full disk) is a RunError "PATH: cannot write: <OS reason>", and the file is
+/// cut back to its last whole row.
 class CsvWriter {
  public:
   CsvWriter() = default;
@@ -30,8 +34,12 @@ class CsvWriter {
   bool is_open() const { return out_.is_open(); }
 
  private:
+  void put(const std::string& text);
+
+  std::filesystem::path path_;
   std::ofstream out_;
   std::vector<std::string> columns_;
+  std::uintmax_t complete_size_ = 0; // bytes of whole lines written
 };
 
 /// A CSV table of numbers with a header row (comment lines start with '#').

@@ -1,9 +1,14 @@
 #include "io/hdf5.hpp"
 
 #include <algorithm>
+#include <exception>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
+
+#include "io/collective.hpp"
+#include "io/files.hpp"
+#include "io/logger.hpp"
 
 namespace ibvalve::io {
 
@@ -66,7 +71,8 @@ void select_block(hid_t file_space, hid_t memory_space, std::span<const hsize_t>
 
 } // namespace
 
-Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode) : comm_(comm), path_(path)
+Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode)
+    : comm_(comm), mode_(mode), exceptions_at_open_(std::uncaught_exceptions()), path_(path)
 {
   // Every failing call is checked and becomes one exception naming file and dataset: HDF5's own
   // error stacks (ten lines per failure, e.g. for a torn checkpoint passed over) are not printed.
@@ -76,18 +82,70 @@ Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode) 
   }();
   (void)silenced;
   MPI_Comm_rank(comm_, &rank_);
-  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-  check(H5Pset_fapl_mpio(access, comm_, MPI_INFO_NULL), "set MPI-IO");
-  if (mode == Mode::create)
-    file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
-  else
-    file_ = H5Fopen(path.c_str(), mode == Mode::append ? H5F_ACC_RDWR : H5F_ACC_RDONLY, access);
-  check_id(file_, (mode == Mode::create ? "cannot create " : "cannot open ") + path.string());
+  MPI_Comm_size(comm_, &size_);
+  if (mode == Mode::read) {
+    Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    check(H5Pset_fapl_mpio(access, comm_, MPI_INFO_NULL), "set MPI-IO");
+    file_ = check_id(H5Fopen(path.c_str(), H5F_ACC_RDONLY, access), "cannot open " + path.string());
+    return;
+  }
+  writer_ = rank_ == 0;
+  as_writer([&] {
+    // In memory, grown a MiB at a time, never backed by the disk: close() writes it.
+    Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    check(H5Pset_fapl_core(access, std::size_t{1} << 20, 0), "set the core driver");
+    file_ = check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access),
+                     "cannot create " + path.string());
+  });
 }
 
 Hdf5File::~Hdf5File()
 {
+  if (mode_ == Mode::create && !closed_ && std::uncaught_exceptions() == exceptions_at_open_) {
+    try {
+      close();
+    } catch (const std::exception& e) {
+      Logger::global().error(e.what());
+    }
+  }
   if (file_ >= 0) H5Fclose(file_);
+}
+
+template <class Work>
+void Hdf5File::as_writer(Work&& work)
+{
+  if (mode_ != Mode::create) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
+  if (!writer_ || failed_) return;
+  try {
+    work();
+  } catch (...) {
+    failed_ = std::current_exception();
+  }
+}
+
+void Hdf5File::close()
+{
+  if (closed_) return;
+  closed_ = true;
+  if (mode_ == Mode::read) {
+    if (file_ >= 0) H5Fclose(file_);
+    file_ = -1;
+    return;
+  }
+  as_writer([&] {
+    check(H5Fflush(file_, H5F_SCOPE_LOCAL), "flush " + path_.string());
+    const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
+    if (size < 0) throw std::runtime_error("HDF5: no image of " + path_.string());
+    std::string image(static_cast<std::size_t>(size), '\0');
+    if (H5Fget_file_image(file_, image.data(), image.size()) != size)
+      throw std::runtime_error("HDF5: no image of " + path_.string());
+    H5Fclose(file_);
+    file_ = -1;
+    write_file_atomically(path_, image);
+  });
+  if (file_ >= 0) H5Fclose(file_);
+  file_ = -1;
+  rethrow_on_every_rank(comm_, failed_);
 }
 
 hid_t Hdf5File::create_dataset(const std::string& name, hid_t type, std::span<const hsize_t> dims)
@@ -105,30 +163,47 @@ void Hdf5File::write_block(const std::string& name, std::span<const double> data
   const hsize_t local = std::accumulate(count.begin(), count.end(), hsize_t{1}, std::multiplies<>());
   if (local != data.size())
     throw std::logic_error("Hdf5File::write_block: data size does not match count for " + name);
-  Handle dataset(create_dataset(name, H5T_NATIVE_DOUBLE, global_dims), H5Dclose);
-  Handle file_space(H5Dget_space(dataset), H5Sclose);
-  Handle memory_space(H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), H5Sclose);
-  select_block(file_space, memory_space, offset, count, local);
-  Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
-  check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE), "collective transfer");
-  check(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, transfer, data.data()),
-        "write " + name + " to " + path_.string());
+  if (mode_ != Mode::create) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
+  // The writer gathers every rank's block (where it goes, then its values) and writes them in turn.
+  const std::size_t ndims = count.size();
+  std::vector<unsigned long long> place(2 * ndims), places(writer_ ? 2 * ndims * size_ : 0);
+  std::copy(offset.begin(), offset.end(), place.begin());
+  std::copy(count.begin(), count.end(), place.begin() + static_cast<std::ptrdiff_t>(ndims));
+  MPI_Gather(place.data(), static_cast<int>(place.size()), MPI_UNSIGNED_LONG_LONG, places.data(),
+             static_cast<int>(place.size()), MPI_UNSIGNED_LONG_LONG, 0, comm_);
+  const int mine = static_cast<int>(local);
+  std::vector<int> sizes(writer_ ? size_ : 0), starts(writer_ ? size_ : 0);
+  MPI_Gather(&mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, 0, comm_);
+  if (writer_) std::exclusive_scan(sizes.begin(), sizes.end(), starts.begin(), 0);
+  std::vector<double> all(writer_ ? static_cast<std::size_t>(std::accumulate(sizes.begin(), sizes.end(), 0))
+                                  : 0);
+  MPI_Gatherv(data.data(), mine, MPI_DOUBLE, all.data(), sizes.data(), starts.data(), MPI_DOUBLE, 0, comm_);
+  as_writer([&] {
+    Handle dataset(create_dataset(name, H5T_NATIVE_DOUBLE, global_dims), H5Dclose);
+    Handle file_space(H5Dget_space(dataset), H5Sclose);
+    for (int r = 0; r < size_; ++r) {
+      if (sizes[r] == 0) continue;
+      const std::vector<hsize_t> at(places.begin() + 2 * ndims * r, places.begin() + 2 * ndims * r + ndims);
+      const std::vector<hsize_t> block(places.begin() + 2 * ndims * r + ndims,
+                                       places.begin() + 2 * ndims * (r + 1));
+      Handle memory_space(H5Screate_simple(static_cast<int>(ndims), block.data(), nullptr), H5Sclose);
+      check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, at.data(), nullptr, block.data(), nullptr),
+            "select block");
+      check(
+          H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memory_space, file_space, H5P_DEFAULT, all.data() + starts[r]),
+          "write " + name + " to " + path_.string());
+    }
+  });
 }
 
 void Hdf5File::write_whole(const std::string& name, hid_t type, const void* data,
                            std::span<const hsize_t> dims)
 {
-  Handle dataset(create_dataset(name, type, dims), H5Dclose);
-  Handle file_space(H5Dget_space(dataset), H5Sclose);
-  Handle memory_space(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose);
-  if (rank_ != 0) {
-    check(H5Sselect_none(file_space), "select none");
-    check(H5Sselect_none(memory_space), "select none");
-  }
-  Handle transfer(H5Pcreate(H5P_DATASET_XFER), H5Pclose);
-  check(H5Pset_dxpl_mpio(transfer, H5FD_MPIO_COLLECTIVE), "collective transfer");
-  check(H5Dwrite(dataset, type, memory_space, file_space, transfer, data),
-        "write " + name + " to " + path_.string());
+  as_writer([&] {
+    Handle dataset(create_dataset(name, type, dims), H5Dclose);
+    check(H5Dwrite(dataset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+          "write " + name + " to " + path_.string());
+  });
 }
 
 void Hdf5File::write_root(const std::string& name, std::span<const double> data,
@@ -151,12 +226,14 @@ void Hdf5File::write_root(const std::string& name, std::span<const std::int64_t>
 
 void Hdf5File::write_attribute(const std::string& name, double value)
 {
-  Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-  Handle attribute(
-      check_id(H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT),
-               "create attribute " + name),
-      H5Aclose);
-  check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+  as_writer([&] {
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
+    Handle attribute(
+        check_id(H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT),
+                 "create attribute " + name),
+        H5Aclose);
+    check(H5Awrite(attribute, H5T_NATIVE_DOUBLE, &value), "write attribute " + name);
+  });
 }
 
 double Hdf5File::read_attribute(const std::string& name) const
@@ -200,17 +277,19 @@ std::string read_string_attribute_at(hid_t location, const std::string& name, co
 
 void Hdf5File::write_string_attribute(const std::string& name, const std::string& value)
 {
-  write_string_attribute_at(file_, name, value);
+  as_writer([&] { write_string_attribute_at(file_, name, value); });
 }
 
 void Hdf5File::write_string_attribute(const std::string& object, const std::string& name,
                                       const std::string& value)
 {
-  // Attribute creation is collective in parallel HDF5: every rank makes the same call.
-  Handle target(
-      check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "no " + object + " in " + path_.string()),
-      H5Oclose);
-  write_string_attribute_at(target, name, value);
+  // Rank 0 builds the file (as_writer); the other ranks hold no handle to it.
+  as_writer([&] {
+    Handle target(
+        check_id(H5Oopen(file_, object.c_str(), H5P_DEFAULT), "no " + object + " in " + path_.string()),
+        H5Oclose);
+    write_string_attribute_at(target, name, value);
+  });
 }
 
 std::string Hdf5File::read_string_attribute(const std::string& object, const std::string& name) const
@@ -260,7 +339,15 @@ herr_t collect_attribute(hid_t, const char* name, const H5A_info_t*, void* names
 
 } // namespace
 
-std::uint64_t Hdf5File::content_hash(std::span<const std::string> skip_attributes) const
+std::uint64_t Hdf5File::content_hash(std::span<const std::string> skip_attributes)
+{
+  if (mode_ == Mode::read) return hash_content(skip_attributes);
+  std::uint64_t value = 0;
+  as_writer([&] { value = hash_content(skip_attributes); });
+  return value;
+}
+
+std::uint64_t Hdf5File::hash_content(std::span<const std::string> skip_attributes) const
 {
   Fnv1a hash;
   std::vector<std::string> datasets;

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/collective.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::io {
@@ -99,7 +100,8 @@ void XdmfTimeSeries::resume(double time)
 
 void XdmfTimeSeries::write() const
 {
-  if (writer_) write_file_atomically(path_, text());
+  // Rank 0 writes; a failure there (a full disk) reaches every rank.
+  on_root(comm_, [&] { write_file_atomically(path_, text()); });
 }
 
 namespace {

@@ -68,7 +68,8 @@ struct XdmfGrid {
 
 class XdmfTimeSeries {
  public:
-  /// Rank 0 of `comm` writes `path`; every rank may call add_step (the others do nothing).
+  /// Rank 0 of `comm` writes `path`. add_step, drop_after and resume are collective: a failure to write
+  /// the file (RunError) reaches every rank.
   XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path);
   void add_step(double time, std::vector<XdmfGrid> grids);
   /// Forgets steps after `time` (a restart from a checkpoint at `time`) and rewrites the file.

@@ -88,5 +88,37 @@ TEST(Files, MalformedCsvLineIsNamed)
   std::filesystem::remove(path);
 }
 
+TEST(Files, AFullDiskIsARunErrorNamingTheFileAndTheReason)
+{
+  // /dev/full answers every write with ENOSPC, as a full disk does.
+  try {
+    CsvWriter w("/dev/full", {"t", "Q"});
+    FAIL() << "no error";
+  } catch (const RunError& error) {
+    EXPECT_EQ(std::string(error.what()), "/dev/full: cannot write: No space left on device");
+  }
+  try {
+    write_file_atomically("/nonexistent_folder/config.toml", "x");
+    FAIL() << "no error";
+  } catch (const RunError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "/nonexistent_folder/config.toml: cannot write: No such file or directory");
+  }
+}
+
+TEST(Files, ATornLastRowIsNamedAsTorn)
+{
+  const auto path = temp("torn.csv");
+  std::ofstream(path) << "t,P,Q\n0,1,2\n0.1,1.5";
+  try {
+    read_csv(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path.string() + ":3: the last row is torn"), std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
 } // namespace
 } // namespace ibvalve::io

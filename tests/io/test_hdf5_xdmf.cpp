@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
@@ -56,6 +57,28 @@ TEST(Hdf5File, BlocksFromEveryRankMakeOneGlobalArray)
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0) std::filesystem::remove(path);
+}
+
+TEST(Hdf5File, AFileRankZeroCannotWriteFailsOnEveryRank)
+{
+  // Rank 0 writes the file at close(); its failure (here: no such folder; a full disk alike) is one
+  // RunError naming the file and the OS reason on every rank, and no rank is left waiting.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const std::vector<double> block{1.0, 2.0};
+  const std::vector<hsize_t> global{2 * static_cast<hsize_t>(size)}, offset{2 * static_cast<hsize_t>(rank)},
+      count{2};
+  Hdf5File file(MPI_COMM_WORLD, "/nonexistent_folder/fields.h5", Hdf5File::Mode::create);
+  file.write_block("u", block, global, offset, count);
+  file.write_attribute("time", 0.5);
+  try {
+    file.close();
+    FAIL() << "no error";
+  } catch (const RunError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "/nonexistent_folder/fields.h5: cannot write: No such file or directory");
+  }
 }
 
 TEST(Hdf5File, OpeningAMissingFileThrows)

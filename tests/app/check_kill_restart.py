@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""kill -9 at random moments of a checkpointed run (issue 20): a node failure must lose nothing that
+was checkpointed.
+
+  check_kill_restart.py IBVALVE MPIEXEC RANKS CASE WORK_DIR --every E [--kills N] [--seed S] [--set ...]
+
+Runs CASE once uninterrupted (checkpoint.every = E), then N times (default 20): starts it, waits a
+random time (reproducible: --seed, printed; a new one is drawn when none is given), sends SIGKILL to
+every rank at once (mpiexec's children, as a node failure would end them) and, once they are gone,
+`--restart`s the folder. Asserts for each: the restart continues from the newest checkpoint on disk
+when the ranks died (every checkpoint file there is complete: no warning about a torn one), and the
+restarted timeseries.csv equals the uninterrupted run's byte for byte. Every third kill is aimed at a
+checkpoint write (sent when a checkpoint's temporary file first appears); a kill counts as inside a
+write when such a temporary file is there after the ranks died. A kill before the first checkpoint,
+or after the run's last checkpoint, is drawn again. Prints what it checked and the time it took; exits 1 on the
+first failure.
+"""
+import argparse
+import os
+import pathlib
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from check_restart_faults import Runner, checkpoints, fail, processes_of, same_series  # noqa: E402
+
+
+def temporaries(folder):
+    directory = folder / "checkpoints"
+    if not directory.is_dir():
+        return []
+    return [p.name for p in directory.iterdir() if not re.fullmatch(r"step_\d{9}\.h5", p.name)]
+
+
+def one_kill(runner, folder, ranks, delay, aim_at_write, last):
+    shutil.rmtree(folder, ignore_errors=True)
+    command = runner.command(folder, "-q")
+    launcher = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+    # Ranks are found before the wait, so the kill itself is immediate.
+    deadline = time.time() + 60
+    processes = {}
+    while len(processes) < ranks:
+        if launcher.poll() is not None or time.time() > deadline:
+            fail("the run ended or did not start before the kill")
+        processes = processes_of(launcher.pid)
+    start = time.time()
+    if aim_at_write:
+        # The first temporary checkpoint file after `delay`: a kill while a checkpoint is written.
+        while time.time() - start < delay or not temporaries(folder):
+            if launcher.poll() is not None:
+                return None
+    else:
+        time.sleep(delay)
+    for pid in processes.values():
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    launcher.communicate(timeout=60)
+    if launcher.returncode == 0:
+        return None  # it finished before the kill
+    saved = checkpoints(folder)
+    if not saved or saved[-1] == last:
+        return None  # killed before its first checkpoint, or after its last: nothing to continue
+    return saved[-1], bool(temporaries(folder))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("ibvalve")
+    parser.add_argument("mpiexec")
+    parser.add_argument("ranks")
+    parser.add_argument("case")
+    parser.add_argument("work")
+    parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
+    parser.add_argument("--every", type=int, required=True, help="checkpoint.every")
+    parser.add_argument("--kills", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=None)
+    args = parser.parse_args()
+    seed = args.seed if args.seed is not None else random.SystemRandom().randrange(1 << 31)
+    print(f"seed {seed} (repeat with --seed {seed})", flush=True)
+    chance = random.Random(seed)
+    work = pathlib.Path(args.work)
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    began = time.time()
+    args.set.append(f"checkpoint.every={args.every}")
+    runner = Runner(args)
+    whole = work / "whole"
+    start = time.time()
+    runner.run(whole, "-q")
+    length = time.time() - start
+    print(f"the uninterrupted run took {length:.2f} s", flush=True)
+    ranks = int(args.ranks)
+    inside, kill, draws = 0, 0, 0
+    folder = work / "killed"
+    while kill < args.kills:
+        draws += 1
+        if draws > 5 * args.kills:
+            fail(f"only {kill} of {draws} kills landed between the first checkpoint and the end")
+        aim = kill % 3 == 2
+        delay = chance.uniform(0.0, length)
+        outcome = one_kill(runner, folder, ranks, delay, aim, checkpoints(whole)[-1])
+        if outcome is None:
+            continue
+        kill += 1
+        newest, in_write = outcome
+        inside += in_write
+        result = runner.run(folder, restart=True)
+        if "warning:" in result.stdout + result.stderr:
+            fail("the restart passed over a checkpoint: one that was on disk was not complete",
+                 result.stdout + result.stderr)
+        expected = folder / "checkpoints" / newest
+        if f"restarting from {expected}" not in result.stdout:
+            fail(f"kill {kill}: the restart did not continue from the newest checkpoint {newest}", result.stdout)
+        print(f"kill {kill}: {delay:.3f} s in{' (aimed at a write)' if aim else ''}, newest checkpoint "
+              f"{newest}{', inside a checkpoint write' if in_write else ''}", flush=True)
+        same_series(whole, folder, f"kill {kill}, restarted")
+    print(f"{args.kills} kills ({draws - args.kills} drawn again), {inside} inside a checkpoint write; "
+          f"{time.time() - began:.0f} s in all")
+    print("PASS")
+
+
+if __name__ == "__main__":
+    main()
