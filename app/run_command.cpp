@@ -218,6 +218,22 @@ void write_config(const std::filesystem::path& directory, const io::Config& conf
   }
 }
 
+/// PETSc options that no solver read, usually a misspelt name or solver prefix, which PETSc passes over
+/// in silence: one warning line naming them (those of the case file and those after --).
+void warn_unused_petsc_options()
+{
+  PetscInt count = 0;
+  char** names = nullptr;
+  char** values = nullptr;
+  PETSC_CHECK(PetscOptionsLeftGet(nullptr, &count, &names, &values));
+  std::string list;
+  for (PetscInt i = 0; i < count; ++i) list += std::string(list.empty() ? "" : " ") + "-" + names[i];
+  PETSC_CHECK(PetscOptionsLeftRestore(nullptr, &count, &names, &values));
+  if (!list.empty())
+    io::Logger::global().warn("PETSc options not used: " + list +
+                              " (check the name and the solver prefix: docs/design.md lists the prefixes)");
+}
+
 } // namespace
 
 int run_case(RunOptions options, const PetscArguments& petsc)
@@ -296,6 +312,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   catch_stop_signals();
   const RunSummary summary = prepared->run(context);
   for (const auto& line : summary.lines) log.info(line);
+  warn_unused_petsc_options();
   if (!summary.stopped.empty()) {
     log.always(summary.stopped);
     return summary.exit_code;
