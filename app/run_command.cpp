@@ -302,6 +302,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
            (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
            std::to_string(size) + (size == 1 ? " rank" : " ranks"));
   log.info("run folder: " + directory.string());
+  if (!prepared->memory_line().empty()) log.info(prepared->memory_line());
 
   RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps,
                      checkpoint};
