@@ -237,7 +237,10 @@ class IbfeRun : public PreparedRun {
       for (int d = 0; d < 3; ++d) {
         const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
         if (!box_.periodic[d] && !(x > box_.lower[d] && x < box_.upper[d]))
-          config.fail("structure.shape", "the structure must lie inside the walled box");
+          config.fail(shape == "box"    ? "structure.box.upper"
+                      : shape == "file" ? "structure.mesh"
+                                        : "structure.shell.center",
+                      "the structure must lie inside the walled box");
       }
     if (!config.integers("nested.ratios").empty()) read_levels(config);
     end_ = config.real("time.end");
