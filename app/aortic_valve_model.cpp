@@ -25,6 +25,7 @@
 #include "app/ibfe_fields.hpp"
 #include "app/ibfe_nested_run.hpp"
 #include "app/model.hpp"
+#include "app/resource_estimate.hpp"
 #include "app/restart.hpp"
 #include "app/step_diagnostics.hpp"
 #include "app/stop_signal.hpp"
@@ -102,6 +103,7 @@ void add_aortic_valve_schema(io::Schema& s)
       .typical(1.0, 20.0, "blood is 3.5 to 4 cP; 1000 times less is a value in Pa s, 100 times less in P");
   s.add_integer_list("fluid.cells", "grid cells in x, y, z")
       .size(3)
+      .at_most(max_grid_cells)
       .defaults(std::vector<std::int64_t>{16, 16, 28});
   s.add_real_list("fluid.lower", "lower corner of the box (the tube's axis is x = y = 0, inlet at z = 0)")
       .unit("cm")
@@ -121,7 +123,8 @@ void add_aortic_valve_schema(io::Schema& s)
       .positive();
   s.add_integer("fluid.max_iterations", "most FGMRES iterations per step")
       .defaults(std::int64_t{100})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_solver_iterations);
   s.add_real("fluid.backflow_stabilization",
              "beta: where fluid enters through the box's pressure sides, their pressure is lowered by "
              "beta rho/2 (u.n)^2 (the LV pressure becomes a total pressure); 0 = plain static pressure, "
@@ -163,10 +166,15 @@ void add_aortic_valve_schema(io::Schema& s)
       .defaults(d.free_edge_gap)
       .positive();
   s.add_integer("mesh.leaflet_across", "leaflet elements commissure to commissure (even)")
-      .defaults(std::int64_t{16});
-  s.add_integer("mesh.leaflet_radial", "leaflet elements attachment to free edge").defaults(std::int64_t{6});
-  s.add_integer("mesh.tube_around", "tube elements around").defaults(std::int64_t{48});
-  s.add_integer("mesh.tube_along", "tube elements along").defaults(std::int64_t{52});
+      .defaults(std::int64_t{16})
+      .at_most(max_mesh_cells);
+  s.add_integer("mesh.leaflet_radial", "leaflet elements attachment to free edge")
+      .defaults(std::int64_t{6})
+      .at_most(max_mesh_cells);
+  s.add_integer("mesh.tube_around", "tube elements around")
+      .defaults(std::int64_t{48})
+      .at_most(max_mesh_cells);
+  s.add_integer("mesh.tube_along", "tube elements along").defaults(std::int64_t{52}).at_most(max_mesh_cells);
 
   s.merge(materials::material_schema("leaflets.material"));
   s.merge(materials::material_schema("tube.material"));
@@ -215,7 +223,8 @@ void add_aortic_valve_schema(io::Schema& s)
       .non_negative();
   s.add_integer("probes.orifice_resolution", "pixels per side of the orifice-area raster")
       .defaults(std::int64_t{256})
-      .at_least(16);
+      .at_least(16)
+      .at_most(8192);
 
   s.add_string("ib.kernel", "regularized delta function")
       .choices({"piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3"})
@@ -225,7 +234,8 @@ void add_aortic_valve_schema(io::Schema& s)
       .positive();
   s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
       .defaults(std::int64_t{2})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_quadrature_degree);
   // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
   // integrated on the full rule: selective reduced integration by default (docs/fe.md).
   add_volumetric_integration_key(s, VolumetricIntegration::reduced);
@@ -268,12 +278,24 @@ class AorticValveRun : public PreparedRun {
     geometry_.tube_along = static_cast<int>(config.integer("mesh.tube_along"));
     if (config.has("mesh.file")) {
       mesh_ = fe::read_msh(config.path("mesh.file"));
+      check_size(config, static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
+                 "mesh.file");
     } else {
       try {
         fe::check(geometry_);
       } catch (const std::invalid_argument& e) {
         config.fail("mesh", e.what());
       }
+      // Hexahedra of the three leaflets and the tube, one layer through each (two layers of nodes).
+      const double leaflets = leaflet_count * static_cast<double>(geometry_.leaflet_across) *
+                              static_cast<double>(geometry_.leaflet_radial),
+                   tube =
+                       static_cast<double>(geometry_.tube_around) * static_cast<double>(geometry_.tube_along);
+      const double nodes =
+          2.0 * (leaflet_count * (geometry_.leaflet_across + 1.0) * (geometry_.leaflet_radial + 1.0) +
+                 geometry_.tube_around * (geometry_.tube_along + 1.0));
+      check_size(config, nodes, leaflets + tube,
+                 tube > leaflets ? "mesh.tube_around" : "mesh.leaflet_across");
       mesh_ = fe::aortic_valve_mesh(geometry_);
     }
     for (const std::string group : {"tube", "tube_outer"})
@@ -642,10 +664,29 @@ class AorticValveRun : public PreparedRun {
 
   // Nested levels (docs/nested.md): placed around the valve and tube (or given as [[nested.box]]), the
   // finest level one box holding the whole structure with the kernel's reach.
+  // The structure's and the one grid's size, checked before the mesh is built: indices, then memory.
+  // Nested levels add theirs in read_levels.
+  void check_size(const io::Config& config, double nodes, double elements, const std::string& key)
+  {
+    check_index_count(config, key, 3.0 * nodes, "structure unknowns");
+    structure_memory_ = structure_memory(nodes, elements, key);
+    memory_line_ = check_memory(
+        config,
+        {{fluid_memory(grid_cells(box_), memory_kind(fluid_), true, "fluid.cells"), structure_memory_}},
+        PETSC_COMM_WORLD);
+  }
+
   void read_levels(const io::Config& config)
   {
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
         read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
+    const double cells = composite_cells(*hierarchy_);
+    memory_line_ =
+        check_memory(config,
+                     {{fluid_memory(cells, FluidMemoryKind::nested, true,
+                                    cells > 2.0 * grid_cells(box_) ? "nested.ratios" : "fluid.cells"),
+                       structure_memory_}},
+                     PETSC_COMM_WORLD);
     nested_settings_.rho = fluid_.rho;
     nested_settings_.mu = fluid_.mu;
     nested_settings_.convection = fluid_.convection;
@@ -709,6 +750,7 @@ class AorticValveRun : public PreparedRun {
   long steps_per_cycle_ = 1, cycles_ = 1, steps_ = 1, every_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   int orifice_resolution_ = 256;
+  MemoryPart structure_memory_;
   bool plots_ = true;
   io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid

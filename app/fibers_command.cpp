@@ -35,8 +35,14 @@ struct FibersCommandOptions {
 int run_fibers(const FibersCommandOptions& options)
 {
   auto& log = io::Logger::global();
-  const fibers::FiberRule rule = fibers::parse_fiber_rule(options.rule);
-  if (options.axis.size() != 6) throw InputError("--axis: give six numbers px,py,pz,dx,dy,dz");
+  // The rule and the axis come from the command line: its errors say so and name the option.
+  fibers::FiberRule rule{};
+  try {
+    rule = fibers::parse_fiber_rule(options.rule);
+  } catch (const InputError&) {
+    throw InputError("command line: --rule " + options.rule + ": not a fiber rule (FD1 or FD2)");
+  }
+  if (options.axis.size() != 6) throw InputError("command line: --axis: give six numbers px,py,pz,dx,dy,dz");
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   // Rank 0 checks the output folder (and makes it below, once the fields exist); an error there is
@@ -59,7 +65,7 @@ int run_fibers(const FibersCommandOptions& options)
       !(options.n1 + options.n2 + options.tau1 + options.tau2 + options.attachment).empty();
   if (explicit_selectors && leaflets.size() > 1)
     throw InputError(
-        "fibers: --n1/--n2/--tau1/--tau2/--attachment apply to one leaflet; with several, name the "
+        "command line: --n1/--n2/--tau1/--tau2/--attachment apply to one leaflet; with several, name the "
         "groups <leaflet>_n1, <leaflet>_tau1 ... in the mesh");
   std::vector<fibers::LeafletSpec> specs;
   for (const auto& name : leaflets) {
@@ -76,7 +82,7 @@ int run_fibers(const FibersCommandOptions& options)
     spec.attachment = options.attachment;
     spec.axis_point = fibers::Vec3(options.axis[0], options.axis[1], options.axis[2]);
     spec.axis_direction = fibers::Vec3(options.axis[3], options.axis[4], options.axis[5]);
-    if (spec.axis_direction.norm() == 0) throw InputError("--axis: the direction is zero");
+    if (spec.axis_direction.norm() == 0) throw InputError("command line: --axis: the direction is zero");
   }
 
   log.info(

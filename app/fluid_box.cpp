@@ -16,7 +16,24 @@ fluid::BoxGeometry read_fluid_box(const io::Config& config)
     if (!(box.upper[d] > box.lower[d]))
       config.fail("fluid.upper", "must lie above fluid.lower in every direction");
   }
+  // Three velocity components on the faces and the pressure in the cells: about 4 (n+1)^3 unknowns.
+  double unknowns = 4.0;
+  for (int d = 0; d < 3; ++d) unknowns *= static_cast<double>(cells[d]) + 1.0;
+  check_index_count(config, "fluid.cells", unknowns, "grid unknowns");
   return box;
+}
+
+double grid_cells(const fluid::BoxGeometry& box)
+{
+  return static_cast<double>(box.cells[0]) * static_cast<double>(box.cells[1]) *
+         static_cast<double>(box.cells[2]);
+}
+
+FluidMemoryKind memory_kind(const fluid::FluidSettings& settings)
+{
+  if (settings.solver == fluid::SolverKind::fft) return FluidMemoryKind::fft;
+  return settings.subsolver == fluid::SubsolverKind::fft ? FluidMemoryKind::krylov_fft
+                                                         : FluidMemoryKind::krylov_amg;
 }
 
 } // namespace ibvalve::app

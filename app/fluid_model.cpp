@@ -15,6 +15,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/resource_estimate.hpp"
 #include "app/restart.hpp"
 #include "app/step_diagnostics.hpp"
 #include "app/stop_signal.hpp"
@@ -49,6 +50,7 @@ void add_fluid_schema(io::Schema& s)
   s.add_integer_list("fluid.cells", "grid cells in x, y, z")
       .required()
       .size(3)
+      .at_most(max_grid_cells)
       .example(std::vector<std::int64_t>{16, 16, 16});
   s.add_real_list("fluid.lower", "lower corner of the box")
       .unit("cm")
@@ -76,7 +78,8 @@ void add_fluid_schema(io::Schema& s)
       .positive();
   s.add_integer("fluid.max_iterations", "most FGMRES iterations per step")
       .defaults(std::int64_t{200})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_solver_iterations);
   for (int side = 0; side < 6; ++side) {
     const std::string p = "boundary." + fluid::side_name(side) + ".";
     s.add_string(
@@ -216,6 +219,9 @@ class FluidRun : public PreparedRun {
     fields_every_ = config.integer("output.fields_every");
     series_every_ = config.integer("output.timeseries_every");
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    memory_line_ =
+        check_memory(config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, "fluid.cells")}},
+                     PETSC_COMM_WORLD);
   }
 
   RunSummary run(const RunContext& context) override

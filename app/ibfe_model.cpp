@@ -18,6 +18,7 @@
 #include "app/ibfe_nested_run.hpp"
 #include "app/ibfe_run_loop.hpp"
 #include "app/model.hpp"
+#include "app/resource_estimate.hpp"
 #include "app/structure_parts.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
@@ -63,6 +64,7 @@ void add_ibfe_schema(io::Schema& s)
       .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
   s.add_integer_list("fluid.cells", "grid cells in x, y, z")
       .size(3)
+      .at_most(max_grid_cells)
       .defaults(std::vector<std::int64_t>{32, 32, 32});
   s.add_real_list("fluid.lower", "lower corner of the box")
       .unit("cm")
@@ -92,7 +94,9 @@ void add_ibfe_schema(io::Schema& s)
       .defaults(std::vector<double>{0.65, 0.6, 0.6});
   s.add_integer_list("structure.box.cells", "box shape: hexahedra per direction")
       .size(3)
-      .defaults(std::vector<std::int64_t>{6, 4, 4});
+      .defaults(std::vector<std::int64_t>{6, 4, 4})
+      .at_least(1)
+      .at_most(max_mesh_cells);
   s.add_real_list("structure.shell.center", "shell shape: centre")
       .unit("cm")
       .size(3)
@@ -101,10 +105,12 @@ void add_ibfe_schema(io::Schema& s)
   s.add_real("structure.shell.outer_radius", "shell shape: outer radius").unit("cm").defaults(0.3).positive();
   s.add_integer("structure.shell.patches", "shell shape: cells along each cube-face patch side")
       .defaults(std::int64_t{8})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_mesh_cells);
   s.add_integer("structure.shell.layers", "shell shape: cells through the thickness")
       .defaults(std::int64_t{3})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_mesh_cells);
   s.add_real_list("structure.initial.stretch",
                   "initial stretch of the structure about its centroid (x, y, z)")
       .size(3)
@@ -117,7 +123,8 @@ void add_ibfe_schema(io::Schema& s)
       .non_negative();
   s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
       .defaults(std::int64_t{2})
-      .at_least(1);
+      .at_least(1)
+      .at_most(max_quadrature_degree);
   add_volumetric_integration_key(s, VolumetricIntegration::full);
   s.merge(materials::material_schema("structure.material"));
   s.add_real_list("structure.fiber_direction",
@@ -180,6 +187,8 @@ class IbfeRun : public PreparedRun {
     if (shape == "file") {
       if (!config.has("structure.mesh")) config.fail("structure.shape", "\"file\" needs structure.mesh");
       mesh_ = fe::read_msh(config.path("structure.mesh"));
+      check_size(config, static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
+                 "structure.mesh");
     } else if (shape == "box") {
       const auto lo = config.reals("structure.box.lower"), hi = config.reals("structure.box.upper");
       const auto n = config.integers("structure.box.cells");
@@ -187,6 +196,12 @@ class IbfeRun : public PreparedRun {
         if (!(hi[d] > lo[d])) config.fail("structure.box.upper", "must lie above structure.box.lower");
         if (n[d] < 1) config.fail("structure.box.cells", "must be at least 1");
       }
+      double nodes = 1.0, elements = 1.0;
+      for (int d = 0; d < 3; ++d) {
+        nodes *= static_cast<double>(n[d]) + 1.0;
+        elements *= static_cast<double>(n[d]);
+      }
+      check_size(config, nodes, elements, "structure.box.cells");
       mesh_ = fe::box_mesh(fe::CellShape::hexahedron, fe::Vec3(lo[0], lo[1], lo[2]),
                            fe::Vec3(hi[0], hi[1], hi[2]),
                            {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])});
@@ -197,6 +212,11 @@ class IbfeRun : public PreparedRun {
       if (!(ro > ri)) config.fail("structure.shell.outer_radius", "must exceed structure.shell.inner_radius");
       center_ = fe::Vec3(c[0], c[1], c[2]);
       inner_radius_ = ri;
+      // Six cube faces of patches x patches cells, `layers` of them through the thickness.
+      const double patches = static_cast<double>(config.integer("structure.shell.patches")),
+                   layers = static_cast<double>(config.integer("structure.shell.layers"));
+      check_size(config, 6.0 * patches * patches * (layers + 1.0), 6.0 * patches * patches * layers,
+                 "structure.shell.patches");
       mesh_ = ib::spherical_shell_mesh(center_, ri, ro,
                                        static_cast<int>(config.integer("structure.shell.patches")),
                                        static_cast<int>(config.integer("structure.shell.layers")));
@@ -225,7 +245,10 @@ class IbfeRun : public PreparedRun {
       for (int d = 0; d < 3; ++d) {
         const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
         if (!box_.periodic[d] && !(x > box_.lower[d] && x < box_.upper[d]))
-          config.fail("structure.shape", "the structure must lie inside the walled box");
+          config.fail(shape == "box"    ? "structure.box.upper"
+                      : shape == "file" ? "structure.mesh"
+                                        : "structure.shell.center",
+                      "the structure must lie inside the walled box");
       }
     if (!config.integers("nested.ratios").empty()) read_levels(config);
     end_ = config.real("time.end");
@@ -276,6 +299,19 @@ class IbfeRun : public PreparedRun {
   }
 
  private:
+  // The structure's and the one grid's size, checked before the mesh is built (a box of 2^32 cells a side
+  // must not be allocated to find out): indices, then memory. Nested levels add theirs in read_levels.
+  void check_size(const io::Config& config, double nodes, double elements, const std::string& key)
+  {
+    check_index_count(config, key, 3.0 * nodes, "structure unknowns");
+    structure_memory_ = structure_memory(nodes, elements, key);
+    memory_line_ =
+        check_memory(config,
+                     {{fluid_memory(grid_cells(box_), memory_kind(fluid_settings_), true, "fluid.cells"),
+                       structure_memory_}},
+                     PETSC_COMM_WORLD);
+  }
+
   // Nested grid levels (docs/nested.md, "IB on the finest level"): walls only, the finest level one box
   // holding the structure's starting configuration with room for the kernel's reach.
   void read_levels(const io::Config& config)
@@ -289,6 +325,13 @@ class IbfeRun : public PreparedRun {
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
         read_structure_levels(config, box_, positions, settings_.kernel, "structure.shape"));
+    const double cells = composite_cells(*hierarchy_);
+    memory_line_ =
+        check_memory(config,
+                     {{fluid_memory(cells, FluidMemoryKind::nested, true,
+                                    cells > 2.0 * grid_cells(box_) ? "nested.ratios" : "fluid.cells"),
+                       structure_memory_}},
+                     PETSC_COMM_WORLD);
     nested_settings_.rho = fluid_settings_.rho;
     nested_settings_.mu = fluid_settings_.mu;
   }
@@ -389,6 +432,7 @@ class IbfeRun : public PreparedRun {
   io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
   fluid::NestedFluidSettings nested_settings_;
+  MemoryPart structure_memory_;
 };
 
 } // namespace

@@ -32,6 +32,17 @@ double composite_kinetic_energy(const fluid::NestedNavierStokes& fluid)
 
 } // namespace
 
+double composite_cells(const fluid::GridHierarchy& hierarchy)
+{
+  double cells = 1.0;
+  for (int d = 0; d < 3; ++d) cells *= static_cast<double>(hierarchy.domain_cells(0)[d]);
+  for (int level = 1; level < hierarchy.levels(); ++level)
+    for (const fluid::IndexBox& box : hierarchy.boxes(level))
+      cells += static_cast<double>(box.cells(0)) * static_cast<double>(box.cells(1)) *
+               static_cast<double>(box.cells(2));
+  return cells;
+}
+
 fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
                                            std::span<const fe::Vec3> positions, ib::KernelKind kernel,
                                            const std::string& structure_key)

@@ -39,6 +39,9 @@ struct NestedIbfeCase {
 /// the structure's bounding box and the reach of `kernel`, automatic levels placed around it;
 /// `structure_key` names the structure in the error when explicit boxes miss it. InputError (nested.box)
 /// unless the finest level is one box (the structure lives on it). For the ibfe and aortic-valve models.
+/// The cells of every level of `hierarchy`, in floating point.
+double composite_cells(const fluid::GridHierarchy& hierarchy);
+
 fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
                                            std::span<const fe::Vec3> positions, ib::KernelKind kernel,
                                            const std::string& structure_key);

@@ -83,7 +83,7 @@ int main(int argc, char** argv)
     if (error.get_exit_code() == 0) {
       if (rank_of_world() == 0) cli.exit(error);
     } else {
-      io::Logger::global().error(std::string(error.what()) + " (see ibvalve --help)");
+      io::Logger::global().error("command line: " + std::string(error.what()) + " (see ibvalve --help)");
       code = exit_code_input_error;
     }
     PetscFinalize();

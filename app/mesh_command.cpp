@@ -20,7 +20,7 @@ int write_valve_mesh(const fe::ValveMeshParameters& parameters, const std::files
   try {
     fe::check(parameters);
   } catch (const std::invalid_argument& error) {
-    throw InputError(std::string("ibvalve mesh aortic-valve: ") + error.what());
+    throw InputError(std::string("command line: ibvalve mesh aortic-valve: ") + error.what());
   }
   if (output.extension() != ".msh") throw InputError(output.string() + ": the output must be a .msh file");
   const fe::Mesh mesh = fe::aortic_valve_mesh(parameters);

@@ -1,5 +1,7 @@
 #include "app/model.hpp"
 
+#include "app/resource_estimate.hpp"
+
 #include <vector>
 
 namespace ibvalve::app {
@@ -65,6 +67,7 @@ io::Schema common_schema()
   s.add_string("petsc.options",
                "PETSc options for every solver (e.g. \"-ksp_type gmres\"); command-line options win")
       .defaults(std::string{});
+  add_memory_schema(s);
   return s;
 }
 

@@ -47,6 +47,11 @@ class PreparedRun {
  public:
   virtual ~PreparedRun() = default;
   virtual RunSummary run(const RunContext& context) = 0;
+  /// The memory estimate (app/resource_estimate.hpp) the run logs at its start; "" for none.
+  const std::string& memory_line() const { return memory_line_; }
+
+ protected:
+  std::string memory_line_;
 };
 
 struct Model {

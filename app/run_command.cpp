@@ -1,4 +1,5 @@
 // `ibvalve run CASE.toml`: validate the case, create the run folder, run the model.
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <filesystem>
@@ -53,27 +54,72 @@ const io::KeySpec* case_key(const toml::table& table, std::string_view key)
   return nullptr;
 }
 
+std::size_t edit_distance(std::string_view a, std::string_view b)
+{
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// "case.toml:3" for a node of the case (or of a --set override, whose source names the command line).
+std::string where(const toml::source_region& source, const std::filesystem::path& file)
+{
+  const std::string name = source.path && !source.path->empty() ? *source.path : file.string();
+  return source.begin.line > 0 ? name + ":" + std::to_string(source.begin.line) : name;
+}
+
+/// The case's model, read before any other key: which keys are valid depends on it, so a missing,
+/// misspelt or unknown `model` is reported as such (with the models there are), and not as the first
+/// of the model's own keys that the common keys lack.
+const Model& case_model(const toml::table& table, const std::filesystem::path& file)
+{
+  std::string names;
+  for (const Model& m : models()) names += (names.empty() ? "" : ", ") + m.name;
+  if (names.empty()) names = "(this build has no models)";
+  const toml::node* node = table.get("model");
+  if (!node) {
+    // A top-level string key a letter or two from "model" (modle, mdoel, models) is the model key misspelt.
+    for (auto&& [key, value] : table)
+      if (value.is_string() && key.str() != "name" && edit_distance(key.str(), "model") <= 2)
+        throw InputError(where(key.source(), file) + ": " + std::string(key.str()) +
+                         ": unknown key (did you mean 'model'?)");
+    throw InputError(where(table.source(), file) + ": model: missing required key (what to run: " + names +
+                     ")");
+  }
+  if (!node->is_string()) {
+    std::ostringstream shown;
+    node->visit([&](const auto& v) { shown << v; });
+    throw InputError(where(node->source(), file) + ": model: expected a string (one of " + names + "), got " +
+                     shown.str().substr(0, 40));
+  }
+  const std::string name = *node->value<std::string>();
+  if (const Model* model = find_model(name)) return *model;
+  std::string hint;
+  std::size_t best = 4;
+  for (const Model& m : models())
+    if (const std::size_t d = edit_distance(m.name, name); d < best) {
+      best = d;
+      hint = " (did you mean '" + m.name + "'?)";
+    }
+  throw InputError(where(node->source(), file) + ": model: \"" + name +
+                   "\" is not one of the allowed values: " + names + hint);
+}
+
 io::Config load_case(const RunOptions& options)
 {
-
   toml::table table = io::parse_toml_file(options.case_file);
   io::apply_overrides(table, options.overrides, [&](std::string_view key) { return case_key(table, key); });
-  const toml::node* model_node = table.get("model");
-  // Validate against the common keys first when the model is missing or unknown, so that the error
-  // names the `model` key and lists the models there are.
-  const Model* model = nullptr;
-  if (model_node && model_node->is_string()) model = find_model(*model_node->value<std::string>());
-  if (!model) {
-    const std::string where =
-        model_node ? options.case_file.string() + ":" + std::to_string(model_node->source().begin.line)
-                   : options.case_file.string();
-    const std::string name = model_node ? model_node->value_or(std::string{}) : std::string{};
-    io::Config::validate(std::move(table), options.case_file, common_schema());
-    // Only reached when no model is registered (the schema's choices are then empty).
-    throw InputError(where + ": model: \"" + name +
-                     "\" is not one of the allowed values: (this build has no models)");
-  }
-  return io::Config::validate(std::move(table), options.case_file, case_schema(*model));
+  const Model& model = case_model(table, options.case_file);
+  return io::Config::validate(std::move(table), options.case_file, case_schema(model));
 }
 
 std::filesystem::path run_directory(const RunOptions& options, const io::Config& config)
@@ -196,6 +242,22 @@ void write_config(const std::filesystem::path& directory, const io::Config& conf
   }
 }
 
+/// PETSc options that no solver read, usually a misspelt name or solver prefix, which PETSc passes over
+/// in silence: one warning line naming them (those of the case file and those after --).
+void warn_unused_petsc_options()
+{
+  PetscInt count = 0;
+  char** names = nullptr;
+  char** values = nullptr;
+  PETSC_CHECK(PetscOptionsLeftGet(nullptr, &count, &names, &values));
+  std::string list;
+  for (PetscInt i = 0; i < count; ++i) list += std::string(list.empty() ? "" : " ") + "-" + names[i];
+  PETSC_CHECK(PetscOptionsLeftRestore(nullptr, &count, &names, &values));
+  if (!list.empty())
+    io::Logger::global().warn("PETSc options not used: " + list +
+                              " (check the name and the solver prefix: docs/design.md lists the prefixes)");
+}
+
 } // namespace
 
 int run_case(RunOptions options, const PetscArguments& petsc)
@@ -266,6 +328,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
            (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
            std::to_string(size) + (size == 1 ? " rank" : " ranks"));
   log.info("run folder: " + directory.string());
+  if (!prepared->memory_line().empty()) log.info(prepared->memory_line());
 
   RunContext context{PETSC_COMM_WORLD, directory, !options.restart.empty(), options.stop_after_steps,
                      checkpoint};
@@ -276,6 +339,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   catch_stop_signals();
   const RunSummary summary = prepared->run(context);
   for (const auto& line : summary.lines) log.info(line);
+  warn_unused_petsc_options();
   if (!summary.stopped.empty()) {
     log.always(summary.stopped);
     return summary.exit_code;

@@ -213,11 +213,13 @@ io::Schema nested_schema()
        "the next finer level) and the level's edge; one value for every level or one per level")
       .defaults(std::vector<std::int64_t>{4})
       .sizes(1, 4)
-      .at_least(1);
+      .at_least(1)
+      .at_most(4096);
   io::Schema box;
   box.add_integer("level", "the finer level (1 = first refined level) this box belongs to")
       .required()
-      .at_least(1);
+      .at_least(1)
+      .at_most(4);
   box.add_real_list("lower", "lower corner; on a corner of the next coarser level's cells")
       .unit("cm")
       .required()
