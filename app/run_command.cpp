@@ -54,22 +54,6 @@ const io::KeySpec* case_key(const toml::table& table, std::string_view key)
   return nullptr;
 }
 
-std::size_t edit_distance(std::string_view a, std::string_view b)
-{
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
 /// "case.toml:3" for a node of the case (or of a --set override, whose source names the command line).
 std::string where(const toml::source_region& source, const std::filesystem::path& file)
 {
@@ -89,7 +73,7 @@ const Model& case_model(const toml::table& table, const std::filesystem::path& f
   if (!node) {
     // A top-level string key a letter or two from "model" (modle, mdoel, models) is the model key misspelt.
     for (auto&& [key, value] : table)
-      if (value.is_string() && key.str() != "name" && edit_distance(key.str(), "model") <= 2)
+      if (value.is_string() && key.str() != "name" && io::edit_distance(key.str(), "model") <= 2)
         throw InputError(where(key.source(), file) + ": " + std::string(key.str()) +
                          ": unknown key (did you mean 'model'?)");
     throw InputError(where(table.source(), file) + ": model: missing required key (what to run: " + names +
@@ -106,7 +90,7 @@ const Model& case_model(const toml::table& table, const std::filesystem::path& f
   std::string hint;
   std::size_t best = 4;
   for (const Model& m : models())
-    if (const std::size_t d = edit_distance(m.name, name); d < best) {
+    if (const std::size_t d = io::edit_distance(m.name, name); d < best) {
       best = d;
       hint = " (did you mean '" + m.name + "'?)";
     }

@@ -159,26 +159,7 @@ std::string base64(std::string_view data)
 
 std::string html_escape(std::string_view text)
 {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-    case '&':
-      out += "&amp;";
-      break;
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  }
-  return out;
+  return io::xml_escaped(text);
 }
 
 std::string format_value(double value)

@@ -126,6 +126,10 @@ private:
   std::vector<std::unique_ptr<KeySpec>> keys_;
 };
 
+/// The Levenshtein distance of a and b (insertions, deletions, substitutions): how "did you mean"
+/// suggestions for misspelt keys, tables and model names are chosen.
+std::size_t edit_distance(std::string_view a, std::string_view b);
+
 /// Parses a TOML file; a syntax error or a missing file throws InputError naming file and line.
 toml::table parse_toml_file(const std::filesystem::path& file);
 /// Finds a key's spec by its dotted name (nullptr when unknown); lets overrides read bare words.

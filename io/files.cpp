@@ -121,6 +121,30 @@ void CsvWriter::put(const std::string& text)
   throw write_error(path_, error);
 }
 
+std::string xml_escaped(std::string_view text)
+{
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+    case '&':
+      out += "&amp;";
+      break;
+    case '<':
+      out += "&lt;";
+      break;
+    case '>':
+      out += "&gt;";
+      break;
+    case '"':
+      out += "&quot;";
+      break;
+    default:
+      out += c;
+    }
+  }
+  return out;
+}
+
 std::size_t CsvTable::column(std::string_view name) const
 {
   for (std::size_t i = 0; i < columns.size(); ++i)

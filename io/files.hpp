@@ -52,6 +52,10 @@ struct CsvTable {
   std::filesystem::path source;
 };
 
+/// `text` with &, <, > and " as XML entities: text and attribute values of XML and HTML files, which
+/// may carry names from a user's files (mesh groups, case names).
+std::string xml_escaped(std::string_view text);
+
 /// `s` without leading and trailing blanks (spaces, tabs, carriage returns).
 std::string trim(std::string_view s);
 /// The comma-separated fields of one CSV line, each trimmed (a trailing comma gives an empty field).

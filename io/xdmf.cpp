@@ -113,31 +113,6 @@ std::string dims_text(const std::vector<std::size_t>& dims)
   return s;
 }
 
-/// `text` as XML attribute text: part names come from a user's mesh file.
-std::string xml_escaped(const std::string& text)
-{
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-    case '&':
-      out += "&amp;";
-      break;
-    case '<':
-      out += "&lt;";
-      break;
-    case '>':
-      out += "&gt;";
-      break;
-    case '"':
-      out += "&quot;";
-      break;
-    default:
-      out += c;
-    }
-  }
-  return out;
-}
-
 void data_item(std::ostringstream& os, const std::vector<std::size_t>& dims, const std::string& number_type,
                const std::string& data, const std::string& indent)
 {
