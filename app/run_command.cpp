@@ -239,7 +239,7 @@ void warn_unused_petsc_options()
   PETSC_CHECK(PetscOptionsLeftRestore(nullptr, &count, &names, &values));
   if (!list.empty())
     io::Logger::global().warn("PETSc options not used: " + list +
-                              " (check the name and the solver prefix: docs/design.md lists the prefixes)");
+                              " (check the name and the solver prefix: `ibvalve --help` lists the prefixes)");
 }
 
 } // namespace

@@ -103,8 +103,8 @@ def lumped_case(source, work):
     """The lumped example with its waveform path made absolute, written into `work`."""
     work.mkdir(parents=True, exist_ok=True)
     text = (source / "examples/lumped/default.toml").read_text()
-    waveform = (source / "examples/waveforms/lv_pressure.csv").resolve()
-    text = text.replace('"../waveforms/lv_pressure.csv"', f'"{waveform}"')
+    text = re.sub(r'"\.\./waveforms/([^"]+)"',
+                  lambda m: f'"{(source / "examples/waveforms" / m.group(1)).resolve()}"', text)
     case = work / "lumped.toml"
     case.write_text(text)
     return case

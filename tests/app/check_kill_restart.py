@@ -71,6 +71,28 @@ def one_kill(runner, folder, ranks, delay, aim_at_write, last):
     return saved[-1], bool(temporaries(folder))
 
 
+def timeline(runner, folder, ranks):
+    """Seconds from the ranks' start to the run's first checkpoint and to its end, in a run of its own:
+    the window in which a kill has something to lose and something to continue."""
+    shutil.rmtree(folder, ignore_errors=True)
+    launcher = subprocess.Popen(runner.command(folder, "-q"), stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 60
+    while len(processes_of(launcher.pid)) < ranks:
+        if launcher.poll() is not None or time.time() > deadline:
+            fail("the timing run ended or did not start")
+    start = time.time()
+    first = None
+    while launcher.poll() is None:
+        if first is None and checkpoints(folder):
+            first = time.time() - start
+        time.sleep(0.002)
+    end = time.time() - start
+    if launcher.returncode != 0 or first is None:
+        fail(f"the timing run exited with {launcher.returncode} or wrote no checkpoint")
+    return first, end
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("ibvalve")
@@ -100,12 +122,16 @@ def main():
     ranks = int(args.ranks)
     inside, kill, draws = 0, 0, 0
     folder = work / "killed"
+    # Kill moments are drawn between the first checkpoint and the end of a run timed on its own, so
+    # that few are drawn again however long the start-up takes on a loaded machine.
+    first, end = timeline(runner, folder, ranks)
+    print(f"from the ranks' start: first checkpoint at {first:.2f} s, end at {end:.2f} s", flush=True)
     while kill < args.kills:
         draws += 1
         if draws > 5 * args.kills:
             fail(f"only {kill} of {draws} kills landed between the first checkpoint and the end")
         aim = kill % 3 == 2
-        delay = chance.uniform(0.0, length)
+        delay = chance.uniform(first, end)
         outcome = one_kill(runner, folder, ranks, delay, aim, checkpoints(whole)[-1])
         if outcome is None:
             continue

@@ -108,7 +108,9 @@ TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
 
 TEST(Hdf5File, DatasetsCarryStringAttributes)
 {
-  // Every rank makes the same (collective) attribute call; every rank reads it back.
+  // Every rank makes the same attribute call (rank 0 writes the file); every rank reads it back. An
+  // attribute of a dataset the file lacks fails the file on every rank when it is closed, as any
+  // failed write does.
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   const auto path = shared_temp_path("units");
@@ -117,7 +119,14 @@ TEST(Hdf5File, DatasetsCarryStringAttributes)
     const std::vector<double> p{1.0, 2.0};
     file.write_root("fluid/pressure", p, std::vector<hsize_t>{2});
     file.write_string_attribute("fluid/pressure", "units", "dyn/cm^2");
-    EXPECT_THROW(file.write_string_attribute("fluid/none", "units", "cm"), std::runtime_error);
+    file.close();
+  }
+  {
+    const auto wrong = shared_temp_path("units_missing");
+    Hdf5File file(MPI_COMM_WORLD, wrong, Hdf5File::Mode::create);
+    file.write_string_attribute("fluid/none", "units", "cm");
+    EXPECT_THROW(file.close(), std::runtime_error);
+    EXPECT_FALSE(std::filesystem::exists(wrong));
   }
   {
     Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::read);

@@ -75,7 +75,7 @@ def main():
     run(prefix, "run", case, "-o", run_dir, "--overwrite", "-q", "--set", f"time.cycles={cycles}",
         "--set", "report.plots=false", "--set", f"lv_pressure.file={json.dumps(str(pathlib.Path(waveform).resolve()))}")
     with open(run_dir / "timeseries.csv") as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     times = [float(r["t"]) for r in rows]
     p_wk = [float(r["P_Wk"]) for r in rows]
     print(f"{pathlib.Path(waveform).name} in the lumped model, {cycles} cycles from P_Wk(0) = {p_wk[0]:g} mmHg")
