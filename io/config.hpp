@@ -45,8 +45,8 @@ struct KeySpec {
   std::vector<std::string> choices;
   std::size_t min_size = 0; // lists: fewest elements
   std::size_t max_size = std::numeric_limits<std::size_t>::max();
-  bool is_path = false;    // a string naming a file, relative to the case file's folder
-  bool must_exist = false; // ... which must exist when read
+  bool is_path = false;                  // a string naming a file, relative to the case file's folder
+  bool must_exist = false;               // ... which must exist when read
   std::shared_ptr<const Schema> element; // table_list: the schema of each element
   // Numbers (and list elements) outside [typical_min, typical_max] are valid but warned about: a
   // value written in another unit system (Pa s as cP, Pa as mmHg, mm as cm) lands far outside.
@@ -61,7 +61,7 @@ struct KeySpec {
 
 /// Sets the properties of one key; returned by the Schema::add_* calls.
 class KeyBuilder {
-public:
+ public:
   explicit KeyBuilder(KeySpec& spec) : spec_(&spec) {}
   KeyBuilder& unit(std::string unit);
   KeyBuilder& required();
@@ -84,12 +84,12 @@ public:
   /// When the key is not given, the preset named by `preset_key` supplies `value(preset name)`.
   KeyBuilder& preset(std::string preset_key, std::function<std::optional<Value>(const std::string&)> value);
 
-private:
+ private:
   KeySpec* spec_;
 };
 
 class Schema {
-public:
+ public:
   KeyBuilder add_boolean(std::string key, std::string doc);
   KeyBuilder add_integer(std::string key, std::string doc);
   KeyBuilder add_real(std::string key, std::string doc);
@@ -121,7 +121,7 @@ public:
   Schema(Schema&&) = default;
   Schema& operator=(Schema&&) = default;
 
-private:
+ private:
   KeyBuilder add(std::string key, ValueKind kind, std::string doc);
   std::vector<std::unique_ptr<KeySpec>> keys_;
 };
@@ -138,14 +138,15 @@ using KeyLookup = std::function<const KeySpec*(std::string_view key)>;
 /// string key (by `lookup`) a bare word is the string itself (--set fibers.rule=FD2), and for a
 /// string list a bare word may be an element ([tube_outer, tube_inlet]). A value that is no TOML is
 /// kept as a string, so that validation names the key and the type it expects.
-void apply_overrides(toml::table& table, std::span<const std::string> overrides, const KeyLookup& lookup = {});
+void apply_overrides(toml::table& table, std::span<const std::string> overrides,
+                     const KeyLookup& lookup = {});
 /// The shortest text that reads back as exactly `x` (std::to_chars), with ".0" on a whole number so
 /// that TOML reads it back as a float.
 std::string format_real(double x);
 
 /// A validated case file (or one element of a table list within it).
 class Config {
-public:
+ public:
   /// Checks `table` (read from `file`) against `schema` and fills in defaults.
   static Config validate(toml::table table, const std::filesystem::path& file, const Schema& schema);
   /// parse_toml_file + apply_overrides + validate.
@@ -178,14 +179,15 @@ public:
   /// preset supplies is written with the preset's value (the file still validates as a case file).
   std::string resolved_toml() const;
 
-private:
+ private:
   struct State {
     toml::table root;
     std::filesystem::path file;
     Schema schema;
     std::vector<std::string> warnings;
   };
-  Config(std::shared_ptr<const State> state, const toml::table* table, const Schema* schema, std::string prefix)
+  Config(std::shared_ptr<const State> state, const toml::table* table, const Schema* schema,
+         std::string prefix)
       : state_(std::move(state)), table_(table), schema_(schema), prefix_(std::move(prefix))
   {
   }
