@@ -91,11 +91,7 @@ void add_aortic_valve_schema(io::Schema& s)
   s.add_integer("output.every", "write a time-series row every this many steps")
       .defaults(std::int64_t{10})
       .at_least(1);
-  s.add_real("fluid.density", "blood density")
-      .unit("g/mL")
-      .defaults(1.0)
-      .positive()
-      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
+  add_fluid_density_key(s, "blood density");
   s.add_real("fluid.viscosity", "blood viscosity")
       .unit("cP")
       .defaults(4.0)

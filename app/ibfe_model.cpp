@@ -52,16 +52,8 @@ void add_ibfe_schema(io::Schema& s)
   s.add_integer("output.every", "write fields every this many steps (and the first and last)")
       .defaults(std::int64_t{10})
       .at_least(1);
-  s.add_real("fluid.density", "fluid density")
-      .unit("g/mL")
-      .defaults(1.0)
-      .positive()
-      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
-  s.add_real("fluid.viscosity", "dynamic viscosity")
-      .unit("cP")
-      .defaults(4.0)
-      .non_negative()
-      .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
+  add_fluid_density_key(s, "fluid density");
+  add_fluid_viscosity_key(s, 4.0);
   s.add_integer_list("fluid.cells", "grid cells in x, y, z")
       .size(3)
       .at_most(max_grid_cells)

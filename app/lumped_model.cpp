@@ -145,11 +145,7 @@ void add_lumped_schema(io::Schema& s)
   s.add_real("valve.closing_pressure", "dp_close: pressure difference below which the valve closes")
       .unit("mmHg")
       .defaults(0.0);
-  s.add_real("fluid.density", "blood density")
-      .unit("g/mL")
-      .defaults(1.0)
-      .positive()
-      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
+  add_fluid_density_key(s, "blood density");
   hemodynamics::add_report_schema(s, "report");
   io::add_checkpoint_schema(s);
 }

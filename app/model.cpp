@@ -71,6 +71,24 @@ io::Schema common_schema()
   return s;
 }
 
+void add_fluid_density_key(io::Schema& s, const std::string& doc)
+{
+  s.add_real("fluid.density", doc)
+      .unit("g/mL")
+      .defaults(1.0)
+      .positive()
+      .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
+}
+
+void add_fluid_viscosity_key(io::Schema& s, double default_cP)
+{
+  s.add_real("fluid.viscosity", "dynamic viscosity")
+      .unit("cP")
+      .defaults(default_cP)
+      .non_negative()
+      .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
+}
+
 io::Schema case_schema(const Model& model)
 {
   io::Schema s = common_schema();
