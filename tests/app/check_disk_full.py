@@ -31,7 +31,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from check_restart_faults import Runner, checkpoints, error_lines, fail, same_series  # noqa: E402
+from check_restart_faults import Runner, add_run_arguments, checkpoints, error_lines, fail, same_series  # noqa: E402
 
 SKIP = 77
 PAGE = 4096
@@ -132,12 +132,7 @@ def whole_rows_only(folder):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("when", choices=["rows", "checkpoint", "fields"])
-    parser.add_argument("ibvalve")
-    parser.add_argument("mpiexec")
-    parser.add_argument("ranks")
-    parser.add_argument("case")
-    parser.add_argument("work")
-    parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
+    add_run_arguments(parser)
     parser.add_argument("--every", type=int, required=True, help="checkpoint.every")
     parser.add_argument("--at", type=int, required=True, help="the step whose write fills the disk")
     args = parser.parse_args()

@@ -27,7 +27,7 @@ import sys
 import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from check_restart_faults import Runner, checkpoints, fail, processes_of, same_series  # noqa: E402
+from check_restart_faults import Runner, add_run_arguments, checkpoints, fail, processes_of, same_series  # noqa: E402
 
 
 def temporaries(folder):
@@ -95,12 +95,7 @@ def timeline(runner, folder, ranks):
 
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("ibvalve")
-    parser.add_argument("mpiexec")
-    parser.add_argument("ranks")
-    parser.add_argument("case")
-    parser.add_argument("work")
-    parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
+    add_run_arguments(parser)
     parser.add_argument("--every", type=int, required=True, help="checkpoint.every")
     parser.add_argument("--kills", type=int, default=20)
     parser.add_argument("--seed", type=int, default=None)

@@ -59,6 +59,16 @@ def fail(message, output=None):
     sys.exit(FAIL)
 
 
+def add_run_arguments(parser):
+    """The arguments every fault script takes and Runner reads: IBVALVE MPIEXEC RANKS CASE WORK [--set ...]."""
+    parser.add_argument("ibvalve")
+    parser.add_argument("mpiexec")
+    parser.add_argument("ranks")
+    parser.add_argument("case")
+    parser.add_argument("work")
+    parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
+
+
 class Runner:
     def __init__(self, args):
         self.launch = [args.mpiexec, "--oversubscribe", "-n", args.ranks, args.ibvalve, "run"]
@@ -337,12 +347,7 @@ def fields_not_a_folder_scenario(runner, work, every, stop):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("scenario")
-    parser.add_argument("ibvalve")
-    parser.add_argument("mpiexec")
-    parser.add_argument("ranks")
-    parser.add_argument("case")
-    parser.add_argument("work")
-    parser.add_argument("--set", action="append", default=[], help="overrides of every run of CASE")
+    add_run_arguments(parser)
     parser.add_argument("--every", type=int, default=1000, help="checkpoint.every")
     parser.add_argument("--stop", type=int, default=5000, help="--stop-after-steps of the stopped runs")
     parser.add_argument("--after-rows", type=int, default=200, help="signal once the series has this many rows")
