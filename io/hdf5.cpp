@@ -1,9 +1,12 @@
 #include "io/hdf5.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <numeric>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include "io/collective.hpp"
@@ -71,6 +74,41 @@ void select_block(hid_t file_space, hid_t memory_space, std::span<const hsize_t>
 
 } // namespace
 
+// The core driver's buffer, allocated through these callbacks so that close() can write it in place.
+Hdf5File::CoreImage::CoreImage()
+{
+  callbacks.image_malloc = [](std::size_t size, H5FD_file_image_op_t, void* udata) -> void* {
+    auto* image = static_cast<CoreImage*>(udata);
+    image->data = std::malloc(size);
+    image->size = image->data ? size : 0;
+    return image->data;
+  };
+  callbacks.image_memcpy = [](void* dest, const void* src, std::size_t size, H5FD_file_image_op_t,
+                              void*) -> void* { return std::memcpy(dest, src, size); };
+  callbacks.image_realloc = [](void* old, std::size_t size, H5FD_file_image_op_t, void* udata) -> void* {
+    auto* image = static_cast<CoreImage*>(udata);
+    void* grown = std::realloc(old, size);
+    if (grown != nullptr) {
+      image->data = grown;
+      image->size = size;
+    }
+    return grown;
+  };
+  callbacks.image_free = [](void* buffer, H5FD_file_image_op_t, void* udata) -> herr_t {
+    auto* image = static_cast<CoreImage*>(udata);
+    if (buffer == image->data) {
+      image->data = nullptr;
+      image->size = 0;
+    }
+    std::free(buffer);
+    return 0;
+  };
+  // HDF5 copies the property list (and its udata) into the file: every copy is this same image.
+  callbacks.udata_copy = [](void* udata) -> void* { return udata; };
+  callbacks.udata_free = [](void*) -> herr_t { return 0; };
+  callbacks.udata = this;
+}
+
 Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode)
     : comm_(comm), mode_(mode), exceptions_at_open_(std::uncaught_exceptions()), path_(path)
 {
@@ -91,9 +129,10 @@ Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode)
   }
   writer_ = rank_ == 0;
   as_writer([&] {
-    // In memory, grown a MiB at a time, never backed by the disk: close() writes it.
+    // In memory, grown 256 KiB at a time (realloc), never backed by the disk: close() writes it.
     Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    check(H5Pset_fapl_core(access, std::size_t{1} << 20, 0), "set the core driver");
+    check(H5Pset_fapl_core(access, std::size_t{1} << 18, 0), "set the core driver");
+    check(H5Pset_file_image_callbacks(access, &image_.callbacks), "set the image callbacks");
     file_ = check_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access),
                      "cannot create " + path.string());
   });
@@ -135,13 +174,13 @@ void Hdf5File::close()
   as_writer([&] {
     check(H5Fflush(file_, H5F_SCOPE_LOCAL), "flush " + path_.string());
     const ssize_t size = H5Fget_file_image(file_, nullptr, 0);
-    if (size < 0) throw std::runtime_error("HDF5: no image of " + path_.string());
-    std::string image(static_cast<std::size_t>(size), '\0');
-    if (H5Fget_file_image(file_, image.data(), image.size()) != size)
+    if (size < 0 || image_.data == nullptr || static_cast<std::size_t>(size) > image_.size)
       throw std::runtime_error("HDF5: no image of " + path_.string());
+    // Written from the driver's own buffer: a copy (H5Fget_file_image) would double the memory the
+    // file takes at its largest (4.4 MB more for the default valve case's checkpoint).
+    write_file_atomically(path_, std::string_view(static_cast<const char*>(image_.data), size));
     H5Fclose(file_);
     file_ = -1;
-    write_file_atomically(path_, image);
   });
   if (file_ >= 0) H5Fclose(file_);
   file_ = -1;

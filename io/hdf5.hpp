@@ -6,8 +6,8 @@
 // on rank 0 is written once (write_root). Errors become std::runtime_error naming file and dataset.
 //
 // A file is read by every rank (MPI-IO), but written by rank 0 alone: the other ranks send it their
-// blocks, it builds the file in memory (HDF5's core driver) and close() writes it to disk with one
-// checked write, beside its final name, renamed into place. Parallel HDF5 cannot fail a write well:
+// blocks, it builds the file in memory (HDF5's core driver) and close() writes that buffer to disk
+// with one checked write, beside its final name, renamed into place. Parallel HDF5 cannot fail a write well:
 // after a full disk (ENOSPC) in an MPI-IO write, H5Fclose hangs on 2 ranks and the library crashes at
 // exit on 1 (HDF5 1.10), and its error names no OS reason. Here a failed write is one RunError,
 // "FILE: cannot write: No space left on device", on every rank, and nothing half-written is left under
@@ -93,7 +93,18 @@ class Hdf5File {
   std::exception_ptr failed_;  // the writer's first failure
   int exceptions_at_open_ = 0; // std::uncaught_exceptions() when constructed
   bool closed_ = false;
+  /// The core driver's buffer of a created file (rank 0), held where close() can write it.
+  struct CoreImage {
+    CoreImage();
+    CoreImage(const CoreImage&) = delete;
+    CoreImage& operator=(const CoreImage&) = delete;
+    H5FD_file_image_callbacks_t callbacks{};
+    void* data = nullptr;
+    std::size_t size = 0;
+  };
+
   std::filesystem::path path_;
+  CoreImage image_;
   hid_t file_ = -1;
 };
 
