@@ -93,12 +93,6 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
       " cm; inertial limit " + format(s.inertial_dt) + " s, viscous limit " + format(s.viscous_dt) + " s)");
 }
 
-IbfeIntegrator::~IbfeIntegrator()
-{
-  if (velocity_old_) VecDestroy(&velocity_old_);
-  if (velocity_mid_) VecDestroy(&velocity_mid_);
-}
-
 void IbfeIntegrator::set_displacement(std::vector<double> displacement)
 {
   if (displacement.size() != solid_.num_dofs())
