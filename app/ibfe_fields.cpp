@@ -134,22 +134,18 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
 {
   const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The cell velocity's vectors are freed also when a write throws (a full disk must not leak them).
-  struct CellVelocity {
-    std::array<Vec, 3> components{};
-    CellVelocity() = default;
-    CellVelocity(const CellVelocity&) = delete;
-    CellVelocity& operator=(const CellVelocity&) = delete;
-    ~CellVelocity()
-    {
-      for (Vec& v : components) VecDestroy(&v);
-    }
-  } velocity;
-  for (Vec& v : velocity.components) v = fluid.operators().create_cell_vector();
-  fluid.cell_velocity(velocity.components);
+  // The cell velocity's vectors are owned, so they are freed also when a write throws (a full disk must
+  // not leak them); `components` borrows their handles for the calls that take an array.
+  std::array<petsc::OwnedVec, 3> owned;
+  std::array<Vec, 3> components{};
+  for (std::size_t d = 0; d < 3; ++d) {
+    owned[d] = fluid.operators().create_cell_vector();
+    components[d] = owned[d];
+  }
+  fluid.cell_velocity(components);
   std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
       h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_",
-      {{"velocity", velocity.components}}, {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
+      {{"velocity", components}}, {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
   grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   h5.close();
   series.add_step(ibfe.time(), grids);

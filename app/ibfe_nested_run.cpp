@@ -12,6 +12,7 @@
 #include "ib/eulerian_fluid.hpp"
 #include "io/logger.hpp"
 #include "io/petsc_check.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::app {
 
@@ -21,12 +22,11 @@ namespace {
 // each face's share of the volume, h^3 on one level).
 double composite_kinetic_energy(const fluid::NestedNavierStokes& fluid)
 {
-  Vec squared = nullptr;
-  PETSC_CHECK(VecDuplicate(fluid.velocity(), &squared));
+  petsc::OwnedVec squared;
+  PETSC_CHECK(VecDuplicate(fluid.velocity(), squared.out()));
   PETSC_CHECK(VecPointwiseMult(squared, fluid.velocity(), fluid.velocity()));
   double sum = 0.0;
   PETSC_CHECK(VecDot(squared, fluid.operators().weights(), &sum));
-  PETSC_CHECK(VecDestroy(&squared));
   return 0.5 * fluid.settings().rho * sum;
 }
 

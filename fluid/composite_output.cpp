@@ -1,6 +1,7 @@
 #include "fluid/composite_output.hpp"
 
 #include "io/petsc_check.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::fluid {
 
@@ -8,9 +9,9 @@ std::vector<std::vector<std::vector<double>>> level_arrays(const CompositeCells&
 {
   // Gathered on rank 0: the composite vector of a study grid is small next to the fluid's state
   // (interim until the levels get distributed storage, docs/nested.md plan).
-  VecScatter scatter = nullptr;
-  Vec whole = nullptr;
-  PETSC_CHECK(VecScatterCreateToZero(composite, &scatter, &whole));
+  petsc::OwnedVecScatter scatter;
+  petsc::OwnedVec whole;
+  PETSC_CHECK(VecScatterCreateToZero(composite, scatter.out(), whole.out()));
   PETSC_CHECK(VecScatterBegin(scatter, composite, whole, INSERT_VALUES, SCATTER_FORWARD));
   PETSC_CHECK(VecScatterEnd(scatter, composite, whole, INSERT_VALUES, SCATTER_FORWARD));
   PetscMPIInt rank = 0;
@@ -45,8 +46,6 @@ std::vector<std::vector<std::vector<double>>> level_arrays(const CompositeCells&
       }
     }
   }
-  PETSC_CHECK(VecScatterDestroy(&scatter));
-  PETSC_CHECK(VecDestroy(&whole));
   return out;
 }
 

@@ -182,12 +182,12 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
   MPI_Scan(&local_faces, &face_end, 1, MPIU_INT, MPI_SUM, comm);
   const PetscInt face_begin = face_end - local_faces;
 
-  PETSC_CHECK(
-      MatCreateAIJ(comm, local_faces, owned, PETSC_DETERMINE, total, 8, nullptr, 8, nullptr, &gradient_));
+  PETSC_CHECK(MatCreateAIJ(comm, local_faces, owned, PETSC_DETERMINE, total, 8, nullptr, 8, nullptr,
+                           gradient_.out()));
   PETSC_CHECK(MatSetOption(gradient_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  PETSC_CHECK(VecCreateMPI(comm, local_faces, PETSC_DETERMINE, &weights_));
-  PETSC_CHECK(VecDuplicate(weights_, &boundary_part_));
-  PETSC_CHECK(VecCreateMPI(comm, owned, total, &volumes_));
+  PETSC_CHECK(VecCreateMPI(comm, local_faces, PETSC_DETERMINE, weights_.out()));
+  PETSC_CHECK(VecDuplicate(weights_, boundary_part_.out()));
+  PETSC_CHECK(VecCreateMPI(comm, owned, total, volumes_.out()));
   for (PetscInt f = 0; f < local_faces; ++f) {
     const FaceRow& row = rows[f];
     const PetscInt global_row = face_begin + f;
@@ -201,7 +201,7 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
     PETSC_CHECK(VecSetValue(volumes_, begin + n, volumes[n], INSERT_VALUES));
   PETSC_CHECK(MatAssemblyBegin(gradient_, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(gradient_, MAT_FINAL_ASSEMBLY));
-  for (Vec v : {weights_, boundary_part_, volumes_}) {
+  for (Vec v : {weights_.get(), boundary_part_.get(), volumes_.get()}) {
     PETSC_CHECK(VecAssemblyBegin(v));
     PETSC_CHECK(VecAssemblyEnd(v));
   }
@@ -213,11 +213,10 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
   any_dirichlet_ = global_dirichlet != 0;
 
   // A = G^T (W G): symmetric by construction.
-  Mat weighted = nullptr;
-  PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, &weighted));
+  petsc::OwnedMat weighted;
+  PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, weighted.out()));
   PETSC_CHECK(MatDiagonalScale(weighted, weights_, nullptr));
-  PETSC_CHECK(MatTransposeMatMult(gradient_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &laplacian_));
-  PETSC_CHECK(MatDestroy(&weighted));
+  PETSC_CHECK(MatTransposeMatMult(gradient_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, laplacian_.out()));
 }
 
 bool CompositeOperators::boundary_face(int level, const Index3& cell, int side) const
@@ -236,39 +235,29 @@ bool CompositeOperators::boundary_face(int level, const Index3& cell, int side) 
   return dirichlet_faces_(side, x);
 }
 
-CompositeOperators::~CompositeOperators()
+petsc::OwnedVec CompositeOperators::create_cell_vector() const
 {
-  MatDestroy(&gradient_);
-  MatDestroy(&laplacian_);
-  VecDestroy(&weights_);
-  VecDestroy(&boundary_part_);
-  VecDestroy(&volumes_);
-}
-
-Vec CompositeOperators::create_cell_vector() const
-{
-  Vec v = nullptr;
-  PETSC_CHECK(VecDuplicate(volumes_, &v));
+  petsc::OwnedVec v;
+  PETSC_CHECK(VecDuplicate(volumes_, v.out()));
   PETSC_CHECK(VecSet(v, 0.0));
   return v;
 }
 
-Vec CompositeOperators::create_face_vector() const
+petsc::OwnedVec CompositeOperators::create_face_vector() const
 {
-  Vec v = nullptr;
-  PETSC_CHECK(VecDuplicate(weights_, &v));
+  petsc::OwnedVec v;
+  PETSC_CHECK(VecDuplicate(weights_, v.out()));
   PETSC_CHECK(VecSet(v, 0.0));
   return v;
 }
 
 void CompositeOperators::divergence(Vec g, Vec out) const
 {
-  Vec weighted = create_face_vector();
+  const petsc::OwnedVec weighted = create_face_vector();
   PETSC_CHECK(VecPointwiseMult(weighted, weights_, g));
   PETSC_CHECK(MatMultTranspose(gradient_, weighted, out));
   PETSC_CHECK(VecPointwiseDivide(out, out, volumes_));
   PETSC_CHECK(VecScale(out, -1.0));
-  PETSC_CHECK(VecDestroy(&weighted));
 }
 
 void CompositeOperators::sample(const std::function<double(const Real3&)>& u, Vec out) const
@@ -295,18 +284,16 @@ void CompositeOperators::right_side(const std::function<double(const Real3&)>& f
 {
   sample(f, out);
   PETSC_CHECK(VecPointwiseMult(out, out, volumes_));
-  Vec wc = create_face_vector(), gtwc = create_cell_vector();
+  const petsc::OwnedVec wc = create_face_vector(), gtwc = create_cell_vector();
   PETSC_CHECK(VecPointwiseMult(wc, weights_, boundary_part_));
   PETSC_CHECK(MatMultTranspose(gradient_, wc, gtwc));
   PETSC_CHECK(VecAXPY(out, -1.0, gtwc));
-  PETSC_CHECK(VecDestroy(&wc));
-  PETSC_CHECK(VecDestroy(&gtwc));
 }
 
 CompositePoissonSolver::CompositePoissonSolver(const CompositeOperators& operators, bool singular,
                                                const std::string& prefix, double rtol)
 {
-  PETSC_CHECK(KSPCreate(operators.comm(), &ksp_));
+  PETSC_CHECK(KSPCreate(operators.comm(), ksp_.out()));
   PETSC_CHECK(KSPSetOperators(ksp_, operators.laplacian(), operators.laplacian()));
   PETSC_CHECK(KSPSetType(ksp_, KSPCG));
   PC pc = nullptr;
@@ -317,17 +304,11 @@ CompositePoissonSolver::CompositePoissonSolver(const CompositeOperators& operato
   PETSC_CHECK(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED));
   PETSC_CHECK(KSPSetTolerances(ksp_, rtol, 1e-50, PETSC_DEFAULT, 1000));
   if (singular) {
-    PETSC_CHECK(MatNullSpaceCreate(operators.comm(), PETSC_TRUE, 0, nullptr, &null_space_));
+    PETSC_CHECK(MatNullSpaceCreate(operators.comm(), PETSC_TRUE, 0, nullptr, null_space_.out()));
     PETSC_CHECK(MatSetNullSpace(operators.laplacian(), null_space_));
   }
   PETSC_CHECK(KSPSetOptionsPrefix(ksp_, prefix.c_str()));
   PETSC_CHECK(KSPSetFromOptions(ksp_));
-}
-
-CompositePoissonSolver::~CompositePoissonSolver()
-{
-  KSPDestroy(&ksp_);
-  MatNullSpaceDestroy(&null_space_);
 }
 
 PetscInt CompositePoissonSolver::solve(Vec b, Vec x) const

@@ -29,6 +29,7 @@
 #include <petscksp.h>
 
 #include "fluid/hierarchy.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::fluid {
 
@@ -81,21 +82,20 @@ class CompositeOperators {
   CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy, CoarseFineStencil stencil,
                      CompositeBoundary boundary, std::function<double(const Real3&)> dirichlet_value = {},
                      DirichletFaces dirichlet_faces = {});
-  ~CompositeOperators();
   CompositeOperators(const CompositeOperators&) = delete;
   CompositeOperators& operator=(const CompositeOperators&) = delete;
 
   const CompositeCells& cells() const { return cells_; }
   MPI_Comm comm() const { return comm_; }
   /// Faces x cells: (G u)_f, without the boundary data part.
-  Mat gradient() const { return gradient_; }
+  Mat gradient() const { return gradient_.get(); }
   /// A = G^T W G, symmetric; the pressure operator (integrated over each cell, so A u = V f).
-  Mat laplacian() const { return laplacian_; }
+  Mat laplacian() const { return laplacian_.get(); }
   /// Face weights W (face vector) and the boundary data part c of the gradient (G u + c).
-  Vec weights() const { return weights_; }
-  Vec boundary_part() const { return boundary_part_; }
+  Vec weights() const { return weights_.get(); }
+  Vec boundary_part() const { return boundary_part_.get(); }
   /// Cell volumes V (cell vector).
-  Vec volumes() const { return volumes_; }
+  Vec volumes() const { return volumes_.get(); }
   /// The faces this rank owns, in the order of the face vectors' owned entries.
   const std::vector<CompositeFace>& owned_faces() const { return faces_; }
   /// Whether the boundary face of `cell` of `level` on its side `side` (2 d + upper) is a composite face
@@ -104,9 +104,9 @@ class CompositeOperators {
   /// True when some boundary face is a Dirichlet face (the pressure then has no free constant).
   bool any_dirichlet() const { return any_dirichlet_; }
 
-  /// New vectors laid out like cells / faces; the caller destroys them.
-  Vec create_cell_vector() const;
-  Vec create_face_vector() const;
+  /// New vectors laid out like cells / faces, zeroed.
+  petsc::OwnedVec create_cell_vector() const;
+  petsc::OwnedVec create_face_vector() const;
   /// The composite divergence of the face field `g` (normal components): D g = -V^{-1} G^T W g.
   void divergence(Vec g, Vec out) const;
   /// The right side V f - G^T W c of A u = V f for -div grad u = f (f at cell centres).
@@ -120,8 +120,8 @@ class CompositeOperators {
   MPI_Comm comm_;
   const GridHierarchy* hierarchy_;
   CompositeCells cells_;
-  Mat gradient_ = nullptr, laplacian_ = nullptr;
-  Vec weights_ = nullptr, boundary_part_ = nullptr, volumes_ = nullptr;
+  petsc::OwnedMat gradient_, laplacian_;
+  petsc::OwnedVec weights_, boundary_part_, volumes_;
   std::vector<CompositeFace> faces_;
   CompositeBoundary boundary_;
   DirichletFaces dirichlet_faces_;
@@ -136,15 +136,14 @@ class CompositePoissonSolver {
  public:
   CompositePoissonSolver(const CompositeOperators& operators, bool singular, const std::string& prefix,
                          double rtol = 1e-10);
-  ~CompositePoissonSolver();
   CompositePoissonSolver(const CompositePoissonSolver&) = delete;
   CompositePoissonSolver& operator=(const CompositePoissonSolver&) = delete;
   /// Solves A x = b; returns the iteration count. Throws RunError when the solver diverges.
   PetscInt solve(Vec b, Vec x) const;
 
  private:
-  KSP ksp_ = nullptr;
-  MatNullSpace null_space_ = nullptr;
+  petsc::OwnedKSP ksp_;
+  petsc::OwnedMatNullSpace null_space_;
 };
 
 } // namespace ibvalve::fluid

@@ -170,7 +170,7 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     laplacian_data_[f] = row.data;
   }
   PETSC_CHECK(MatCreateAIJ(operators.comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 0,
-                           diagonal_count.data(), 0, off_count.data(), &laplacian_));
+                           diagonal_count.data(), 0, off_count.data(), laplacian_.out()));
   for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
     std::vector<PetscInt> columns;
     std::vector<PetscScalar> values;
@@ -211,16 +211,8 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     convection_stencils_.push_back(s);
   }
 
-  Vec probe = operators.create_face_vector();
-  PETSC_CHECK(VecScatterCreateToAll(probe, &gather_, &gathered_));
-  PETSC_CHECK(VecDestroy(&probe));
-}
-
-CompositeVelocity::~CompositeVelocity()
-{
-  MatDestroy(&laplacian_);
-  VecScatterDestroy(&gather_);
-  VecDestroy(&gathered_);
+  const petsc::OwnedVec probe = operators.create_face_vector();
+  PETSC_CHECK(VecScatterCreateToAll(probe, gather_.out(), gathered_.out()));
 }
 
 CompositeVelocity::Kind CompositeVelocity::classify(const FaceKey& k) const

@@ -68,7 +68,6 @@ class CompositeVelocity {
   /// `operators` gives the face numbering; built with CompositeBoundary::neumann (closed box) or `mixed`
   /// (its Dirichlet faces are the traction faces).
   explicit CompositeVelocity(const CompositeOperators& operators);
-  ~CompositeVelocity();
   CompositeVelocity(const CompositeVelocity&) = delete;
   CompositeVelocity& operator=(const CompositeVelocity&) = delete;
 
@@ -93,7 +92,7 @@ class CompositeVelocity {
   std::vector<double> data_values(const VelocityFunction& wall_velocity, double t) const;
 
   /// L: the composite face Laplacian of the unknowns; the full operator is L u + b(g) (laplacian_data).
-  Mat laplacian() const { return laplacian_; }
+  Mat laplacian() const { return laplacian_.get(); }
   /// out = b(g): the wall-data part of the Laplacian on the owned faces.
   void laplacian_data(const std::vector<double>& data, Vec out) const;
   /// out = N(u) = div(u u) (conservative on each level) on the owned faces; u a face vector. The advected
@@ -125,13 +124,13 @@ class CompositeVelocity {
   mutable std::vector<DataPoint> data_points_;
   mutable std::unordered_map<std::uint64_t, PetscInt> data_index_;
   std::vector<FaceKey> owned_keys_;
-  Mat laplacian_ = nullptr;
+  petsc::OwnedMat laplacian_;
   std::vector<std::vector<std::pair<PetscInt, double>>> laplacian_data_;
   // Convection: for each owned face, the 24 positions (into convection_values_) it reads.
   std::vector<const FaceValue*> convection_values_;
   std::vector<std::array<std::int32_t, 24>> convection_stencils_;
-  VecScatter gather_ = nullptr;
-  Vec gathered_ = nullptr;
+  petsc::OwnedVecScatter gather_;
+  petsc::OwnedVec gathered_;
 };
 
 } // namespace ibvalve::fluid

@@ -33,7 +33,7 @@ StaggeredGrid::StaggeredGrid(MPI_Comm comm, const BoxGeometry& box, const Decomp
   }
   PETSC_CHECK(DMStagCreate3d(comm, boundary(0), boundary(1), boundary(2), box.cells[0], box.cells[1],
                              box.cells[2], ranks_x, ranks_y, ranks_z, 0, 0, 1, 1, DMSTAG_STENCIL_BOX,
-                             stencil_width, nullptr, nullptr, lz, &dm_));
+                             stencil_width, nullptr, nullptr, lz, dm_.out()));
   PETSC_CHECK(DMSetUp(dm_));
   PETSC_CHECK(DMStagSetUniformCoordinatesProduct(dm_, box.lower[0], box.upper[0], box.lower[1], box.upper[1],
                                                  box.lower[2], box.upper[2]));
@@ -50,23 +50,18 @@ StaggeredGrid::StaggeredGrid(MPI_Comm comm, const BoxGeometry& box, const Decomp
   PETSC_CHECK(DMStagGetLocationSlot(dm_, DMSTAG_ELEMENT, 0, &pressure_slot_));
 }
 
-StaggeredGrid::~StaggeredGrid()
+petsc::OwnedVec StaggeredGrid::create_global() const
 {
-  if (dm_) DMDestroy(&dm_);
-}
-
-Vec StaggeredGrid::create_global() const
-{
-  Vec v;
-  PETSC_CHECK(DMCreateGlobalVector(dm_, &v));
+  petsc::OwnedVec v;
+  PETSC_CHECK(DMCreateGlobalVector(dm_, v.out()));
   PETSC_CHECK(VecZeroEntries(v));
   return v;
 }
 
-Vec StaggeredGrid::create_local() const
+petsc::OwnedVec StaggeredGrid::create_local() const
 {
-  Vec v;
-  PETSC_CHECK(DMCreateLocalVector(dm_, &v));
+  petsc::OwnedVec v;
+  PETSC_CHECK(DMCreateLocalVector(dm_, v.out()));
   PETSC_CHECK(VecZeroEntries(v));
   return v;
 }

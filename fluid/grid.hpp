@@ -14,6 +14,8 @@
 
 #include <petscdmstag.h>
 
+#include "io/petsc_handle.hpp"
+
 namespace ibvalve::fluid {
 
 using Index3 = std::array<PetscInt, 3>;
@@ -42,11 +44,10 @@ class StaggeredGrid {
   /// `stencil_width` ghost cells on each side (2 for the limited upwind convection).
   StaggeredGrid(MPI_Comm comm, const BoxGeometry& box, const Decomposition& decomposition = {},
                 PetscInt stencil_width = 2);
-  ~StaggeredGrid();
   StaggeredGrid(const StaggeredGrid&) = delete;
   StaggeredGrid& operator=(const StaggeredGrid&) = delete;
 
-  DM dm() const { return dm_; }
+  DM dm() const { return dm_.get(); }
   MPI_Comm comm() const { return comm_; }
   const BoxGeometry& box() const { return box_; }
   double h(int d) const { return h_[d]; }
@@ -92,17 +93,17 @@ class StaggeredGrid {
     return !box_.periodic[component] && (index == 0 || index == box_.cells[component]);
   }
 
-  /// A new global vector (faces + cells), zeroed; the caller destroys it.
-  Vec create_global() const;
-  /// A new local (ghosted) vector; the caller destroys it.
-  Vec create_local() const;
+  /// A new global vector (faces + cells), zeroed.
+  petsc::OwnedVec create_global() const;
+  /// A new local (ghosted) vector, zeroed.
+  petsc::OwnedVec create_local() const;
   /// Ghost exchange: fills `local` (interior and ghosts from neighbouring ranks / periodic images).
   void global_to_local(Vec global, Vec local) const;
 
  private:
   MPI_Comm comm_;
   BoxGeometry box_;
-  DM dm_ = nullptr;
+  petsc::OwnedDM dm_;
   Real3 h_{};
   Index3 begin_{}, count_{}, ghost_begin_{}, ghost_count_{};
   std::array<bool, 3> owns_upper_{};

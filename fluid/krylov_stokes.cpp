@@ -50,21 +50,12 @@ KrylovStokesSolver::KrylovStokesSolver(const StaggeredGrid& grid, const Boundary
 {
 }
 
-KrylovStokesSolver::~KrylovStokesSolver()
-{
-  destroy();
-}
-
 void KrylovStokesSolver::destroy()
 {
-  for (Mat* m : {&A_, &H_, &G_, &Dn_, &K_})
-    if (*m) MatDestroy(m);
-  for (IS* is : {&is_u_, &is_p_})
-    if (*is) ISDestroy(is);
-  for (KSP* k : {&ksp_, &ksp_h_, &ksp_k_})
-    if (*k) KSPDestroy(k);
-  for (Vec* v : {&x_, &b_, &r_p_, &phi_, &gphi_, &x_u_, &y_u_, &x_p_, &y_p_})
-    if (*v) VecDestroy(v);
+  for (petsc::OwnedMat* m : {&A_, &H_, &G_, &Dn_, &K_}) m->reset();
+  for (petsc::OwnedIS* is : {&is_u_, &is_p_}) is->reset();
+  for (petsc::OwnedKSP* k : {&ksp_, &ksp_h_, &ksp_k_}) k->reset();
+  for (petsc::OwnedVec* v : {&x_, &b_, &r_p_, &phi_, &gphi_, &x_u_, &y_u_, &x_p_, &y_p_}) v->reset();
 }
 
 bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, double t_half,
@@ -182,62 +173,60 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   destroy();
   parameters_ = parameters;
   const MPI_Comm comm = grid_.comm();
-  PETSC_CHECK(DMCreateGlobalVector(grid_.dm(), &x_));
-  PETSC_CHECK(VecDuplicate(x_, &b_));
+  PETSC_CHECK(DMCreateGlobalVector(grid_.dm(), x_.out()));
+  PETSC_CHECK(VecDuplicate(x_, b_.out()));
   PetscInt local_size, global_size;
   PETSC_CHECK(VecGetLocalSize(x_, &local_size));
   PETSC_CHECK(VecGetSize(x_, &global_size));
   ISLocalToGlobalMapping l2g;
   PETSC_CHECK(DMGetLocalToGlobalMapping(grid_.dm(), &l2g));
   // Exact preallocation: a first pass counts the nonzeros.
-  Mat counter;
-  PETSC_CHECK(MatCreate(comm, &counter));
+  petsc::OwnedMat counter;
+  PETSC_CHECK(MatCreate(comm, counter.out()));
   PETSC_CHECK(MatSetSizes(counter, local_size, local_size, global_size, global_size));
   PETSC_CHECK(MatSetType(counter, MATPREALLOCATOR));
   PETSC_CHECK(MatSetLocalToGlobalMapping(counter, l2g, l2g));
   PETSC_CHECK(MatSetUp(counter));
   assemble(counter);
-  PETSC_CHECK(MatCreate(comm, &A_));
+  PETSC_CHECK(MatCreate(comm, A_.out()));
   PETSC_CHECK(MatSetSizes(A_, local_size, local_size, global_size, global_size));
   PETSC_CHECK(MatSetType(A_, MATAIJ));
   PETSC_CHECK(MatSetLocalToGlobalMapping(A_, l2g, l2g));
   PETSC_CHECK(MatPreallocatorPreallocate(counter, PETSC_TRUE, A_));
-  PETSC_CHECK(MatDestroy(&counter));
+  counter.reset();
   assemble(A_);
 
   // Velocity and pressure index sets, and the blocks the projection preconditioner needs.
   DMStagStencil faces[3] = {{DMSTAG_LEFT, 0, 0, 0, 0}, {DMSTAG_DOWN, 0, 0, 0, 0}, {DMSTAG_BACK, 0, 0, 0, 0}};
   DMStagStencil cells[1] = {{DMSTAG_ELEMENT, 0, 0, 0, 0}};
-  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 3, faces, &is_u_));
-  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 1, cells, &is_p_));
-  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_u_, MAT_INITIAL_MATRIX, &H_));
-  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_p_, MAT_INITIAL_MATRIX, &G_));
-  PETSC_CHECK(MatCreateSubMatrix(A_, is_p_, is_u_, MAT_INITIAL_MATRIX, &Dn_));
-  PETSC_CHECK(MatMatMult(Dn_, G_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &K_));
-  PETSC_CHECK(MatCreateVecs(K_, &phi_, &r_p_));
-  PETSC_CHECK(MatCreateVecs(G_, nullptr, &gphi_));
-  PETSC_CHECK(MatCreateVecs(H_, &x_u_, &y_u_));
-  PETSC_CHECK(MatCreateVecs(K_, &x_p_, &y_p_));
+  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 3, faces, is_u_.out()));
+  PETSC_CHECK(DMStagCreateISFromStencils(grid_.dm(), 1, cells, is_p_.out()));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_u_, MAT_INITIAL_MATRIX, H_.out()));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_p_, MAT_INITIAL_MATRIX, G_.out()));
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_p_, is_u_, MAT_INITIAL_MATRIX, Dn_.out()));
+  PETSC_CHECK(MatMatMult(Dn_, G_, MAT_INITIAL_MATRIX, PETSC_DEFAULT, K_.out()));
+  PETSC_CHECK(MatCreateVecs(K_, phi_.out(), r_p_.out()));
+  PETSC_CHECK(MatCreateVecs(G_, nullptr, gphi_.out()));
+  PETSC_CHECK(MatCreateVecs(H_, x_u_.out(), y_u_.out()));
+  PETSC_CHECK(MatCreateVecs(K_, x_p_.out(), y_p_.out()));
 
   if (pressure_has_constant_) {
     // Constant pressure is in the kernel of the coupled operator and of K.
-    Vec constant;
-    PETSC_CHECK(VecDuplicate(x_, &constant));
+    petsc::OwnedVec constant;
+    PETSC_CHECK(VecDuplicate(x_, constant.out()));
     PETSC_CHECK(VecZeroEntries(constant));
     Vec constant_p;
     PETSC_CHECK(VecGetSubVector(constant, is_p_, &constant_p));
     PETSC_CHECK(VecSet(constant_p, 1.0));
     PETSC_CHECK(VecRestoreSubVector(constant, is_p_, &constant_p));
     PETSC_CHECK(VecNormalize(constant, nullptr));
-    MatNullSpace space;
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &constant, &space));
+    const Vec basis = constant.get();
+    petsc::OwnedMatNullSpace space;
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &basis, space.out()));
     PETSC_CHECK(MatSetNullSpace(A_, space));
-    PETSC_CHECK(MatNullSpaceDestroy(&space));
-    PETSC_CHECK(VecDestroy(&constant));
-    MatNullSpace k_space;
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &k_space));
+    petsc::OwnedMatNullSpace k_space;
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, k_space.out()));
     PETSC_CHECK(MatSetNullSpace(K_, k_space));
-    PETSC_CHECK(MatNullSpaceDestroy(&k_space));
   }
 
   const bool transforms = settings_.subsolver == SubsolverKind::fft;
@@ -251,13 +240,13 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
   helmholtz_by_jacobi_ = transforms && jacobi_ratio(H_) <= limit;
   using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
-  auto make_sub_ksp = [&](KSP& ksp, Mat op, const char* prefix, ShellApply transform) {
-    PETSC_CHECK(KSPCreate(comm, &ksp));
+  auto make_sub_ksp = [&](petsc::OwnedKSP& ksp, Mat op, const char* prefix, ShellApply transform) {
+    PETSC_CHECK(KSPCreate(comm, ksp.out()));
     PETSC_CHECK(KSPSetOperators(ksp, op, op));
     PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
     PC pc;
     PETSC_CHECK(KSPGetPC(ksp, &pc));
-    if (helmholtz_by_jacobi_ && op == H_) {
+    if (helmholtz_by_jacobi_ && op == H_.get()) {
       PETSC_CHECK(KSPSetType(ksp, KSPRICHARDSON));
       PETSC_CHECK(KSPSetNormType(ksp, KSP_NORM_NONE));
       PETSC_CHECK(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, jacobi_sweeps));
@@ -278,7 +267,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   make_sub_ksp(ksp_h_, H_, "fluid_helmholtz_", &KrylovStokesSolver::apply_helmholtz_transform);
   make_sub_ksp(ksp_k_, K_, "fluid_poisson_", &KrylovStokesSolver::apply_poisson_transform);
 
-  PETSC_CHECK(KSPCreate(comm, &ksp_));
+  PETSC_CHECK(KSPCreate(comm, ksp_.out()));
   PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
   PETSC_CHECK(KSPSetType(ksp_, KSPFGMRES));
   PETSC_CHECK(KSPGMRESSetRestart(ksp_, 50));

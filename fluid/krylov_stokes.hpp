@@ -28,9 +28,11 @@ class KrylovStokesSolver : public StokesSolver {
  public:
   /// `bc` is kept by reference: its boundary data is read at every solve.
   KrylovStokesSolver(const StaggeredGrid& grid, const BoundaryConditions& bc, const FluidSettings& settings);
-  ~KrylovStokesSolver() override;
+  // `this` is the context of the PCShell preconditioners: the solver must stay where it was built.
   KrylovStokesSolver(const KrylovStokesSolver&) = delete;
   KrylovStokesSolver& operator=(const KrylovStokesSolver&) = delete;
+  KrylovStokesSolver(KrylovStokesSolver&&) = delete;
+  KrylovStokesSolver& operator=(KrylovStokesSolver&&) = delete;
 
   void set_parameters(const StokesParameters& parameters) override;
   SolveStatistics solve(Vec rhs, Vec solution) override;
@@ -81,11 +83,11 @@ class KrylovStokesSolver : public StokesSolver {
   FluidSettings settings_;
   StokesParameters parameters_{};
   bool pressure_has_constant_ = true;
-  Mat A_ = nullptr, H_ = nullptr, G_ = nullptr, Dn_ = nullptr, K_ = nullptr;
-  IS is_u_ = nullptr, is_p_ = nullptr;
-  KSP ksp_ = nullptr, ksp_h_ = nullptr, ksp_k_ = nullptr;
-  Vec x_ = nullptr, b_ = nullptr, r_p_ = nullptr, phi_ = nullptr, gphi_ = nullptr;
-  Vec x_u_ = nullptr, y_u_ = nullptr, x_p_ = nullptr, y_p_ = nullptr; // the preconditioner's blocks
+  petsc::OwnedMat A_, H_, G_, Dn_, K_;
+  petsc::OwnedIS is_u_, is_p_;
+  petsc::OwnedKSP ksp_, ksp_h_, ksp_k_;
+  petsc::OwnedVec x_, b_, r_p_, phi_, gphi_;
+  petsc::OwnedVec x_u_, y_u_, x_p_, y_p_; // the preconditioner's blocks
   double helmholtz_seconds_ = 0.0, poisson_seconds_ = 0.0;
   bool helmholtz_by_jacobi_ = false;
   // Built once (FFTW plans, scatters): they depend on the grid and the side kinds, not on dt.

@@ -129,12 +129,6 @@ NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryCondit
   saved_ = grid_->create_local();
 }
 
-NavierStokes::~NavierStokes()
-{
-  for (Vec* v : {&state_, &force_, &rhs_, &convection_, &convection_old_, &convection_half_, &saved_})
-    if (*v) VecDestroy(v);
-}
-
 void NavierStokes::set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
                                          double t)
 {

@@ -51,7 +51,6 @@ struct StepTimings {
 class NavierStokes {
  public:
   NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc, const FluidSettings& settings);
-  ~NavierStokes();
   NavierStokes(const NavierStokes&) = delete;
   NavierStokes& operator=(const NavierStokes&) = delete;
 
@@ -67,7 +66,7 @@ class NavierStokes {
 
   /// The body force f^{n+1/2} for the next step, a local vector: fill its face slots (owned faces).
   /// It is kept (not cleared) between steps.
-  Vec body_force() { return force_; }
+  Vec body_force() { return force_.get(); }
   void set_body_force(const VelocityFunction& force, double t);
 
   /// Advances from time() to time() + dt.
@@ -77,7 +76,7 @@ class NavierStokes {
   PetscInt steps_taken() const { return steps_; }
   /// The state as a local vector: face slots u^n (ghosts filled, boundary conditions applied), cell
   /// slots p^{n-1/2} (ghosts filled). Read-only for callers; valid until the next step().
-  Vec state() const { return state_; }
+  Vec state() const { return state_.get(); }
   /// The time at which pressure() lives: time() - dt/2 after a step.
   double pressure_time() const { return pressure_time_; }
   const StepTimings& timings() const { return timings_; }
@@ -105,8 +104,8 @@ class NavierStokes {
   FluidSettings settings_;
   std::unique_ptr<StaggeredGrid> grid_;
   std::unique_ptr<StokesSolver> solver_;
-  Vec state_ = nullptr, force_ = nullptr, rhs_ = nullptr;
-  Vec convection_ = nullptr, convection_old_ = nullptr, convection_half_ = nullptr, saved_ = nullptr;
+  petsc::OwnedVec state_, force_, rhs_;
+  petsc::OwnedVec convection_, convection_old_, convection_half_, saved_;
   double time_ = 0.0, pressure_time_ = 0.0, last_dt_ = 0.0;
   PetscInt steps_ = 0;
   bool have_old_convection_ = false;

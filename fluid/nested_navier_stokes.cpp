@@ -85,7 +85,7 @@ void check_reason(KSP ksp, const char* what)
 
 } // namespace
 
-Mat consistent_composite_gradient(const CompositeVelocity& velocity)
+petsc::OwnedMat consistent_composite_gradient(const CompositeVelocity& velocity)
 {
   const CompositeOperators& ops = velocity.operators();
   const GridHierarchy& h = velocity.hierarchy();
@@ -93,13 +93,12 @@ Mat consistent_composite_gradient(const CompositeVelocity& velocity)
   const auto& keys = velocity.owned_keys();
   PetscInt local_cells = 0;
   {
-    Vec v = ops.create_cell_vector();
+    const petsc::OwnedVec v = ops.create_cell_vector();
     PETSC_CHECK(VecGetLocalSize(v, &local_cells));
-    PETSC_CHECK(VecDestroy(&v));
   }
-  Mat g = nullptr;
+  petsc::OwnedMat g;
   PETSC_CHECK(MatCreateAIJ(ops.comm(), static_cast<PetscInt>(keys.size()), local_cells, PETSC_DETERMINE,
-                           cells.size(), 12, nullptr, 12, nullptr, &g));
+                           cells.size(), 12, nullptr, 12, nullptr, g.out()));
   PETSC_CHECK(MatSetOption(g, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   PetscInt row = 0;
   {
@@ -250,33 +249,31 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   Mat preconditioner = nullptr;
   if (settings.coupling == PressureCoupling::consistent) {
     gradient_ = consistent_composite_gradient(*velocity_ops_);
-    divergence_ = operators_->gradient();
+    divergence_ = petsc::OwnedMat::shared(operators_->gradient());
     preconditioner = operators_->laplacian();
   } else {
     tangential_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::tangential_linear,
                                                        boundary, nullptr, open ? traction : DirichletFaces{});
-    gradient_ = tangential_->gradient();
-    PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(gradient_)));
-    divergence_ = tangential_->gradient();
+    gradient_ = petsc::OwnedMat::shared(tangential_->gradient());
+    divergence_ = petsc::OwnedMat::shared(tangential_->gradient());
   }
-  PETSC_CHECK(PetscObjectReference(reinterpret_cast<PetscObject>(divergence_)));
   {
-    Mat weighted = nullptr;
-    PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, &weighted));
+    petsc::OwnedMat weighted;
+    PETSC_CHECK(MatDuplicate(gradient_, MAT_COPY_VALUES, weighted.out()));
     PETSC_CHECK(MatDiagonalScale(weighted, operators_->weights(), nullptr));
-    PETSC_CHECK(MatTransposeMatMult(divergence_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &projection_));
-    PETSC_CHECK(MatDestroy(&weighted));
+    PETSC_CHECK(
+        MatTransposeMatMult(divergence_, weighted, MAT_INITIAL_MATRIX, PETSC_DEFAULT, projection_.out()));
   }
   if (!preconditioner) preconditioner = projection_;
   if (!operators_->any_dirichlet()) {
     // A closed box: the pressure is defined up to a constant.
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, &constants_));
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, constants_.out()));
     PETSC_CHECK(MatSetNullSpace(projection_, constants_));
     PETSC_CHECK(MatSetTransposeNullSpace(projection_, constants_));
   }
 
   PC pc = nullptr;
-  PETSC_CHECK(KSPCreate(comm, &pressure_ksp_));
+  PETSC_CHECK(KSPCreate(comm, pressure_ksp_.out()));
   PETSC_CHECK(KSPSetOperators(pressure_ksp_, projection_, preconditioner));
   if (settings.coupling == PressureCoupling::consistent) {
     PETSC_CHECK(KSPSetType(pressure_ksp_, KSPGMRES));
@@ -300,7 +297,7 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   }
 
   set_default_amg_options("-" + settings.prefix + "velocity_");
-  PETSC_CHECK(KSPCreate(comm, &velocity_ksp_));
+  PETSC_CHECK(KSPCreate(comm, velocity_ksp_.out()));
   PETSC_CHECK(KSPSetType(velocity_ksp_, KSPGMRES));
   PETSC_CHECK(KSPSetPCSide(velocity_ksp_, PC_RIGHT));
   PETSC_CHECK(KSPGetPC(velocity_ksp_, &pc));
@@ -316,15 +313,6 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   convection_old_ = operators_->create_face_vector();
   p_ = operators_->create_cell_vector();
   if (hierarchy.boxes(hierarchy.finest()).size() == 1) build_finest_level();
-}
-
-NestedNavierStokes::~NestedNavierStokes()
-{
-  for (Mat* m : {&gradient_, &divergence_, &projection_, &helmholtz_}) MatDestroy(m);
-  KSPDestroy(&velocity_ksp_);
-  KSPDestroy(&pressure_ksp_);
-  MatNullSpaceDestroy(&constants_);
-  for (Vec* v : {&u_, &p_, &force_, &convection_, &convection_old_}) VecDestroy(v);
 }
 
 void NestedNavierStokes::set_initial_condition(const VelocityFunction& velocity,
@@ -347,8 +335,7 @@ void NestedNavierStokes::set_body_force(const VelocityFunction& force, double t)
 void NestedNavierStokes::build_helmholtz(double dt)
 {
   if (helmholtz_ && dt == helmholtz_dt_) return;
-  PETSC_CHECK(MatDestroy(&helmholtz_));
-  PETSC_CHECK(MatDuplicate(velocity_ops_->laplacian(), MAT_COPY_VALUES, &helmholtz_));
+  PETSC_CHECK(MatDuplicate(velocity_ops_->laplacian(), MAT_COPY_VALUES, helmholtz_.out()));
   PETSC_CHECK(MatScale(helmholtz_, -0.5 * settings_.mu));
   PETSC_CHECK(MatShift(helmholtz_, settings_.rho / dt));
   PETSC_CHECK(KSPSetOperators(velocity_ksp_, helmholtz_, helmholtz_));
@@ -373,7 +360,7 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
 {
   const double rho = settings_.rho, mu = settings_.mu, t0 = time_, t1 = time_ + dt;
   build_helmholtz(dt);
-  Vec rhs = operators_->create_face_vector(), work = operators_->create_face_vector();
+  const petsc::OwnedVec rhs = operators_->create_face_vector(), work = operators_->create_face_vector();
   {
     io::Stopwatch watch(stats_.seconds_velocity);
     // rho/dt u^n + mu/2 (L u^n + b(g^n) + b(g^{n+1})) - rho N - G p + f
@@ -398,8 +385,8 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
   }
   {
     io::Stopwatch watch(stats_.seconds_pressure);
-    Vec b = operators_->create_cell_vector(), phi = operators_->create_cell_vector(),
-        m_phi = operators_->create_cell_vector();
+    const petsc::OwnedVec b = operators_->create_cell_vector(), phi = operators_->create_cell_vector(),
+                          m_phi = operators_->create_cell_vector();
     PETSC_CHECK(VecPointwiseMult(work, operators_->weights(), u_));
     PETSC_CHECK(MatMultTranspose(divergence_, work, b));
     PETSC_CHECK(KSPSolve(pressure_ksp_, b, phi));
@@ -412,10 +399,7 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
     PETSC_CHECK(VecPointwiseDivide(m_phi, m_phi, operators_->volumes()));
     PETSC_CHECK(VecAXPY(p_, rho / dt, phi));
     PETSC_CHECK(VecAXPY(p_, 0.5 * mu, m_phi));
-    for (Vec* v : {&b, &phi, &m_phi}) PETSC_CHECK(VecDestroy(v));
   }
-  PETSC_CHECK(VecDestroy(&rhs));
-  PETSC_CHECK(VecDestroy(&work));
 }
 
 void NestedNavierStokes::pressure_boundary_part(double t, Vec out) const
@@ -450,17 +434,17 @@ void NestedNavierStokes::step(double dt)
     velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_,
                               settings_.convection);
   }
-  Vec half = operators_->create_face_vector();
+  const petsc::OwnedVec half = operators_->create_face_vector();
   if (have_old_convection_) {
     const double r = dt / last_dt_;
     PETSC_CHECK(VecAXPBYPCZ(half, 1.0 + 0.5 * r, -0.5 * r, 0.0, convection_, convection_old_));
     advance(dt, half);
   } else {
     // Heun: a predictor step with N(u^n), then the step again with (N(u^n) + N(u~^{n+1}))/2.
-    Vec u0 = nullptr, p0 = nullptr;
-    PETSC_CHECK(VecDuplicate(u_, &u0));
+    petsc::OwnedVec u0, p0;
+    PETSC_CHECK(VecDuplicate(u_, u0.out()));
     PETSC_CHECK(VecCopy(u_, u0));
-    PETSC_CHECK(VecDuplicate(p_, &p0));
+    PETSC_CHECK(VecDuplicate(p_, p0.out()));
     PETSC_CHECK(VecCopy(p_, p0));
     advance(dt, convection_);
     {
@@ -471,11 +455,10 @@ void NestedNavierStokes::step(double dt)
     PETSC_CHECK(VecAXPBY(half, 0.5, 0.5, convection_));
     PETSC_CHECK(VecCopy(u0, u_));
     PETSC_CHECK(VecCopy(p0, p_));
-    PETSC_CHECK(VecDestroy(&u0));
-    PETSC_CHECK(VecDestroy(&p0));
+    u0.reset();
+    p0.reset();
     advance(dt, half);
   }
-  PETSC_CHECK(VecDestroy(&half));
   PETSC_CHECK(VecCopy(convection_, convection_old_));
   have_old_convection_ = true;
   last_dt_ = dt;
@@ -538,9 +521,9 @@ int finest_level_holding(const GridHierarchy& h, const Real3& x)
 /// Every rank's copy of the distributed vector v (collective).
 std::vector<double> gather_to_all(Vec v)
 {
-  Vec all = nullptr;
-  VecScatter scatter = nullptr;
-  PETSC_CHECK(VecScatterCreateToAll(v, &scatter, &all));
+  petsc::OwnedVec all;
+  petsc::OwnedVecScatter scatter;
+  PETSC_CHECK(VecScatterCreateToAll(v, scatter.out(), all.out()));
   PETSC_CHECK(VecScatterBegin(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
   PETSC_CHECK(VecScatterEnd(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscInt n = 0;
@@ -549,8 +532,6 @@ std::vector<double> gather_to_all(Vec v)
   PETSC_CHECK(VecGetArrayRead(all, &a));
   std::vector<double> values(a, a + n);
   PETSC_CHECK(VecRestoreArrayRead(all, &a));
-  PETSC_CHECK(VecDestroy(&all));
-  PETSC_CHECK(VecScatterDestroy(&scatter));
   return values;
 }
 
@@ -582,7 +563,7 @@ void NestedNavierStokes::restore(const io::Hdf5File& file, const std::string& gr
 
 std::vector<double> NestedNavierStokes::max_divergence_by_level() const
 {
-  Vec w = operators_->create_face_vector(), div = operators_->create_cell_vector();
+  const petsc::OwnedVec w = operators_->create_face_vector(), div = operators_->create_cell_vector();
   PETSC_CHECK(VecPointwiseMult(w, operators_->weights(), u_));
   PETSC_CHECK(MatMultTranspose(divergence_, w, div));
   PETSC_CHECK(VecPointwiseDivide(div, div, operators_->volumes()));
@@ -596,8 +577,6 @@ std::vector<double> NestedNavierStokes::max_divergence_by_level() const
   });
   PETSC_CHECK(VecRestoreArrayRead(div, &a));
   MPI_Allreduce(local.data(), global.data(), hierarchy_->levels(), MPI_DOUBLE, MPI_MAX, comm_);
-  PETSC_CHECK(VecDestroy(&w));
-  PETSC_CHECK(VecDestroy(&div));
   return global;
 }
 

@@ -71,7 +71,7 @@ struct NestedStepStatistics {
 /// through the two fine cells behind it and the coarse value carried to the fine face's tangential
 /// position by tensor quadratic interpolation along the interface (linear when the second fine cell is
 /// itself covered). Annihilates constants. Caller destroys the matrix.
-Mat consistent_composite_gradient(const CompositeVelocity& velocity);
+petsc::OwnedMat consistent_composite_gradient(const CompositeVelocity& velocity);
 
 class NestedNavierStokes {
  public:
@@ -83,7 +83,6 @@ class NestedNavierStokes {
   /// functions are called during each step (a traction pressure may follow a Windkessel).
   NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, BoundaryConditions bc,
                      const NestedFluidSettings& settings);
-  ~NestedNavierStokes();
   NestedNavierStokes(const NestedNavierStokes&) = delete;
   NestedNavierStokes& operator=(const NestedNavierStokes&) = delete;
 
@@ -97,7 +96,7 @@ class NestedNavierStokes {
   /// u(x, t) on the composite faces and p(x, t) as p^{n-1/2} (the first step's pressure guess).
   void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
   /// The body force f^{n+1/2} on the composite faces (kept between steps).
-  Vec body_force() { return force_; }
+  Vec body_force() { return force_.get(); }
   void set_body_force(const VelocityFunction& force, double t);
 
   void step(double dt);
@@ -105,8 +104,8 @@ class NestedNavierStokes {
   double pressure_time() const { return pressure_time_; }
   PetscInt steps_taken() const { return stats_.steps; }
   /// Composite face velocity u^n (normal components) and composite cell pressure p^{n-1/2}.
-  Vec velocity() const { return u_; }
-  Vec pressure() const { return p_; }
+  Vec velocity() const { return u_.get(); }
+  Vec pressure() const { return p_.get(); }
   const NestedStepStatistics& statistics() const { return stats_; }
   /// True when the last step's viscous solve was preconditioned by Jacobi (the Helmholtz matrix's
   /// jacobi_ratio at most jacobi_ratio_limit, fluid/jacobi.hpp), not BoomerAMG.
@@ -163,15 +162,15 @@ class NestedNavierStokes {
   NestedFluidSettings settings_;
   std::unique_ptr<CompositeOperators> operators_, tangential_;
   std::unique_ptr<CompositeVelocity> velocity_ops_;
-  Mat gradient_ = nullptr;          // G: the gradient of the momentum equation and the projection
-  Mat divergence_ = nullptr;        // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
-  Mat projection_ = nullptr;        // M = G_d^T W G
-  Mat helmholtz_ = nullptr;         // rho/dt - mu/2 L
+  petsc::OwnedMat gradient_;        // G: the gradient of the momentum equation and the projection
+  petsc::OwnedMat divergence_;      // G_d: D_int = G_d^T W (D = -V^{-1} G_d^T W)
+  petsc::OwnedMat projection_;      // M = G_d^T W G
+  petsc::OwnedMat helmholtz_;       // rho/dt - mu/2 L
   bool velocity_by_jacobi_ = false; // the viscous solve's preconditioner is Jacobi (build_helmholtz)
-  KSP velocity_ksp_ = nullptr, pressure_ksp_ = nullptr;
-  MatNullSpace constants_ = nullptr;
-  Vec u_ = nullptr, p_ = nullptr, force_ = nullptr;
-  Vec convection_ = nullptr, convection_old_ = nullptr;
+  petsc::OwnedKSP velocity_ksp_, pressure_ksp_;
+  petsc::OwnedMatNullSpace constants_;
+  petsc::OwnedVec u_, p_, force_;
+  petsc::OwnedVec convection_, convection_old_;
   double time_ = 0.0, pressure_time_ = 0.0, helmholtz_dt_ = 0.0, last_dt_ = 0.0;
   bool have_old_convection_ = false;
   NestedStepStatistics stats_;

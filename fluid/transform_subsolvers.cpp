@@ -54,7 +54,7 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
     : grid_(grid)
 {
   // Codes on every owned unknown.
-  Vec local = grid.create_local(), global = grid.create_global();
+  petsc::OwnedVec local = grid.create_local(), global = grid.create_global();
   {
     StagArray a(grid, local);
     for (PetscInt k = grid.begin(2); k < grid.begin(2) + grid.count(2) + 1; ++k)
@@ -72,7 +72,7 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
         }
   }
   PETSC_CHECK(DMLocalToGlobal(grid.dm(), local, INSERT_VALUES, global));
-  PETSC_CHECK(VecDestroy(&local));
+  local.reset();
 
   std::array<TransformAxis, 3> axes;
   // Pressure: velocity side -> Neumann, traction side -> Dirichlet, at cell centres.
@@ -86,9 +86,9 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
 
   Vec codes_u;
   PETSC_CHECK(VecGetSubVector(global, velocity, &codes_u));
-  PETSC_CHECK(VecDuplicate(codes_u, &dirichlet_));
-  PETSC_CHECK(VecDuplicate(codes_u, &fixed_));
-  PETSC_CHECK(VecDuplicate(codes_u, &work_));
+  PETSC_CHECK(VecDuplicate(codes_u, dirichlet_.out()));
+  PETSC_CHECK(VecDuplicate(codes_u, fixed_.out()));
+  PETSC_CHECK(VecDuplicate(codes_u, work_.out()));
   PETSC_CHECK(VecZeroEntries(dirichlet_));
   for (int c = 0; c < 3; ++c) {
     for (int e = 0; e < 3; ++e) {
@@ -109,7 +109,6 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
     build(velocity_[static_cast<std::size_t>(c)], axes, codes_u, codes_u, c, dirichlet_);
   }
   PETSC_CHECK(VecRestoreSubVector(global, velocity, &codes_u));
-  PETSC_CHECK(VecDestroy(&global));
 }
 
 void TransformSubsolvers::build(Problem& problem, const std::array<TransformAxis, 3>& axes, Vec sub,
@@ -118,7 +117,7 @@ void TransformSubsolvers::build(Problem& problem, const std::array<TransformAxis
   const MPI_Comm comm = grid_.comm();
   problem.solver = std::make_unique<SeparableTransformSolver>(comm, axes);
   PETSC_CHECK(VecCreateMPIWithArray(comm, 1, problem.solver->local_size(), PETSC_DECIDE,
-                                    problem.solver->data(), &problem.transformed));
+                                    problem.solver->data(), problem.transformed.out()));
   PetscInt start = 0, n = 0;
   PETSC_CHECK(VecGetOwnershipRange(codes, &start, nullptr));
   PETSC_CHECK(VecGetLocalSize(codes, &n));
@@ -152,23 +151,12 @@ void TransformSubsolvers::build(Problem& problem, const std::array<TransformAxis
   MPI_Allreduce(MPI_IN_PLACE, &counted, 1, MPIU_INT, MPI_SUM, comm);
   PETSC_CHECK(VecGetSize(problem.transformed, &size));
   if (counted != size) throw std::logic_error("transform sub-solver: unknowns and transform sizes differ");
-  IS is_from, is_to;
+  petsc::OwnedIS is_from, is_to;
+  PETSC_CHECK(ISCreateGeneral(comm, static_cast<PetscInt>(from.size()), from.data(), PETSC_COPY_VALUES,
+                              is_from.out()));
   PETSC_CHECK(
-      ISCreateGeneral(comm, static_cast<PetscInt>(from.size()), from.data(), PETSC_COPY_VALUES, &is_from));
-  PETSC_CHECK(ISCreateGeneral(comm, static_cast<PetscInt>(to.size()), to.data(), PETSC_COPY_VALUES, &is_to));
-  PETSC_CHECK(VecScatterCreate(sub, is_from, problem.transformed, is_to, &problem.scatter));
-  PETSC_CHECK(ISDestroy(&is_from));
-  PETSC_CHECK(ISDestroy(&is_to));
-}
-
-TransformSubsolvers::~TransformSubsolvers()
-{
-  for (Problem* p : {&pressure_, &velocity_[0], &velocity_[1], &velocity_[2]}) {
-    if (p->scatter) VecScatterDestroy(&p->scatter);
-    if (p->transformed) VecDestroy(&p->transformed);
-  }
-  for (Vec* v : {&dirichlet_, &fixed_, &work_})
-    if (*v) VecDestroy(v);
+      ISCreateGeneral(comm, static_cast<PetscInt>(to.size()), to.data(), PETSC_COPY_VALUES, is_to.out()));
+  PETSC_CHECK(VecScatterCreate(sub, is_from, problem.transformed, is_to, problem.scatter.out()));
 }
 
 void TransformSubsolvers::solve_poisson(Vec r, Vec phi)

@@ -34,7 +34,6 @@ class TransformSubsolvers {
   /// `velocity` and `pressure`: the index sets of the face and cell unknowns in the grid's global
   /// vector (the layouts of the sub-vectors the solves take).
   TransformSubsolvers(const StaggeredGrid& grid, const BoundaryConditions& bc, IS velocity, IS pressure);
-  ~TransformSubsolvers();
   TransformSubsolvers(const TransformSubsolvers&) = delete;
   TransformSubsolvers& operator=(const TransformSubsolvers&) = delete;
 
@@ -50,8 +49,8 @@ class TransformSubsolvers {
  private:
   struct Problem {
     std::unique_ptr<SeparableTransformSolver> solver;
-    Vec transformed = nullptr;    // the solver's slab as a PETSc vector
-    VecScatter scatter = nullptr; // sub-vector -> slab
+    petsc::OwnedVec transformed;    // the solver's slab as a PETSc vector
+    petsc::OwnedVecScatter scatter; // sub-vector -> slab
   };
   void build(Problem& problem, const std::array<TransformAxis, 3>& axes, Vec sub, const Vec codes,
              PetscInt kind, Vec dirichlet_mask);
@@ -59,7 +58,7 @@ class TransformSubsolvers {
   const StaggeredGrid& grid_;
   Problem pressure_;
   std::array<Problem, 3> velocity_;
-  Vec dirichlet_ = nullptr, fixed_ = nullptr, work_ = nullptr;
+  petsc::OwnedVec dirichlet_, fixed_, work_;
   bool helmholtz_exact_ = true;
 };
 

@@ -46,12 +46,6 @@ NestedFluid::NestedFluid(fluid::NestedNavierStokes& fluid) : fluid_(fluid)
   copy_velocity();
 }
 
-NestedFluid::~NestedFluid()
-{
-  if (velocity_) VecDestroy(&velocity_);
-  if (force_) VecDestroy(&force_);
-}
-
 const fluid::StaggeredGrid& NestedFluid::grid() const
 {
   return fluid_.finest_level_grid();

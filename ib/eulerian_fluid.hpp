@@ -76,13 +76,12 @@ class NestedFluid final : public EulerianFluid {
   /// Copies the fluid's current u^n to the finest level: construct after its initial condition is set
   /// (or call copy_velocity() after changing the state outside step()).
   explicit NestedFluid(fluid::NestedNavierStokes& fluid);
-  ~NestedFluid() override;
   NestedFluid(const NestedFluid&) = delete;
   NestedFluid& operator=(const NestedFluid&) = delete;
 
   const fluid::StaggeredGrid& grid() const override;
   /// The finest level's local vector: faces u^n, owned cells p^{n-1/2} (composite values).
-  Vec velocity() const override { return velocity_; }
+  Vec velocity() const override { return velocity_.get(); }
   Vec force() override;
   void apply_force() override;
   void step(double dt) override;
@@ -99,7 +98,7 @@ class NestedFluid final : public EulerianFluid {
 
  private:
   fluid::NestedNavierStokes& fluid_;
-  Vec velocity_ = nullptr, force_ = nullptr;
+  petsc::OwnedVec velocity_, force_;
 };
 
 } // namespace ibvalve::ib

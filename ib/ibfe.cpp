@@ -110,12 +110,6 @@ std::string describe_time_step(double dt, const StabilityEstimate& s)
          " the stable time step estimate " + format(s.dt) + " s of the explicit IB/FE coupling: " + binding;
 }
 
-IbfeIntegrator::~IbfeIntegrator()
-{
-  if (velocity_old_) VecDestroy(&velocity_old_);
-  if (velocity_mid_) VecDestroy(&velocity_mid_);
-}
-
 void IbfeIntegrator::set_displacement(std::vector<double> displacement)
 {
   if (displacement.size() != solid_.num_dofs())

@@ -92,7 +92,6 @@ class IbfeIntegrator {
   /// The structure on any EulerianFluid, e.g. the finest level of nested grids (NestedFluid), which
   /// must outlive the integrator.
   IbfeIntegrator(EulerianFluid& fluid, const fe::SolidModel& solid, IbfeSettings settings);
-  ~IbfeIntegrator();
   IbfeIntegrator(const IbfeIntegrator&) = delete;
   IbfeIntegrator& operator=(const IbfeIntegrator&) = delete;
 
@@ -159,7 +158,7 @@ class IbfeIntegrator {
   std::vector<std::pair<std::vector<double>, Tether>> tethers_; // node weights w_a, settings
   std::vector<double> displacement_, velocity_, forces_;
   GridInteraction::PreparedPoints prepared_; // the coupling points this rank handles, with their stencils
-  Vec velocity_old_ = nullptr, velocity_mid_ = nullptr;
+  petsc::OwnedVec velocity_old_, velocity_mid_;
   IbfeTimings timings_;
   PetscInt projection_iterations_ = 0; // of the step being taken
   double h_min_ = 0.0;

@@ -44,7 +44,7 @@ void run(const char* name, const GridHierarchy& hierarchy, int rank)
   const CompositeOperators ops(PETSC_COMM_WORLD, hierarchy, CoarseFineStencil::tangential_linear,
                                CompositeBoundary::neumann);
   const double assembly = seconds_since(start);
-  Vec b = ops.create_cell_vector(), x = ops.create_cell_vector();
+  const petsc::OwnedVec b = ops.create_cell_vector(), x = ops.create_cell_vector();
   // A smooth source with its mean removed by the solver (Neumann sides).
   ops.sample([](const Real3& p) { return std::cos(p[0]) * std::sin(0.7 * p[1]) * std::cos(0.4 * p[2]); }, b);
   PETSC_CHECK(VecPointwiseMult(b, b, ops.volumes()));
@@ -69,8 +69,6 @@ void run(const char* name, const GridHierarchy& hierarchy, int rank)
                 static_cast<int>(iterations));
     std::printf("  peak memory so far         %.1f MB (all ranks)\n", peak);
   }
-  PETSC_CHECK(VecDestroy(&b));
-  PETSC_CHECK(VecDestroy(&x));
 }
 
 double peak_memory_mb()

@@ -19,13 +19,12 @@ inline CompositeNorms weighted_norms(Vec e, Vec w)
 {
   CompositeNorms n;
   PETSC_CHECK(VecNorm(e, NORM_INFINITY, &n.max));
-  Vec squared = nullptr;
-  PETSC_CHECK(VecDuplicate(e, &squared));
+  petsc::OwnedVec squared;
+  PETSC_CHECK(VecDuplicate(e, squared.out()));
   PETSC_CHECK(VecPointwiseMult(squared, e, e));
   double weighted = 0.0, total = 0.0;
   PETSC_CHECK(VecDot(squared, w, &weighted));
   PETSC_CHECK(VecSum(w, &total));
-  PETSC_CHECK(VecDestroy(&squared));
   n.l2 = std::sqrt(weighted / total);
   return n;
 }
@@ -46,12 +45,10 @@ inline CompositeNorms cell_norms(const CompositeOperators& ops, Vec e)
 template <class Velocity>
 CompositeNorms face_error(const CompositeOperators& ops, const Velocity& exact, Vec u)
 {
-  Vec e = ops.create_face_vector();
+  const petsc::OwnedVec e = ops.create_face_vector();
   ops.sample_normal(exact, e);
   PETSC_CHECK(VecAXPY(e, -1.0, u));
-  const CompositeNorms n = face_norms(ops, e);
-  PETSC_CHECK(VecDestroy(&e));
-  return n;
+  return face_norms(ops, e);
 }
 
 } // namespace ibvalve::fluid::testing

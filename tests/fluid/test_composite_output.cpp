@@ -57,7 +57,7 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
   const GridHierarchy h = three_levels();
   const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::tangential_linear,
                                CompositeBoundary::neumann);
-  Vec a = ops.create_cell_vector(), b = ops.create_cell_vector();
+  const petsc::OwnedVec a = ops.create_cell_vector(), b = ops.create_cell_vector();
   ops.sample(linear, a);
   ops.sample(square, b);
   const std::string name = "composite_output_test";
@@ -106,8 +106,6 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
       EXPECT_NE(text.find(grid), std::string::npos) << grid;
     EXPECT_NE(text.find(name + ".h5:/t0/level2_box0/square"), std::string::npos);
   }
-  PETSC_CHECK(VecDestroy(&a));
-  PETSC_CHECK(VecDestroy(&b));
 }
 
 // u = (x(1-x), 2 y(1-y), 0) on the unit box: its normal part is zero on every wall (a closed box), and the
@@ -120,10 +118,14 @@ TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
   const CompositeOperators ops(PETSC_COMM_WORLD, h, CoarseFineStencil::two_point, CompositeBoundary::neumann);
   const CompositeVelocity velocity(ops);
   auto field = [](const Real3& x) { return Real3{x[0] * (1.0 - x[0]), 2.0 * x[1] * (1.0 - x[1]), 0.0}; };
-  Vec u = ops.create_face_vector();
+  const petsc::OwnedVec u = ops.create_face_vector();
   ops.sample_normal(field, u);
+  std::array<petsc::OwnedVec, 3> owned_cells;
   std::array<Vec, 3> cells{};
-  for (Vec& v : cells) v = ops.create_cell_vector();
+  for (std::size_t c = 0; c < 3; ++c) {
+    owned_cells[c] = ops.create_cell_vector();
+    cells[c] = owned_cells[c];
+  }
   velocity.cell_velocity(u, {}, 0.0, cells);
   const std::string name = "composite_velocity_output_test";
   std::vector<io::XdmfGrid> grids;
@@ -167,8 +169,6 @@ TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
     EXPECT_NE(text.find("AttributeType=\"Vector\""), std::string::npos);
     EXPECT_NE(text.find(name + ".h5:/t0/level2_box0/velocity"), std::string::npos);
   }
-  PETSC_CHECK(VecDestroy(&u));
-  for (Vec& v : cells) PETSC_CHECK(VecDestroy(&v));
 }
 
 } // namespace

@@ -90,10 +90,10 @@ TEST(CompositeOperators, PressureOperatorIsSymmetric)
       for (const auto layout : {Layout::three_levels, Layout::l_shaped}) {
         const GridHierarchy h = make_hierarchy(16, layout);
         const CompositeOperators ops(PETSC_COMM_WORLD, h, stencil, boundary, exact);
-        Vec x = ops.create_cell_vector(), y = ops.create_cell_vector(), ax = ops.create_cell_vector(),
-            ay = ops.create_cell_vector();
-        PetscRandom random = nullptr;
-        PETSC_CHECK(PetscRandomCreate(PETSC_COMM_WORLD, &random));
+        const petsc::OwnedVec x = ops.create_cell_vector(), y = ops.create_cell_vector(),
+                              ax = ops.create_cell_vector(), ay = ops.create_cell_vector();
+        petsc::OwnedPetscRandom random;
+        PETSC_CHECK(PetscRandomCreate(PETSC_COMM_WORLD, random.out()));
         PETSC_CHECK(PetscRandomSetInterval(random, -1.0, 1.0));
         PETSC_CHECK(VecSetRandom(x, random));
         PETSC_CHECK(VecSetRandom(y, random));
@@ -118,8 +118,6 @@ TEST(CompositeOperators, PressureOperatorIsSymmetric)
           PETSC_CHECK(MatMult(ops.laplacian(), x, ax));
           EXPECT_LE(norm(ax, NORM_INFINITY), 1e-12 * a_norm);
         }
-        for (Vec* v : {&x, &y, &ax, &ay}) PETSC_CHECK(VecDestroy(v));
-        PETSC_CHECK(PetscRandomDestroy(&random));
       }
     }
 }
@@ -163,9 +161,9 @@ TEST(CompositeOperators, DivergenceIsConservativeAcrossCoarseFineFaces)
     for (const auto layout : {Layout::three_levels, Layout::l_shaped}) {
       const GridHierarchy h = make_hierarchy(16, layout);
       const CompositeOperators ops(PETSC_COMM_WORLD, h, stencil, CompositeBoundary::dirichlet, exact);
-      Vec g = ops.create_face_vector(), div = ops.create_cell_vector();
-      PetscRandom random = nullptr;
-      PETSC_CHECK(PetscRandomCreate(PETSC_COMM_WORLD, &random));
+      const petsc::OwnedVec g = ops.create_face_vector(), div = ops.create_cell_vector();
+      petsc::OwnedPetscRandom random;
+      PETSC_CHECK(PetscRandomCreate(PETSC_COMM_WORLD, random.out()));
       PETSC_CHECK(VecSetRandom(g, random));
       ops.divergence(g, div);
       // Whole box: sum of V D g = net outflow through the box's sides.
@@ -187,9 +185,6 @@ TEST(CompositeOperators, DivergenceIsConservativeAcrossCoarseFineFaces)
       report("conservation (%s): box %.3e vs outflow %.3e; half box %.3e vs outflow %.3e\n",
              stencil == CoarseFineStencil::two_point ? "two-point" : "tangential", inside_all, outflow, half,
              half_outflow);
-      PETSC_CHECK(VecDestroy(&g));
-      PETSC_CHECK(VecDestroy(&div));
-      PETSC_CHECK(PetscRandomDestroy(&random));
     }
   }
 }
@@ -206,7 +201,8 @@ Result solve_manufactured(MPI_Comm comm, PetscInt n0, Layout layout, CoarseFineS
   const GridHierarchy h = make_hierarchy(n0, layout);
   const CompositeOperators ops(comm, h, stencil, CompositeBoundary::dirichlet, exact);
   const CompositePoissonSolver solver(ops, false, "nested_test_", 1e-11);
-  Vec b = ops.create_cell_vector(), u = ops.create_cell_vector(), e = ops.create_cell_vector();
+  const petsc::OwnedVec b = ops.create_cell_vector(), u = ops.create_cell_vector(),
+                        e = ops.create_cell_vector();
   ops.right_side(source, b);
   Result r;
   r.iterations = solver.solve(b, u);
@@ -231,19 +227,16 @@ Result solve_manufactured(MPI_Comm comm, PetscInt n0, Layout layout, CoarseFineS
   PETSC_CHECK(VecDot(b, ops.volumes(), &weighted));
   r.l2 = std::sqrt(weighted); // the unit cube has volume 1
   if (gathered) {
-    VecScatter scatter = nullptr;
-    Vec all = nullptr;
-    PETSC_CHECK(VecScatterCreateToAll(u, &scatter, &all));
+    petsc::OwnedVecScatter scatter;
+    petsc::OwnedVec all;
+    PETSC_CHECK(VecScatterCreateToAll(u, scatter.out(), all.out()));
     PETSC_CHECK(VecScatterBegin(scatter, u, all, INSERT_VALUES, SCATTER_FORWARD));
     PETSC_CHECK(VecScatterEnd(scatter, u, all, INSERT_VALUES, SCATTER_FORWARD));
     const PetscScalar* a = nullptr;
     PETSC_CHECK(VecGetArrayRead(all, &a));
     gathered->assign(a, a + r.cells);
     PETSC_CHECK(VecRestoreArrayRead(all, &a));
-    PETSC_CHECK(VecScatterDestroy(&scatter));
-    PETSC_CHECK(VecDestroy(&all));
   }
-  for (Vec* v : {&b, &u, &e}) PETSC_CHECK(VecDestroy(v));
   return r;
 }
 

@@ -168,7 +168,7 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
   r.max = velocity_error.max;
   r.l2 = velocity_error.l2;
   {
-    Vec p = ops.create_cell_vector();
+    const petsc::OwnedVec p = ops.create_cell_vector();
     ops.sample([&](const Real3& x) { return problem.pressure(x, fluid.pressure_time()); }, p);
     PETSC_CHECK(VecAXPY(p, -1.0, fluid.pressure()));
     double volume = 0.0, mean = 0.0;
@@ -176,7 +176,6 @@ Result run(MPI_Comm comm, PetscInt n0, PetscInt ratio, PressureCoupling coupling
     PETSC_CHECK(VecDot(p, ops.volumes(), &mean));
     PETSC_CHECK(VecShift(p, -mean / volume));
     r.pressure_l2 = testing::cell_norms(ops, p).l2;
-    PETSC_CHECK(VecDestroy(&p));
   }
   if (gather) r.u = fluid.composite_velocity().gather(fluid.velocity());
   return r;
@@ -344,7 +343,7 @@ TEST(NestedNavierStokes, FinestLevelGridForTheImmersedBoundary)
   const StaggeredGrid& g = fluid.finest_level_grid();
   EXPECT_EQ(g.cells(0), 12); // [4/16, 10/16) at spacing 1/32
   EXPECT_NEAR(g.box().lower[0], 0.25, 1e-15);
-  Vec local = g.create_local();
+  const petsc::OwnedVec local = g.create_local();
   fluid.velocity_to_finest(local);
   double inside = 0.0, ghost = 0.0, pressure = 0.0;
   {
@@ -402,7 +401,6 @@ TEST(NestedNavierStokes, FinestLevelGridForTheImmersedBoundary)
   double global_mismatch = 0.0;
   MPI_Allreduce(&mismatch, &global_mismatch, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
   EXPECT_LT(global_mismatch, 1e-14);
-  PETSC_CHECK(VecDestroy(&local));
 
   // Probes: inside level 1, on level 0, straddling the interface, next to a wall; trilinear, so O(h^2).
   const std::vector<Real3> probes{{0.4, 0.45, 0.3}, {0.8, 0.2, 0.7}, {0.25, 0.5, 0.26}, {0.02, 0.98, 0.5}};

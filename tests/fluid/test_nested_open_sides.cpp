@@ -163,11 +163,10 @@ Result run(MPI_Comm comm, PetscInt n0, const Flow& flow, bool gather = false, do
   r.l2 = velocity_error.l2;
   {
     // The pressure is fixed by the sides: no constant to remove.
-    Vec p = ops.create_cell_vector();
+    const petsc::OwnedVec p = ops.create_cell_vector();
     ops.sample([&](const Real3& x) { return flow.pressure(x, fluid.pressure_time()); }, p);
     PETSC_CHECK(VecAXPY(p, -1.0, fluid.pressure()));
     r.pressure_l2 = testing::cell_norms(ops, p).l2;
-    PETSC_CHECK(VecDestroy(&p));
   }
   {
     // Probes on level 1, beside the interface on level 0, in a corner and half a cell from each side.

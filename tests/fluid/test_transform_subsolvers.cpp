@@ -84,14 +84,13 @@ FluidSettings transform_settings()
 /// of the residual where `rows` is zero are ignored (null: all rows).
 double relative_residual(MPI_Comm comm, Mat A, KSP ksp, bool zero_mean, Vec rows = nullptr)
 {
-  Vec b, x, r;
-  PETSC_CHECK(MatCreateVecs(A, &x, &b));
-  PETSC_CHECK(VecDuplicate(b, &r));
-  PetscRandom random;
-  PETSC_CHECK(PetscRandomCreate(comm, &random));
+  petsc::OwnedVec b, x, r;
+  PETSC_CHECK(MatCreateVecs(A, x.out(), b.out()));
+  PETSC_CHECK(VecDuplicate(b, r.out()));
+  petsc::OwnedPetscRandom random;
+  PETSC_CHECK(PetscRandomCreate(comm, random.out()));
   PETSC_CHECK(PetscRandomSetInterval(random, -1.0, 1.0));
   PETSC_CHECK(VecSetRandom(b, random));
-  PETSC_CHECK(PetscRandomDestroy(&random));
   if (zero_mean) {
     PetscScalar sum;
     PetscInt n;
@@ -107,7 +106,6 @@ double relative_residual(MPI_Comm comm, Mat A, KSP ksp, bool zero_mean, Vec rows
   double nr, nb;
   PETSC_CHECK(VecNorm(r, NORM_2, &nr));
   PETSC_CHECK(VecNorm(b, NORM_2, &nb));
-  for (Vec* v : {&b, &x, &r}) PETSC_CHECK(VecDestroy(v));
   return nr / nb;
 }
 
@@ -144,9 +142,9 @@ TEST(TransformPoisson, SolvesTheAssembledOperatorForEverySideKind)
 }
 
 /// 1 on the faces of component c (owned), as a sub-vector layout of `solver`'s velocity block.
-Vec component_rows(const StaggeredGrid& grid, const KrylovStokesSolver& solver, int c)
+petsc::OwnedVec component_rows(const StaggeredGrid& grid, const KrylovStokesSolver& solver, int c)
 {
-  Vec local = grid.create_local(), global = grid.create_global();
+  const petsc::OwnedVec local = grid.create_local(), global = grid.create_global();
   {
     StagArray a(grid, local);
     for (PetscInt k = grid.ghost_begin(2); k < grid.ghost_end(2); ++k)
@@ -155,13 +153,12 @@ Vec component_rows(const StaggeredGrid& grid, const KrylovStokesSolver& solver, 
           a(i, j, k, grid.face_slot(c)) = 1.0;
   }
   PETSC_CHECK(DMLocalToGlobal(grid.dm(), local, INSERT_VALUES, global));
-  Vec rows, sub;
-  PETSC_CHECK(MatCreateVecs(solver.helmholtz_matrix(), &rows, nullptr));
+  petsc::OwnedVec rows;
+  Vec sub = nullptr;
+  PETSC_CHECK(MatCreateVecs(solver.helmholtz_matrix(), rows.out(), nullptr));
   PETSC_CHECK(VecGetSubVector(global, solver.velocity_set(), &sub));
   PETSC_CHECK(VecCopy(sub, rows));
   PETSC_CHECK(VecRestoreSubVector(global, solver.velocity_set(), &sub));
-  PETSC_CHECK(VecDestroy(&local));
-  PETSC_CHECK(VecDestroy(&global));
   return rows;
 }
 
@@ -174,11 +171,10 @@ void check_helmholtz_on(MPI_Comm comm, const char* ranks)
     StaggeredGrid grid(comm, s.box, {}, 3);
     KrylovStokesSolver solver(grid, s.bc, transform_settings());
     solver.set_parameters({1.0, 0.05, 0.02});
-    Vec rows = component_rows(grid, solver, 2);
+    const petsc::OwnedVec rows = component_rows(grid, solver, 2);
     const double residual =
         relative_residual(comm, solver.helmholtz_matrix(), solver.helmholtz_ksp(), false, rows);
     const double all_rows = relative_residual(comm, solver.helmholtz_matrix(), solver.helmholtz_ksp(), false);
-    PETSC_CHECK(VecDestroy(&rows));
     if (rank_of(comm) == 0 && rank_of(PETSC_COMM_WORLD) == 0)
       std::printf("Helmholtz %-8s (%s): z rows |H u - w| / |w| = %.2e; all rows (x, y tangential to the "
                   "z sides: preconditioner) %.2e\n",

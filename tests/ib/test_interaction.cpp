@@ -83,7 +83,7 @@ TEST_P(Adjointness, SpreadThenDotEqualsDotOfInterpolation)
   const bool periodic = GetParam();
   const fluid::BoxGeometry b = box(periodic);
   fluid::StaggeredGrid grid(PETSC_COMM_WORLD, b);
-  Vec u = grid.create_local(), f = grid.create_local();
+  const petsc::OwnedVec u = grid.create_local(), f = grid.create_local();
   fill_faces(grid, u, face_value);
   const std::vector<Vec3> x = points(b, periodic);
   std::vector<Vec3> F(x.size());
@@ -106,8 +106,6 @@ TEST_P(Adjointness, SpreadThenDotEqualsDotOfInterpolation)
         << interaction.kernel().name() << (periodic ? " periodic" : " walls") << ": " << grid_side << " vs "
         << point_side;
   }
-  VecDestroy(&u);
-  VecDestroy(&f);
 }
 
 INSTANTIATE_TEST_SUITE_P(PeriodicAndWalled, Adjointness, ::testing::Values(true, false));
@@ -121,7 +119,7 @@ TEST(Interpolation, LinearFieldsAreInterpolatedExactlyByEveryKernel)
   fluid::StaggeredGrid grid(PETSC_COMM_WORLD, b);
   const Eigen::Matrix3d B{{0.3, -1.2, 2.0}, {0.7, 0.1, -0.4}, {-1.5, 0.9, 0.25}};
   const Vec3 a0(0.5, -0.25, 1.0);
-  Vec u = grid.create_local();
+  const petsc::OwnedVec u = grid.create_local();
   fill_faces(grid, u, [&](int d, PetscInt i, PetscInt j, PetscInt k) {
     const auto p = grid.face_position(d, i, j, k);
     return a0[d] + B.row(d).dot(Vec3(p[0], p[1], p[2]));
@@ -145,7 +143,6 @@ TEST(Interpolation, LinearFieldsAreInterpolatedExactlyByEveryKernel)
       worst = std::max(worst, (v[p] - (a0 + B * x[p])).cwiseAbs().maxCoeff());
     EXPECT_LT(worst, 1e-13) << interaction.kernel().name();
   }
-  VecDestroy(&u);
 }
 
 TEST(Spreading, TotalForceIsConservedInAPeriodicBox)
@@ -157,7 +154,7 @@ TEST(Spreading, TotalForceIsConservedInAPeriodicBox)
   Vec3 total = Vec3::Zero();
   for (std::size_t p = 0; p < x.size(); ++p)
     total += (F[p] = Vec3(1.0 + p % 3, -0.5 * p, std::sqrt(p + 2.0)));
-  Vec f = grid.create_local(), one = grid.create_local();
+  const petsc::OwnedVec f = grid.create_local(), one = grid.create_local();
   for (ib::KernelKind kind : all_kernels) {
     ib::GridInteraction interaction(grid, kind);
     interaction.spread(x, F, f);
@@ -167,8 +164,6 @@ TEST(Spreading, TotalForceIsConservedInAPeriodicBox)
           << interaction.kernel().name();
     }
   }
-  VecDestroy(&f);
-  VecDestroy(&one);
 }
 
 TEST(Interaction, APointOutsideAWalledBoxIsARunErrorNamingTheDirection)
@@ -176,7 +171,7 @@ TEST(Interaction, APointOutsideAWalledBoxIsARunErrorNamingTheDirection)
   const fluid::BoxGeometry b = box(false);
   fluid::StaggeredGrid grid(PETSC_COMM_WORLD, b);
   ib::GridInteraction interaction(grid);
-  Vec u = grid.create_local();
+  const petsc::OwnedVec u = grid.create_local();
   std::vector<Vec3> x{Vec3(0.0, 0.5, 0.5), Vec3(0.0, 1.01, 0.5)}, v(2);
   try {
     interaction.interpolate(u, x, v);
@@ -186,5 +181,4 @@ TEST(Interaction, APointOutsideAWalledBoxIsARunErrorNamingTheDirection)
   }
   x[1] = Vec3(0.0, std::nan(""), 0.5);
   EXPECT_THROW(interaction.interpolate(u, x, v), RunError);
-  VecDestroy(&u);
 }
