@@ -4,9 +4,10 @@
 
 namespace ibvalve::fe {
 
-Mat consistent_mass_matrix(const Mesh& mesh, const QuadratureData& quadrature, const NodalSystem& system)
+petsc::OwnedMat consistent_mass_matrix(const Mesh& mesh, const QuadratureData& quadrature,
+                                       const NodalSystem& system)
 {
-  Mat M = system.create_matrix();
+  petsc::OwnedMat M = system.create_matrix();
   const int n = mesh.nodes_per_element();
   Eigen::MatrixXd element_matrix(n, n);
   const auto [begin, end] = local_range(mesh.num_elements(), system.comm());
@@ -44,7 +45,7 @@ L2Projection::L2Projection(const Mesh& mesh, const QuadratureData& quadrature, M
   lumped_ = lumped_mass(mesh, quadrature, comm);
   if (kind_ == MassKind::lumped) return;
   mass_ = consistent_mass_matrix(mesh, quadrature, system_);
-  PETSC_CHECK(KSPCreate(comm, &ksp_));
+  PETSC_CHECK(KSPCreate(comm, ksp_.out()));
   PETSC_CHECK(KSPSetOptionsPrefix(ksp_, prefix.c_str()));
   PETSC_CHECK(KSPSetOperators(ksp_, mass_, mass_));
   PETSC_CHECK(KSPSetType(ksp_, KSPCG));
@@ -53,12 +54,6 @@ L2Projection::L2Projection(const Mesh& mesh, const QuadratureData& quadrature, M
   PETSC_CHECK(PCSetType(pc, PCJACOBI));
   PETSC_CHECK(KSPSetTolerances(ksp_, 1e-13, 1e-300, PETSC_DEFAULT, 1000));
   PETSC_CHECK(KSPSetFromOptions(ksp_));
-}
-
-L2Projection::~L2Projection()
-{
-  KSPDestroy(&ksp_);
-  MatDestroy(&mass_);
 }
 
 std::vector<double> L2Projection::project(std::span<const double> point_values, int components) const
@@ -83,7 +78,7 @@ std::vector<double> L2Projection::project(std::span<const double> point_values, 
       for (int c = 0; c < components; ++c) result[n * components + c] = rhs[n * components + c] / lumped_[n];
     return result;
   }
-  Vec b = system_.create_vector(), x = system_.create_vector();
+  const petsc::OwnedVec b = system_.create_vector(), x = system_.create_vector();
   std::vector<double> one(nodes);
   for (int c = 0; c < components; ++c) {
     for (std::size_t n = 0; n < nodes; ++n) one[n] = rhs[n * components + c];
@@ -96,8 +91,6 @@ std::vector<double> L2Projection::project(std::span<const double> point_values, 
     const std::vector<double> solved = system_.gather(x);
     for (std::size_t n = 0; n < nodes; ++n) result[n * components + c] = solved[n];
   }
-  VecDestroy(&b);
-  VecDestroy(&x);
   return result;
 }
 

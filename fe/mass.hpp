@@ -17,7 +17,8 @@ namespace ibvalve::fe {
 
 /// Consistent mass matrix (scalar, one row per node), assembled over `system`'s layout; each rank
 /// integrates its element range. The caller owns the Mat.
-Mat consistent_mass_matrix(const Mesh& mesh, const QuadratureData& quadrature, const NodalSystem& system);
+petsc::OwnedMat consistent_mass_matrix(const Mesh& mesh, const QuadratureData& quadrature,
+                                       const NodalSystem& system);
 
 /// Lumped (row-sum) mass, replicated.
 std::vector<double> lumped_mass(const Mesh& mesh, const QuadratureData& quadrature, MPI_Comm comm);
@@ -30,7 +31,6 @@ class L2Projection {
   /// relative tolerance 1e-13).
   L2Projection(const Mesh& mesh, const QuadratureData& quadrature, MassKind kind, MPI_Comm comm,
                const std::string& prefix = "l2_");
-  ~L2Projection();
   L2Projection(const L2Projection&) = delete;
   L2Projection& operator=(const L2Projection&) = delete;
 
@@ -47,8 +47,8 @@ class L2Projection {
   MPI_Comm comm_;
   NodalSystem system_;
   std::vector<double> lumped_;
-  Mat mass_ = nullptr;
-  KSP ksp_ = nullptr;
+  petsc::OwnedMat mass_;
+  petsc::OwnedKSP ksp_;
 };
 
 } // namespace ibvalve::fe

@@ -40,21 +40,14 @@ NodalSystem::NodalSystem(const Mesh& mesh, int dofs_per_node, MPI_Comm comm)
     }
   }
 
-  Vec v = create_vector();
-  PETSC_CHECK(VecScatterCreateToAll(v, &to_all_, &all_));
-  PETSC_CHECK(VecDestroy(&v));
+  const petsc::OwnedVec v = create_vector();
+  PETSC_CHECK(VecScatterCreateToAll(v, to_all_.out(), all_.out()));
 }
 
-NodalSystem::~NodalSystem()
+petsc::OwnedMat NodalSystem::create_matrix() const
 {
-  VecScatterDestroy(&to_all_);
-  VecDestroy(&all_);
-}
-
-Mat NodalSystem::create_matrix() const
-{
-  Mat matrix;
-  PETSC_CHECK(MatCreate(comm_, &matrix));
+  petsc::OwnedMat matrix;
+  PETSC_CHECK(MatCreate(comm_, matrix.out()));
   PETSC_CHECK(MatSetSizes(matrix, end_ - begin_, end_ - begin_, global_, global_));
   PETSC_CHECK(MatSetType(matrix, MATAIJ));
   PETSC_CHECK(MatSetBlockSize(matrix, dofs_));
@@ -67,10 +60,10 @@ Mat NodalSystem::create_matrix() const
   return matrix;
 }
 
-Vec NodalSystem::create_vector() const
+petsc::OwnedVec NodalSystem::create_vector() const
 {
-  Vec v;
-  PETSC_CHECK(VecCreateMPI(comm_, end_ - begin_, global_, &v));
+  petsc::OwnedVec v;
+  PETSC_CHECK(VecCreateMPI(comm_, end_ - begin_, global_, v.out()));
   PETSC_CHECK(VecSetBlockSize(v, dofs_));
   return v;
 }

@@ -10,13 +10,13 @@
 #include <petscmat.h>
 
 #include "fe/mesh.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::fe {
 
 class NodalSystem {
  public:
   NodalSystem(const Mesh& mesh, int dofs_per_node, MPI_Comm comm);
-  ~NodalSystem();
   NodalSystem(const NodalSystem&) = delete;
   NodalSystem& operator=(const NodalSystem&) = delete;
 
@@ -28,9 +28,9 @@ class NodalSystem {
   PetscInt owned_end() const { return end_; }
 
   /// A new matrix with the right layout and preallocation (zero).
-  Mat create_matrix() const;
+  petsc::OwnedMat create_matrix() const;
   /// A new vector with the layout of the unknowns.
-  Vec create_vector() const;
+  petsc::OwnedVec create_vector() const;
 
   /// Adds an element matrix: rows and columns are the unknowns of `nodes` (node-major, dof-minor).
   void add_element_matrix(Mat matrix, std::span<const int> nodes,
@@ -46,8 +46,8 @@ class NodalSystem {
   int dofs_ = 1;
   PetscInt global_ = 0, begin_ = 0, end_ = 0;
   std::vector<PetscInt> diagonal_nonzeros_, off_diagonal_nonzeros_;
-  VecScatter to_all_ = nullptr;
-  Vec all_ = nullptr;
+  petsc::OwnedVecScatter to_all_;
+  petsc::OwnedVec all_;
 };
 
 /// Zeroes rows and columns `rows` (global indices, the same list on every rank) of an assembled matrix,

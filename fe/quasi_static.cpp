@@ -71,7 +71,7 @@ QuasiStaticSolver::QuasiStaticSolver(const SolidModel& solid, std::vector<Dirich
 
   K_ = system_.create_matrix();
   r_ = system_.create_vector();
-  PETSC_CHECK(SNESCreate(solid.comm(), &snes_));
+  PETSC_CHECK(SNESCreate(solid.comm(), snes_.out()));
   PETSC_CHECK(SNESSetOptionsPrefix(snes_, options_.prefix.c_str()));
   PETSC_CHECK(SNESSetType(snes_, SNESNEWTONLS));
   PETSC_CHECK(SNESSetFunction(snes_, r_, residual_callback, this));
@@ -88,13 +88,6 @@ QuasiStaticSolver::QuasiStaticSolver(const SolidModel& solid, std::vector<Dirich
   MPI_Comm_size(solid.comm(), &size);
   if (size > 1) PETSC_CHECK(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PETSC_CHECK(SNESSetFromOptions(snes_));
-}
-
-QuasiStaticSolver::~QuasiStaticSolver()
-{
-  SNESDestroy(&snes_);
-  MatDestroy(&K_);
-  VecDestroy(&r_);
 }
 
 void QuasiStaticSolver::residual(Vec u_vec, Vec r_vec)
@@ -128,7 +121,7 @@ QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
 {
   if (initial.empty()) initial.assign(solid_.num_dofs(), 0.0);
   QuasiStaticResult result;
-  Vec u = system_.create_vector();
+  const petsc::OwnedVec u = system_.create_vector();
   std::vector<double> current = std::move(initial);
   for (int step = 1; step <= options_.load_steps; ++step) {
     load_factor_ = static_cast<double>(step) / options_.load_steps;
@@ -139,7 +132,6 @@ QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
     PETSC_CHECK(SNESGetConvergedReason(snes_, &reason));
     PETSC_CHECK(SNESGetIterationNumber(snes_, &iterations));
     if (reason <= 0) {
-      VecDestroy(&u);
       throw RunError("quasi-static solve: Newton did not converge at load step " + std::to_string(step) +
                      " of " + std::to_string(options_.load_steps) + " (" + SNESConvergedReasons[reason] +
                      "); try more load steps");
@@ -151,7 +143,6 @@ QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
   PETSC_CHECK(SNESGetFunctionNorm(snes_, &norm));
   result.final_residual_norm = norm;
   result.displacement = std::move(current);
-  VecDestroy(&u);
   return result;
 }
 

@@ -52,7 +52,6 @@ class QuasiStaticSolver {
   /// `external_load`: nodal load at full load (size 3 x nodes, replicated) or empty for none.
   QuasiStaticSolver(const SolidModel& solid, std::vector<DirichletCondition> conditions,
                     std::vector<double> external_load, QuasiStaticOptions options = {});
-  ~QuasiStaticSolver();
   QuasiStaticSolver(const QuasiStaticSolver&) = delete;
   QuasiStaticSolver& operator=(const QuasiStaticSolver&) = delete;
 
@@ -71,9 +70,9 @@ class QuasiStaticSolver {
   std::vector<PetscInt> constrained_;      // global dof indices
   std::vector<double> constrained_values_; // at full load
   double load_factor_ = 1.0;
-  SNES snes_ = nullptr;
-  Mat K_ = nullptr;
-  Vec r_ = nullptr;
+  petsc::OwnedMat K_;
+  petsc::OwnedVec r_;
+  petsc::OwnedSNES snes_; // after K_ and r_: destroyed first
 };
 
 } // namespace ibvalve::fe

@@ -22,7 +22,7 @@ std::vector<double> solve_laplace(const fe::Mesh& mesh, const std::vector<Dirich
 
   const fe::QuadratureData quadrature(mesh, 2);
   const fe::NodalSystem system(mesh, 1, comm);
-  Mat K = system.create_matrix();
+  const petsc::OwnedMat K = system.create_matrix();
   const int n = mesh.nodes_per_element();
   Eigen::MatrixXd element_matrix(n, n);
   const auto [begin, end] = fe::local_range(mesh.num_elements(), comm);
@@ -48,13 +48,13 @@ std::vector<double> solve_laplace(const fe::Mesh& mesh, const std::vector<Dirich
     }
   std::sort(rows.begin(), rows.end());
   rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-  Vec x = system.create_vector(), b = system.create_vector();
+  const petsc::OwnedVec x = system.create_vector(), b = system.create_vector();
   system.scatter(known, x);
   PETSC_CHECK(VecSet(b, 0.0));
   fe::zero_rows_columns(K, rows, 1.0, x, b);
 
-  KSP ksp;
-  PETSC_CHECK(KSPCreate(comm, &ksp));
+  petsc::OwnedKSP ksp;
+  PETSC_CHECK(KSPCreate(comm, ksp.out()));
   PETSC_CHECK(KSPSetOptionsPrefix(ksp, options.prefix.c_str()));
   PETSC_CHECK(KSPSetOperators(ksp, K, K));
   PETSC_CHECK(KSPSetType(ksp, KSPCG));
@@ -71,10 +71,6 @@ std::vector<double> solve_laplace(const fe::Mesh& mesh, const std::vector<Dirich
   KSPConvergedReason reason;
   PETSC_CHECK(KSPGetConvergedReason(ksp, &reason));
   std::vector<double> u = system.gather(x);
-  KSPDestroy(&ksp);
-  VecDestroy(&x);
-  VecDestroy(&b);
-  MatDestroy(&K);
   if (reason < 0)
     throw RunError(std::string("fibers: the Laplace solve did not converge (") + KSPConvergedReasons[reason] +
                    ")");

@@ -94,13 +94,13 @@ GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind ke
   // One dof per face, nothing elsewhere; the same ownership as the fluid grid, so owned faces match.
   PETSC_CHECK(DMStagCreate3d(grid.comm(), boundary(0), boundary(1), boundary(2), grid.cells(0), grid.cells(1),
                              grid.cells(2), ranks[0], ranks[1], ranks[2], 0, 0, 1, 0, DMSTAG_STENCIL_BOX,
-                             kernel_.ghost_width(), lx, ly, lz, &dm_));
+                             kernel_.ghost_width(), lx, ly, lz, dm_.out()));
   PETSC_CHECK(DMSetUp(dm_));
   const DMStagStencilLocation faces[3] = {DMSTAG_LEFT, DMSTAG_DOWN, DMSTAG_BACK};
   for (int d = 0; d < 3; ++d) PETSC_CHECK(DMStagGetLocationSlot(dm_, faces[d], 0, &slot_[d]));
   PETSC_CHECK(DMStagGetEntriesPerElement(dm_, &stride_));
-  PETSC_CHECK(DMCreateGlobalVector(dm_, &global_));
-  PETSC_CHECK(DMCreateLocalVector(dm_, &local_));
+  PETSC_CHECK(DMCreateGlobalVector(dm_, global_.out()));
+  PETSC_CHECK(DMCreateLocalVector(dm_, local_.out()));
   PetscInt ghost_start[3], ghost_count[3];
   PETSC_CHECK(DMStagGetGhostCorners(dm_, &ghost_start[0], &ghost_start[1], &ghost_start[2], &ghost_count[0],
                                     &ghost_count[1], &ghost_count[2]));
@@ -118,13 +118,6 @@ GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind ke
     if (grid.count(d) < kernel_.ghost_width())
       throw std::invalid_argument("ib: each rank needs at least " + std::to_string(kernel_.ghost_width()) +
                                   " cells per direction for the " + kernel_.name() + " kernel");
-}
-
-GridInteraction::~GridInteraction()
-{
-  if (global_) VecDestroy(&global_);
-  if (local_) VecDestroy(&local_);
-  if (dm_) DMDestroy(&dm_);
 }
 
 Vec3 GridInteraction::wrap(const Vec3& x) const

@@ -25,6 +25,7 @@
 
 #include "fluid/grid.hpp"
 #include "ib/kernels.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::ib {
 
@@ -33,7 +34,6 @@ using Vec3 = Eigen::Vector3d;
 class GridInteraction {
  public:
   GridInteraction(const fluid::StaggeredGrid& grid, KernelKind kernel = default_kernel);
-  ~GridInteraction();
   GridInteraction(const GridInteraction&) = delete;
   GridInteraction& operator=(const GridInteraction&) = delete;
 
@@ -96,8 +96,8 @@ class GridInteraction {
 
   const fluid::StaggeredGrid& grid_;
   DeltaKernel kernel_;
-  DM dm_ = nullptr;
-  Vec global_ = nullptr, local_ = nullptr;
+  petsc::OwnedDM dm_;
+  petsc::OwnedVec global_, local_; // after dm_: destroyed before it
   std::array<PetscInt, 3> slot_{};
   PetscInt stride_ = 3;                        // entries per element in a local array
   PetscInt row_stride_ = 0, plane_stride_ = 0; // entries between neighbouring y rows and z planes there

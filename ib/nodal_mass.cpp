@@ -21,7 +21,7 @@ NodalMass::NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, con
   // The mesh is replicated and the right-hand sides are summed over the ranks, so every rank holds
   // the same small system: a sparse Cholesky factorization (nested-dissection ordering) computed
   // once, then two triangular solves per component, on the rank solve() gives that component.
-  PETSC_CHECK(KSPCreate(PETSC_COMM_SELF, &ksp_));
+  PETSC_CHECK(KSPCreate(PETSC_COMM_SELF, ksp_.out()));
   PETSC_CHECK(KSPSetOptionsPrefix(ksp_, prefix.c_str()));
   PETSC_CHECK(KSPSetOperators(ksp_, mass_, mass_));
   PETSC_CHECK(KSPSetType(ksp_, KSPPREONLY));
@@ -39,14 +39,6 @@ NodalMass::NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, con
   PETSC_CHECK(PetscStrcmp(type, KSPPREONLY, &direct));
   if (!direct) PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   b_ = system_.create_vector();
-}
-
-NodalMass::~NodalMass()
-{
-  for (Vec& v : guesses_) VecDestroy(&v);
-  if (b_) VecDestroy(&b_);
-  if (ksp_) KSPDestroy(&ksp_);
-  if (mass_) MatDestroy(&mass_);
 }
 
 std::vector<double> NodalMass::solve(std::span<const double> b, int guess_slot) const
@@ -133,7 +125,6 @@ void NodalMass::save(io::Hdf5File& file, const std::string& group) const
 void NodalMass::restore(const io::Hdf5File& file, const std::string& group)
 {
   const std::string name = group + "/guesses";
-  for (Vec& v : guesses_) VecDestroy(&v);
   guesses_.clear();
   if (file.read_integers(group + "/guess_count").at(0) == 0) return;
   const std::vector<hsize_t> dims = file.dims(name);

@@ -20,13 +20,13 @@
 #include "fe/nodal_system.hpp"
 #include "fe/quadrature_data.hpp"
 #include "io/hdf5.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::ib {
 
 class NodalMass {
  public:
   NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, const std::string& prefix = "ib_mass_");
-  ~NodalMass();
   NodalMass(const NodalMass&) = delete;
   NodalMass& operator=(const NodalMass&) = delete;
 
@@ -51,10 +51,10 @@ class NodalMass {
   fe::QuadratureData quadrature_;
   fe::NodalSystem system_;
   std::vector<double> lumped_;
-  Mat mass_ = nullptr;
-  KSP ksp_ = nullptr;
-  Vec b_ = nullptr;
-  mutable std::vector<Vec> guesses_;
+  petsc::OwnedMat mass_;
+  petsc::OwnedKSP ksp_;
+  petsc::OwnedVec b_;
+  mutable std::vector<petsc::OwnedVec> guesses_;
   mutable PetscInt iterations_ = 0;
 };
 

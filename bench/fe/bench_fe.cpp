@@ -81,7 +81,7 @@ int main(int argc, char** argv)
       solid.set_fibers(std::vector<materials::FiberFrame>(mesh.num_elements(), frame));
       std::vector<double> force_times, tangent_times;
       fe::NodalSystem system(mesh, 3, PETSC_COMM_WORLD);
-      Mat K = system.create_matrix();
+      const petsc::OwnedMat K = system.create_matrix();
       for (int repeat = 0; repeat < 5; ++repeat) {
         MPI_Barrier(PETSC_COMM_WORLD);
         auto start = std::chrono::steady_clock::now();
@@ -97,7 +97,6 @@ int main(int argc, char** argv)
         tangent_times.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
-      MatDestroy(&K);
       const double force_time = median(force_times), tangent_time = median(tangent_times);
       if (rank == 0)
         std::printf("%-12s %-6s %9zu %6d %14.2f %14.3f %16.2f\n", law.label, mesh.type().name().c_str(),

@@ -18,6 +18,7 @@
 #include "tests/fe/neo_hookean_fixture.hpp"
 
 using namespace ibvalve::fe;
+namespace petsc = ibvalve::petsc;
 
 namespace {
 
@@ -147,11 +148,11 @@ TEST_P(Assembly, ForcesAreMinusTheEnergyGradientAndStiffnessTheirDerivative)
   solid.forces(u, f);
 
   NodalSystem system(mesh, 3, PETSC_COMM_WORLD);
-  Mat K = system.create_matrix();
+  const petsc::OwnedMat K = system.create_matrix();
   solid.add_stiffness(u, system, K);
   PETSC_CHECK(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
-  Vec column = system.create_vector(), Kcol = system.create_vector();
+  const petsc::OwnedVec column = system.create_vector(), Kcol = system.create_vector();
 
   const double h = 1e-7;
   double force_error = 0, force_scale = 0, stiffness_error = 0, stiffness_scale = 0;
@@ -181,9 +182,6 @@ TEST_P(Assembly, ForcesAreMinusTheEnergyGradientAndStiffnessTheirDerivative)
   PetscBool symmetric = PETSC_FALSE;
   PETSC_CHECK(MatIsSymmetric(K, 1e-8 * stiffness_scale, &symmetric));
   EXPECT_TRUE(symmetric);
-  VecDestroy(&column);
-  VecDestroy(&Kcol);
-  MatDestroy(&K);
 }
 
 TEST_P(Assembly, AllRanksTogetherGiveTheOneRankForces)

@@ -10,6 +10,7 @@
 #include "io/petsc_check.hpp"
 
 using namespace ibvalve::fe;
+namespace petsc = ibvalve::petsc;
 
 namespace {
 
@@ -29,8 +30,9 @@ TEST_P(MassAndProjection, MassMatricesIntegrateVolumeAndLinearFieldsExactly)
   const Mesh mesh = distorted_box(GetParam());
   const QuadratureData quadrature(mesh, 2);
   NodalSystem system(mesh, 1, PETSC_COMM_WORLD);
-  Mat M = consistent_mass_matrix(mesh, quadrature, system);
-  Vec ones = system.create_vector(), x = system.create_vector(), Mx = system.create_vector();
+  const petsc::OwnedMat M = consistent_mass_matrix(mesh, quadrature, system);
+  const petsc::OwnedVec ones = system.create_vector(), x = system.create_vector(),
+                        Mx = system.create_vector();
   PETSC_CHECK(VecSet(ones, 1.0));
   std::vector<double> xs(mesh.num_nodes());
   for (std::size_t n = 0; n < mesh.num_nodes(); ++n) xs[n] = mesh.nodes()[n][0];
@@ -50,10 +52,6 @@ TEST_P(MassAndProjection, MassMatricesIntegrateVolumeAndLinearFieldsExactly)
     lumped_volume += m;
   }
   EXPECT_NEAR(lumped_volume, exact_volume, 1e-13);
-  VecDestroy(&ones);
-  VecDestroy(&x);
-  VecDestroy(&Mx);
-  MatDestroy(&M);
 }
 
 TEST_P(MassAndProjection, ConsistentProjectionReproducesLinearFields)

@@ -46,6 +46,7 @@
 #include "tests/fe/neo_hookean_fixture.hpp"
 
 using namespace ibvalve::fe;
+namespace petsc = ibvalve::petsc;
 using ibvalve::fe::fixtures::NeoHookeanFixture;
 
 namespace {
@@ -123,27 +124,23 @@ double tip_deflection(int elements_along, int elements_through, Integration inte
   for (int n : tip) load[3 * n + 2] = tip_load / static_cast<double>(tip.size());
 
   NodalSystem system(mesh, 3, PETSC_COMM_WORLD);
-  Mat K = system.create_matrix();
+  const petsc::OwnedMat K = system.create_matrix();
   const std::vector<double> zero(load.size(), 0.0);
   solid.add_stiffness(zero, system, K);
   PETSC_CHECK(MatAssemblyBegin(K, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY));
-  Vec f = system.create_vector(), u = system.create_vector();
+  const petsc::OwnedVec f = system.create_vector(), u = system.create_vector();
   system.scatter(load, f);
   zero_rows_columns(K, fixed, 1.0, u, f); // u = 0 there
-  KSP ksp;
+  petsc::OwnedKSP ksp;
   PC pc;
-  PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, &ksp));
+  PETSC_CHECK(KSPCreate(PETSC_COMM_WORLD, ksp.out()));
   PETSC_CHECK(KSPSetOperators(ksp, K, K));
   PETSC_CHECK(KSPSetType(ksp, KSPPREONLY));
   PETSC_CHECK(KSPGetPC(ksp, &pc));
   PETSC_CHECK(PCSetType(pc, PCCHOLESKY)); // K is symmetric positive definite
   PETSC_CHECK(KSPSolve(ksp, f, u));
   const std::vector<double> displacement = system.gather(u);
-  KSPDestroy(&ksp);
-  VecDestroy(&f);
-  VecDestroy(&u);
-  MatDestroy(&K);
   double deflection = 0;
   for (int n : tip) deflection += displacement[3 * n + 2];
   return deflection / static_cast<double>(tip.size());
