@@ -6,9 +6,8 @@ was checkpointed.
 
 Runs CASE once uninterrupted (checkpoint.every = E), then N times (default 20): starts it, waits for
 its first checkpoint on disk and then a random time (reproducible: --seed, printed; a new one is
-drawn when none is given), sends SIGKILL to
-every rank at once (mpiexec's children, as a node failure would end them) and, once they are gone,
-`--restart`s the folder. Asserts for each: the restart continues from the newest checkpoint on disk
+drawn when none is given), sends SIGKILL to every rank at once (mpiexec's children, as a node failure
+would end them) and, once they are gone, `--restart`s the folder. Asserts for each: the restart continues from the newest checkpoint on disk
 when the ranks died (every checkpoint file there is complete: no warning about a torn one), and the
 restarted timeseries.csv equals the uninterrupted run's byte for byte. Every third kill is aimed at a
 checkpoint write (sent when a checkpoint's temporary file first appears); a kill counts as inside a
@@ -138,7 +137,7 @@ def main():
         delay = chance.uniform(0.0, window)
         outcome = one_kill(runner, folder, ranks, delay, aim, checkpoints(whole)[-1])
         if outcome is None:
-            window *= 2.0 / 3.0  # this run was faster than the timing run
+            window *= 2.0 / 3.0  # the kill came after the run's last checkpoint: it ran faster than timed
             continue
         kill += 1
         newest, in_write = outcome
@@ -150,8 +149,9 @@ def main():
         expected = folder / "checkpoints" / newest
         if f"restarting from {expected}" not in result.stdout:
             fail(f"kill {kill}: the restart did not continue from the newest checkpoint {newest}", result.stdout)
-        print(f"kill {kill}: {delay:.3f} s after the first checkpoint{' (aimed at a write)' if aim else ''}, newest checkpoint "
-              f"{newest}{', inside a checkpoint write' if in_write else ''}", flush=True)
+        aimed = " (aimed at a write)" if aim else ""
+        print(f"kill {kill}: {delay:.3f} s after the first checkpoint{aimed}, newest checkpoint {newest}"
+              f"{', inside a checkpoint write' if in_write else ''}", flush=True)
         same_series(whole, folder, f"kill {kill}, restarted")
     print(f"{args.kills} kills ({draws - args.kills} drawn again), {inside} inside a checkpoint write; "
           f"{time.time() - began:.0f} s in all")
