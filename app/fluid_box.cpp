@@ -2,25 +2,34 @@
 
 namespace ibvalve::app {
 
-fluid::BoxGeometry read_fluid_box(const io::Config& config)
+fluid::BoxGeometry fluid_box(const io::KeyBinder& keys, const std::vector<std::int64_t>& cells,
+                             const std::vector<double>& lower, const std::vector<double>& upper)
 {
   fluid::BoxGeometry box;
-  const auto cells = config.integers("fluid.cells");
-  const auto lower = config.reals("fluid.lower");
-  const auto upper = config.reals("fluid.upper");
   for (int d = 0; d < 3; ++d) {
     box.cells[d] = static_cast<PetscInt>(cells[d]);
     box.lower[d] = lower[d];
     box.upper[d] = upper[d];
-    if (box.cells[d] < 4) config.fail("fluid.cells", "needs at least 4 cells per direction");
+    if (box.cells[d] < 4) keys.fail(cells, "needs at least 4 cells per direction");
     if (!(box.upper[d] > box.lower[d]))
-      config.fail("fluid.upper", "must lie above fluid.lower in every direction");
+      keys.fail(upper, "must lie above " + keys.key_of(lower) + " in every direction");
   }
   // Three velocity components on the faces and the pressure in the cells: about 4 (n+1)^3 unknowns.
   double unknowns = 4.0;
   for (int d = 0; d < 3; ++d) unknowns *= static_cast<double>(cells[d]) + 1.0;
-  check_index_count(config, "fluid.cells", unknowns, "grid unknowns");
+  check_index_count(keys.config(), keys.key_of(cells), unknowns, "grid unknowns");
   return box;
+}
+
+fluid::BoxGeometry read_fluid_box(const io::Config& config)
+{
+  io::KeyBinder keys(config);
+  std::vector<std::int64_t> cells;
+  std::vector<double> lower, upper;
+  keys.integers("fluid.cells", "", cells);
+  keys.reals("fluid.lower", "", lower);
+  keys.reals("fluid.upper", "", upper);
+  return fluid_box(keys, cells, lower, upper);
 }
 
 double grid_cells(const fluid::BoxGeometry& box)

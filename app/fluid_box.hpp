@@ -3,12 +3,17 @@
 // fluid.upper (at least 4 cells per direction, upper above lower). Periodicity is each model's own.
 #include "app/resource_estimate.hpp"
 #include "fluid/grid.hpp"
-#include "fluid/navier_stokes.hpp"
+#include "fluid/settings.hpp"
 #include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::app {
 
-/// Also refuses, naming fluid.cells, a grid whose unknowns PETSc's index type cannot count.
+/// The box of the bound keys `cells`, `lower` and `upper` (read by `keys`): at least 4 cells a direction,
+/// upper above lower; also refuses a grid whose unknowns PETSc's index type cannot count.
+fluid::BoxGeometry fluid_box(const io::KeyBinder& keys, const std::vector<std::int64_t>& cells,
+                             const std::vector<double>& lower, const std::vector<double>& upper);
+/// The same for a model that reads fluid.cells, fluid.lower and fluid.upper.
 fluid::BoxGeometry read_fluid_box(const io::Config& config);
 
 /// The box's cells, in floating point (no product of counts can wrap).

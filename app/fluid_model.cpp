@@ -16,9 +16,8 @@
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
-#include "app/restart.hpp"
 #include "app/step_diagnostics.hpp"
-#include "app/stop_signal.hpp"
+#include "app/time_loop.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
@@ -235,9 +234,6 @@ class FluidRun : public PreparedRun {
              std::to_string(box_.cells[2]) + " cells, solver " + fluid->solver().name() + ", dt " +
              std::to_string(dt_) + " s");
 
-    const std::filesystem::path directory = context.run_directory;
-    io::create_directories_on_root(context.comm, directory / "fields");
-    io::XdmfTimeSeries series(context.comm, directory / "fields.xdmf");
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};
     // Kinetic energy 1/2 rho int |u|^2, enstrophy 1/2 int |omega|^2 (fluid/queries.hpp).
@@ -256,139 +252,99 @@ class FluidRun : public PreparedRun {
       columns.push_back("p_error_max");
       column_units.insert(column_units.end(), {"cm/s", "dyn/cm^2"});
     }
-    // The state of a continued run (docs/runs.md): the fluid's, and the counts of rows and field files.
-    const io::Checkpoints checkpoints(context.comm, directory, checkpoint_settings_);
-    const long steps = std::max(1L, std::lround(end_ / dt_));
-    long first_step = 0, fields_written = 0;
-    std::int64_t rows = 0;
-    if (context.restart) {
-      const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, context, steps, [&](const io::Hdf5File& h5) {
-            fluid->restore(h5, "fluid");
-            fields_written = static_cast<long>(h5.read_integers("fluid_model/fields_written").at(0));
-          });
-      first_step = static_cast<long>(header.step);
-      rows = header.timeseries_rows;
-      series.resume(fluid->time());
-    }
-    io::CsvWriter csv;
-    // Rank 0's; a failure to open it reaches every rank.
-    io::on_root(context.comm, [&] {
-      csv = io::CsvWriter(directory / "timeseries.csv", columns, context.restart, column_units);
-    });
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;
-    StepDiagnostics diagnostics(context.comm, directory, fluid_step_figures(*fluid, dt_), context.restart,
-                                first_step);
-    auto record = [&](long step) {
-      const double umax = fluid::max_velocity_magnitude(*fluid);
-      if (!std::isfinite(umax))
-        throw RunError("fluid: the velocity is not finite at t = " + std::to_string(fluid->time()) +
-                       " s (time step too large?)");
-      // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
-      // above, the run is diverging: stop with the figure rather than run on to overflow.
-      const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
-      const double courant = umax * dt_ / h;
-      if (courant > 2.0) {
-        char text[200];
-        std::snprintf(text, sizeof text,
-                      "fluid: Courant number %.2f at t = %.4g s (max |u| %.3g cm/s): the run is unstable; "
-                      "use a time.step below %.3g s",
-                      courant, fluid->time(), umax, 0.5 * h / umax);
-        throw RunError(text);
-      }
-      if (step % series_every_ == 0 || step == steps) {
-        last_divergence = fluid::max_divergence(*fluid);
-        std::vector<double> row{fluid->time(),
-                                static_cast<double>(step),
-                                umax,
-                                fluid::kinetic_energy(*fluid),
-                                fluid::enstrophy(*fluid),
-                                last_divergence,
-                                static_cast<double>(fluid->last_solve().iterations)};
-        for (int side : flux_sides) {
-          const int d = side / 2, upper = side % 2;
-          const double position = upper ? box_.upper[d] : box_.lower[d];
-          const double flux =
-              fluid::volume_flux(*fluid, fluid::PlaneRegion::rectangle(d, position, box_.lower, box_.upper));
-          row.push_back(upper ? flux : -flux);
-        }
-        row.push_back(fluid::pressure_at(*fluid, center));
-        if (!exact_.kind.empty()) {
-          const auto e = fluid::field_errors(
-              *fluid, [this](const Real3& x, double t) { return exact_.velocity(x, t); },
-              [this](const Real3& x, double t) { return exact_.pressure(x, t); },
-              bc_.any_traction() == false);
-          row.push_back(e.velocity_max);
-          row.push_back(e.pressure_max);
-        }
-        // Rank 0's row; a failure to write it (a full disk) reaches every rank.
-        io::on_root(context.comm, [&] { csv.write_row(row); });
-        ++rows;
-      }
-      if (step == 0 || step == steps || (fields_every_ > 0 && step % fields_every_ == 0)) {
-        char name[64];
-        std::snprintf(name, sizeof name, "fields/fluid_%06ld.h5", step);
-        io::Hdf5File h5(context.comm, directory / name, io::Hdf5File::Mode::create);
-        h5.write_attribute("time", fluid->time());
-        h5.write_attribute("pressure_time", fluid->pressure_time());
-        io::XdmfGrid grid = fluid::write_fields(h5, *fluid, "fluid", name);
-        h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
-        series.add_step(fluid->time(), {grid});
-        ++fields_written;
-      }
-    };
-    auto save = [&](long step) {
-      save_fftw_plans(context);
-      return checkpoints.write({step, fluid->time(), rows}, [&](io::Hdf5File& h5) {
-        fluid->save(h5, "fluid");
-        const std::array<std::int64_t, 1> written{fields_written};
-        h5.write_root("fluid_model/fields_written", written, std::array<hsize_t, 1>{1});
-      });
-    };
-    if (!context.restart) record(0);
-    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
-    int stop_signal = 0;
-    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
-    log.begin_steps(first_step, last_step);
-    for (long step = first_step + 1; step <= last_step; ++step) {
+
+    TimeLoop loop;
+    loop.comm = context.comm;
+    loop.steps = std::max(1L, std::lround(end_ / dt_));
+    loop.dt = dt_;
+    loop.checkpoints = checkpoint_settings_;
+    loop.columns = columns;
+    loop.units = column_units;
+    loop.record_every = series_every_;
+    loop.fields_every = fields_every_;
+    loop.time = [&](std::int64_t) { return fluid->time(); };
+    loop.advance = [&](std::int64_t) {
       try {
         fluid->step(dt_);
       } catch (const std::runtime_error& e) {
         throw RunError(e.what());
       }
-      record(step);
-      log.progress({step, steps, fluid->time(), static_cast<double>(steps) * dt_,
-                    diagnostics.write(step, fluid->time(), fluid_step_figures(*fluid, dt_))});
-      saved.clear();
-      if (checkpoints.due(step, steps)) saved = save(step);
-      // SIGINT/SIGTERM (app/stop_signal.hpp): every rank stops after this step.
-      if (step < steps && (stop_signal = agreed_stop_signal(context.comm)) != 0) {
-        last_step = step;
-        break;
+      const double umax = fluid->max_velocity();
+      if (!std::isfinite(umax))
+        throw RunError("fluid: the velocity is not finite at t = " + std::to_string(fluid->time()) +
+                       " s (time step too large?)");
+      // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
+      // above, the run is diverging: stop with the figure rather than run on to overflow.
+      const double courant = umax * dt_ / fluid->finest_spacing();
+      if (courant > 2.0) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "fluid: Courant number %.2f at t = %.4g s (max |u| %.3g cm/s): the run is unstable; "
+                      "use a time.step below %.3g s",
+                      courant, fluid->time(), umax, 0.5 * fluid->finest_spacing() / umax);
+        throw RunError(text);
       }
-    }
-    log.finish_progress();
-    RunSummary summary;
-    if (last_step < steps) {
-      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
-      return summary;
-    }
-    const auto& timing = fluid->timings();
-    const long taken = std::max<long>(1, static_cast<long>(timing.steps));
-    char line[256];
-    std::snprintf(
-        line, sizeof line,
-        "fluid: %ld steps, %.4f s per step (convection %.4f, viscous %.4f, pressure %.4f, halo %.4f), "
-        "%.1f solver iterations per step",
-        taken, timing.total / taken, timing.convection / taken, timing.viscous / taken,
-        timing.pressure / taken, timing.halo / taken, static_cast<double>(timing.solver_iterations) / taken);
-    summary.lines.push_back(line);
-    std::snprintf(line, sizeof line, "fluid: max |div u| %.2e at the end; %ld field files, timeseries.csv",
-                  last_divergence, fields_written);
-    summary.lines.push_back(line);
-    return summary;
+    };
+    loop.row = [&](std::int64_t step) {
+      last_divergence = fluid::max_divergence(*fluid);
+      std::vector<double> row{fluid->time(),
+                              static_cast<double>(step),
+                              fluid->max_velocity(),
+                              fluid->kinetic_energy(),
+                              fluid::enstrophy(*fluid),
+                              last_divergence,
+                              static_cast<double>(fluid->last_solve().iterations)};
+      for (int side : flux_sides) {
+        const int d = side / 2, upper = side % 2;
+        const double position = upper ? box_.upper[d] : box_.lower[d];
+        const double flux = fluid->flux(fluid::PlaneRegion::rectangle(d, position, box_.lower, box_.upper));
+        row.push_back(upper ? flux : -flux);
+      }
+      row.push_back(fluid::pressure_at(*fluid, center));
+      if (!exact_.kind.empty()) {
+        const auto e = fluid::field_errors(
+            *fluid, [this](const Real3& x, double t) { return exact_.velocity(x, t); },
+            [this](const Real3& x, double t) { return exact_.pressure(x, t); }, bc_.any_traction() == false);
+        row.push_back(e.velocity_max);
+        row.push_back(e.pressure_max);
+      }
+      return row;
+    };
+    loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t step) {
+      char name[64];
+      std::snprintf(name, sizeof name, "fields/fluid_%06lld.h5", static_cast<long long>(step));
+      io::Hdf5File h5(context.comm, context.run_directory / name, io::Hdf5File::Mode::create);
+      h5.write_attribute("time", fluid->time());
+      h5.write_attribute("pressure_time", fluid->pressure_time());
+      std::vector<io::XdmfGrid> grids = fluid->write_fields(h5, "fluid", name);
+      h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
+      series.add_step(fluid->time(), grids);
+    };
+    // The state of a continued run (docs/runs.md): the fluid's.
+    loop.save = [&](io::Hdf5File& h5) { fluid->save(h5, "fluid"); };
+    loop.restore = [&](const io::Hdf5File& h5) { fluid->restore(h5, "fluid"); };
+    loop.before_save = [&] { save_fftw_plans(context); };
+    loop.figures = [&] { return fluid_step_figures(*fluid, dt_); };
+    loop.finish = [&](RunSummary& summary, bool finished, std::size_t snapshots) {
+      if (!finished) return;
+      const fluid::StepStatistics& timing = fluid->statistics();
+      const long taken = std::max<long>(1, static_cast<long>(timing.steps));
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "fluid: %ld steps, %.4f s per step (convection %.4f, viscous %.4f, pressure %.4f, halo "
+                    "%.4f), %.1f solver iterations per step",
+                    taken, timing.total / taken, timing.convection / taken, timing.viscous / taken,
+                    timing.pressure / taken, timing.halo / taken,
+                    static_cast<double>(timing.solver_iterations) / taken);
+      summary.lines.push_back(line);
+      std::snprintf(line, sizeof line, "fluid: max |div u| %.2e at the end; %zu field files, timeseries.csv",
+                    last_divergence, snapshots);
+      summary.lines.push_back(line);
+    };
+    return run_time_loop(context, loop);
   }
 
  private:

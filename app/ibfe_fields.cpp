@@ -7,8 +7,6 @@
 #include <vector>
 
 #include "fe/element.hpp"
-#include "fluid/composite_output.hpp"
-#include "fluid/output.hpp"
 #include "io/collective.hpp"
 #include "io/petsc_check.hpp"
 
@@ -22,11 +20,6 @@ const std::string geometry_description =
     "would move the body twice (the reference X = coordinates - displacement)";
 
 } // namespace
-
-void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directory)
-{
-  io::create_directories_on_root(comm, directory / "fields");
-}
 
 std::string fields_file_name(long step)
 {
@@ -116,39 +109,23 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
 }
 
 void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
+                       const fe::Mesh& mesh, const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe,
                        long step)
 {
   const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The grid: cell-centred velocity, vorticity and pressure (fluid/output.hpp).
-  io::XdmfGrid grid = fluid::write_fields(h5, fluid, "fluid", file);
-  io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
+  std::vector<io::XdmfGrid> grids = fluid.write_fields(h5, "fluid", file);
+  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
   h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
-  series.add_step(ibfe.time(), {grid, structure});
+  series.add_step(ibfe.time(), grids);
 }
 
-void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fe::Mesh& mesh, const fluid::NestedNavierStokes& fluid,
-                       const ib::IbfeIntegrator& ibfe, long step)
+StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt)
 {
-  const std::string file = fields_file_name(step);
-  io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  // The cell velocity's vectors are owned, so they are freed also when a write throws (a full disk must
-  // not leak them); `components` borrows their handles for the calls that take an array.
-  std::array<petsc::OwnedVec, 3> owned;
-  std::array<Vec, 3> components{};
-  for (std::size_t d = 0; d < 3; ++d) {
-    owned[d] = fluid.operators().create_cell_vector();
-    components[d] = owned[d];
-  }
-  fluid.cell_velocity(components);
-  std::vector<io::XdmfGrid> grids = fluid::write_composite_fields(
-      h5, fluid.operators().cells(), {{"pressure", fluid.pressure()}}, "fluid", file, "fluid_",
-      {{"velocity", components}}, {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
-  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
-  h5.close();
-  series.add_step(ibfe.time(), grids);
+  StepFigures f = fluid_step_figures(fluid, dt);
+  f.solver.push_back(
+      {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+  return f;
 }
 
 std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,

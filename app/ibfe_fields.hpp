@@ -11,17 +11,14 @@
 
 #include <mpi.h>
 
+#include "app/step_diagnostics.hpp"
 #include "fe/mesh.hpp"
-#include "fluid/navier_stokes.hpp"
-#include "fluid/nested_navier_stokes.hpp"
+#include "fluid/flow_solver.hpp"
 #include "ib/ibfe.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {
-
-/// Creates <directory>/fields (collective).
-void create_fields_directory(MPI_Comm comm, const std::filesystem::path& directory);
 
 /// "fields/step_<n>.h5": the snapshot file of step n, relative to the run folder.
 std::string fields_file_name(long step);
@@ -39,16 +36,15 @@ std::string structure_part_table(const fe::SolidModel& solid);
 io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
                                     const std::string& file);
 
-/// Writes the snapshot of step `step` of a run on one grid level and adds it to `series` (collective).
+/// Writes the snapshot of step `step` and adds it to `series` (collective): the fluid's fields
+/// (FlowSolver::write_fields: one grid, or every level box of nested levels) and the structure's.
 void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fe::Mesh& mesh, const fluid::NavierStokes& fluid, const ib::IbfeIntegrator& ibfe,
+                       const fe::Mesh& mesh, const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe,
                        long step);
 
-/// The same on nested levels: the composite pressure and cell-centred velocity of every level box
-/// (fluid/composite_output.hpp; covered cells averaged from the finer level) and the structure.
-void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
-                       const fe::Mesh& mesh, const fluid::NestedNavierStokes& fluid,
-                       const ib::IbfeIntegrator& ibfe, long step);
+/// The figures of a coupled step: the fluid's (fluid_step_figures) and the structure's projection
+/// iterations (0 for the default direct solves). Collective.
+StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt);
 
 /// The closing lines of an IB/FE run's summary: time per coupled step and its parts (then `after_parts`,
 /// e.g. solver iterations), the structure's volume change from `initial_volume`, and where the fields

@@ -15,18 +15,16 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
-#include "app/ibfe_nested_run.hpp"
-#include "app/ibfe_run_loop.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
+#include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
+#include "app/time_loop.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
+#include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
-#include "fluid/navier_stokes.hpp"
-#include "fluid/nested_navier_stokes.hpp"
-#include "fluid/queries.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
 #include "ib/shapes.hpp"
@@ -255,10 +253,10 @@ class IbfeRun : public PreparedRun {
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;
-    if (context.restart) load_fftw_plans(context);
-    if (hierarchy_) return run_nested(context);
-    fluid::NavierStokes fluid(context.comm, box_, bc, fluid_settings_);
-    fluid.set_initial_condition(
+    if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
+    const std::unique_ptr<fluid::FlowSolver> fluid =
+        fluid::make_flow_solver(context.comm, box_, hierarchy_.get(), bc, fluid_settings_);
+    fluid->set_initial_condition(
         [](const fluid::Real3&, double) {
           return fluid::Real3{0.0, 0.0, 0.0};
         },
@@ -266,8 +264,10 @@ class IbfeRun : public PreparedRun {
     fe::SolidModel solid(mesh_, parts_, static_cast<int>(config_.integer("structure.quadrature_degree")),
                          context.comm);
     solid.set_fibers(fibers_);
-    ib::IbfeIntegrator ibfe(fluid, solid, settings_);
+    ib::IbfeIntegrator ibfe(*fluid, solid, settings_);
     ibfe.set_displacement(initial_);
+    log.info("fluid: " + fluid->describe() + "; the structure on a grid of spacing " +
+             std::to_string(ibfe.fluid().grid().h(0)) + " cm");
     log.info("structure: " + std::to_string(mesh_.num_elements()) + " elements, " +
              std::to_string(mesh_.num_nodes()) + " nodes, volume " + std::to_string(mesh_.volume()) +
              " cm^3");
@@ -276,18 +276,48 @@ class IbfeRun : public PreparedRun {
                (p.laws.empty() ? p.centre_laws : p.laws).front()->name() +
                (p.centre_laws.empty() ? "" : " + " + p.centre_laws.front()->name() + " penalty (reduced)"));
 
-    IbfeFluidHooks hooks;
-    hooks.kinetic_energy = [&] { return fluid::kinetic_energy(fluid); };
-    hooks.write_fields = [&](io::XdmfTimeSeries& series, long step) {
-      write_ibfe_fields(context.comm, context.run_directory, series, mesh_, fluid, ibfe, step);
+    const double V0 = mesh_.volume();
+    TimeLoop loop;
+    loop.comm = context.comm;
+    loop.steps = std::max(1L, std::lround(end_ / dt_));
+    loop.dt = dt_;
+    loop.checkpoints = checkpoint_settings_;
+    loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
+    loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
+    loop.fields_every = every_;
+    loop.time = [&](std::int64_t) { return ibfe.time(); };
+    loop.advance = [&](std::int64_t) { ibfe.step(dt_); };
+    loop.row = [&](std::int64_t) {
+      double speed = 0.0, displacement = 0.0;
+      for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
+        speed = std::max(speed, Eigen::Vector3d(ibfe.velocity().data() + 3 * n).norm());
+        displacement = std::max(displacement, Eigen::Vector3d(ibfe.displacement().data() + 3 * n).norm());
+      }
+      const double volume = ibfe.volume();
+      return std::vector<double>{ibfe.time(), volume,       volume / V0 - 1.0,
+                                 speed,       displacement, fluid->kinetic_energy()};
     };
-    hooks.save = [&](io::Hdf5File& h5) {
-      save_fftw_plans(context);
-      fluid.save(h5, "fluid");
+    loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t step) {
+      write_ibfe_fields(context.comm, context.run_directory, series, mesh_, *fluid, ibfe,
+                        static_cast<long>(step));
     };
-    hooks.restore = [&](const io::Hdf5File& h5) { fluid.restore(h5, "fluid"); };
-    hooks.step_figures = [&](double dt) { return fluid_step_figures(fluid, dt); };
-    return run_ibfe_loop(context, ibfe, mesh_, {end_, dt_, every_, checkpoint_settings_}, hooks);
+    // A checkpoint holds the fluid's state and the structure's (docs/runs.md); the fluid comes first.
+    loop.save = [&](io::Hdf5File& h5) {
+      fluid->save(h5, "fluid");
+      ibfe.save(h5, "ibfe");
+    };
+    loop.restore = [&](const io::Hdf5File& h5) {
+      fluid->restore(h5, "fluid");
+      ibfe.restore(h5, "ibfe");
+    };
+    loop.before_save = [&] { save_fftw_plans(context); };
+    loop.figures = [&] { return ibfe_step_figures(*fluid, ibfe, dt_); };
+    loop.finish = [&](RunSummary& summary, bool, std::size_t snapshots) {
+      for (std::string& line :
+           ibfe_summary_lines(ibfe, V0, context.run_directory, snapshots, "; " + fluid_summary(*fluid)))
+        summary.lines.push_back(std::move(line));
+    };
+    return run_time_loop(context, loop);
   }
 
  private:
@@ -324,26 +354,8 @@ class IbfeRun : public PreparedRun {
                                     cells > 2.0 * grid_cells(box_) ? "nested.ratios" : "fluid.cells"),
                        structure_memory_}},
                      PETSC_COMM_WORLD);
-    nested_settings_.rho = fluid_settings_.rho;
-    nested_settings_.mu = fluid_settings_.mu;
-  }
-
-  RunSummary run_nested(const RunContext& context) const
-  {
-    NestedIbfeCase c;
-    c.hierarchy = hierarchy_.get();
-    c.fluid = nested_settings_;
-    c.mesh = &mesh_;
-    c.parts = &parts_;
-    c.fibers = &fibers_;
-    c.quadrature_degree = static_cast<int>(config_.integer("structure.quadrature_degree"));
-    c.ib = settings_;
-    c.initial_displacement = initial_;
-    c.end = end_;
-    c.dt = dt_;
-    c.output_every = every_;
-    c.checkpoints = checkpoint_settings_;
-    return run_ibfe_on_nested_levels(context, c);
+    // Centred convection on nested levels: second order on smooth flows (docs/nested.md).
+    fluid_settings_.convection = fluid::ConvectionScheme::centered;
   }
 
   static materials::FiberFrame fiber_frame(const io::Config& config, const std::string& key)
@@ -423,7 +435,6 @@ class IbfeRun : public PreparedRun {
   long every_ = 1;
   io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
-  fluid::NestedFluidSettings nested_settings_;
   MemoryPart structure_memory_;
 };
 

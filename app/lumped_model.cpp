@@ -21,8 +21,8 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
-#include "app/restart.hpp"
 #include "app/stop_signal.hpp"
+#include "app/time_loop.hpp"
 #include "app/version.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
@@ -226,76 +226,63 @@ class LumpedRun : public PreparedRun {
     const std::filesystem::path& directory = context.run_directory;
     auto& log = io::Logger::global();
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
-    const long steps = cycles_ * steps_per_cycle_;
-    const double end_time = static_cast<double>(cycles_) * period_;
-    std::vector<std::string> columns = hemodynamics::standard_columns();
-    columns.push_back("valve_state");
-    std::vector<std::string> column_units = hemodynamics::standard_units();
-    column_units.push_back("1");
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
-    // Rank 0 alone holds the state, so the checkpoints are its own (MPI_COMM_SELF).
-    const io::Checkpoints checkpoints(MPI_COMM_SELF, directory, checkpoint_settings_);
-    long first_step = 0;
-    std::int64_t rows = 0;
-    if (context.restart) {
-      RunContext own = context; // rank 0 alone: its checkpoints, config.toml and series
-      own.comm = MPI_COMM_SELF;
-      const io::CheckpointHeader header =
-          restart_from_latest(checkpoints, own, steps, [&](const io::Hdf5File& h5) {
-            const std::vector<double> saved = h5.read("lumped/state");
-            if (saved.size() != y.size())
-              throw InputError(h5.path().string() + ": lumped/state has the wrong size");
-            std::copy(saved.begin(), saved.end(), y.begin());
-          });
-      first_step = static_cast<long>(header.step);
-      rows = header.timeseries_rows;
-    }
-    io::CsvWriter csv(directory / "timeseries.csv", columns, context.restart, column_units);
-    auto save = [&](long step) {
-      const std::array<hsize_t, 1> dims{y.size()};
-      return checkpoints.write({step, static_cast<double>(step) * dt, rows},
-                               [&](io::Hdf5File& h5) { h5.write_root("lumped/state", y, dims); });
-    };
-    auto write = [&](double t) {
-      ++rows;
-      const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
-      const double q = y[0];
-      csv.write_row({t, q / units::mL, q / units::mL, p_lv / units::mmHg, p_ao / units::mmHg,
-                     y[2] / units::mmHg, p_lv / units::mmHg, p_ao / units::mmHg, valve_.area(y[1]), y[1]});
-    };
     log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
              std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
-    if (!context.restart) write(0.0);
-    long last_step = static_cast<long>(last_step_of_invocation(context, first_step, steps));
-    int stop_signal = 0;
-    std::filesystem::path saved; // the checkpoint of the step just taken, if it wrote one
-    log.begin_steps(first_step, last_step);
-    for (long n = first_step; n < last_step; ++n) {
-      const double t = static_cast<double>(n) * dt;
+    TimeLoop loop;
+    loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
+    loop.steps = cycles_ * steps_per_cycle_;
+    loop.dt = dt;
+    loop.checkpoints = checkpoint_settings_;
+    loop.columns = hemodynamics::standard_columns();
+    loop.columns.push_back("valve_state");
+    loop.units = hemodynamics::standard_units();
+    loop.units.push_back("1");
+    loop.record_every = every_;
+    // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
+    // millisecond of this model) every 1000 steps.
+    loop.progress_every = 1000;
+    loop.stop_check_every = 1000;
+    loop.time = [&](std::int64_t n) { return static_cast<double>(n) * dt; };
+    loop.advance = [&](std::int64_t n) {
+      const double t = static_cast<double>(n - 1) * dt;
       y = system.step(t, y, dt);
       if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
         throw RunError("lumped model: the state is not finite at t = " + std::to_string(t + dt) +
                        " s (try a smaller time.step)");
-      if ((n + 1) % every_ == 0 || n + 1 == steps) write(static_cast<double>(n + 1) * dt);
-      if ((n + 1) % 1000 == 0) log.progress({n + 1, steps, static_cast<double>(n + 1) * dt, end_time, ""});
-      saved.clear();
-      if (checkpoints.due(n + 1, steps)) saved = save(n + 1);
-      // SIGINT/SIGTERM (app/stop_signal.hpp), agreed with the other ranks every 1000 steps (a
-      // millisecond of this model): the run stops after this step.
-      if ((n + 1) % 1000 == 0 && n + 1 < steps &&
-          (stop_signal = agree_on_stop(context.comm, false).signal) != 0) {
-        last_step = n + 1;
-        break;
-      }
-    }
-    log.finish_progress();
+    };
+    loop.row = [&](std::int64_t n) {
+      const double t = static_cast<double>(n) * dt;
+      const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
+      const double q = y[0];
+      return std::vector<double>{t,
+                                 q / units::mL,
+                                 q / units::mL,
+                                 p_lv / units::mmHg,
+                                 p_ao / units::mmHg,
+                                 y[2] / units::mmHg,
+                                 p_lv / units::mmHg,
+                                 p_ao / units::mmHg,
+                                 valve_.area(y[1]),
+                                 y[1]};
+    };
+    loop.save = [&](io::Hdf5File& h5) { h5.write_root("lumped/state", y, std::array<hsize_t, 1>{y.size()}); };
+    loop.restore = [&](const io::Hdf5File& h5) {
+      const std::vector<double> saved = h5.read("lumped/state");
+      if (saved.size() != y.size())
+        throw InputError(h5.path().string() + ": lumped/state has the wrong size");
+      std::copy(saved.begin(), saved.end(), y.begin());
+    };
+    loop.stop_signal = [&] { return agree_on_stop(context.comm, false).signal; };
+    loop.finish = [&](RunSummary& summary, bool finished, std::size_t) {
+      if (finished) write_report(directory, summary);
+    };
+    return run_time_loop(context, loop);
+  }
 
-    RunSummary summary;
-    if (last_step < steps) {
-      add_stop(summary, last_step, steps, saved.empty() ? save(last_step) : saved, directory, stop_signal);
-      return summary;
-    }
+  void write_report(const std::filesystem::path& directory, RunSummary& summary) const
+  {
     hemodynamics::ReportOptions options;
     options.settings = settings_;
     options.python = python_executable;
@@ -313,7 +300,6 @@ class LumpedRun : public PreparedRun {
                             ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +
                             show("effective_orifice_area") + ", E_L " + show("energy_loss"));
     summary.lines.push_back("report: " + files.html.string());
-    return summary;
   }
 
   windkessel::PeriodicWaveform lv_pressure_;

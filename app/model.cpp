@@ -73,7 +73,14 @@ io::Schema common_schema()
 
 void add_fluid_density_key(io::Schema& s, const std::string& doc)
 {
-  s.add_real("fluid.density", doc)
+  double unused = 0.0;
+  io::KeyBinder keys(s);
+  bind_fluid_density(keys, unused, doc);
+}
+
+void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc)
+{
+  keys.real("fluid.density", doc, rho)
       .unit("g/mL")
       .defaults(1.0)
       .positive()

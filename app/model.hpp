@@ -15,6 +15,7 @@
 #include <mpi.h>
 
 #include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::app {
 
@@ -68,6 +69,8 @@ const Model* find_model(const std::string& name);
 /// fluid.density (g/mL, with the typical range that catches a value in kg/m^3), as every model that has
 /// a fluid declares it; `doc` says which fluid.
 void add_fluid_density_key(io::Schema& schema, const std::string& doc);
+/// The same key bound to `rho` (io/key_binder.hpp).
+void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc);
 /// fluid.viscosity (cP) of a general fluid, water to syrup, defaulting to `default_cP`: the fluid and
 /// ibfe models (the aortic valve's is blood's, with a narrower typical range).
 void add_fluid_viscosity_key(io::Schema& schema, double default_cP);

@@ -3,12 +3,8 @@
 #include <algorithm>
 #include <sstream>
 
-#include "fluid/navier_stokes.hpp"
-#include "fluid/nested_navier_stokes.hpp"
-#include "fluid/queries.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
 
@@ -22,29 +18,22 @@ std::string progress_details(const StepFigures& figures)
   return s.str();
 }
 
-StepFigures fluid_step_figures(const fluid::NavierStokes& fluid, double dt)
+StepFigures fluid_step_figures(const fluid::FlowSolver& fluid, double dt)
 {
-  const fluid::SolveStatistics& solve = fluid.last_solve();
-  const double h = std::min({fluid.grid().h(0), fluid.grid().h(1), fluid.grid().h(2)});
-  const double umax = fluid::max_velocity_magnitude(fluid);
-  return {{{"fluid_iterations", static_cast<double>(solve.iterations), "fluid it"},
-           {"fluid_residual", solve.residual, ""}},
-          umax,
-          umax * dt / h};
+  const double umax = fluid.max_velocity();
+  return {fluid.last_solves(), umax, umax * dt / fluid.finest_spacing()};
 }
 
-StepFigures fluid_step_figures(const fluid::NestedNavierStokes& fluid, double dt)
+std::string fluid_summary(const fluid::FlowSolver& fluid)
 {
-  const fluid::NestedStepStatistics& stats = fluid.statistics();
-  const fluid::GridHierarchy& levels = fluid.hierarchy();
-  const int finest = levels.finest();
-  const double h = std::min({levels.h(finest, 0), levels.h(finest, 1), levels.h(finest, 2)});
-  PetscReal umax = 0.0;
-  PETSC_CHECK(VecNorm(fluid.velocity(), NORM_INFINITY, &umax));
-  return {{{"velocity_iterations", static_cast<double>(stats.velocity_iterations), "viscous it"},
-           {"pressure_iterations", static_cast<double>(stats.pressure_iterations), "pressure it"}},
-          static_cast<double>(umax),
-          static_cast<double>(umax) * dt / h};
+  const fluid::StepStatistics& s = fluid.statistics();
+  const double n = static_cast<double>(std::max<PetscInt>(s.steps, 1));
+  std::ostringstream line;
+  line.precision(3);
+  line << "fluid per step: convection " << s.convection / n << " s, viscous " << s.viscous / n
+       << " s, pressure " << s.pressure / n << " s, " << static_cast<double>(s.solver_iterations) / n
+       << " solver iterations";
+  return line.str();
 }
 
 StepDiagnostics::StepDiagnostics(MPI_Comm comm, const std::filesystem::path& directory,

@@ -12,20 +12,13 @@
 #include "io/files.hpp"
 #include "io/logger.hpp"
 
-namespace ibvalve::fluid {
-class NavierStokes;
-class NestedNavierStokes;
-} // namespace ibvalve::fluid
+#include "fluid/flow_solver.hpp"
 
 namespace ibvalve::app {
 
 /// One figure of a step: its column in diagnostics.csv and, when `label` is not empty, its place on
 /// the progress line ("fluid it 7").
-struct StepFigure {
-  std::string column;
-  double value = 0.0;
-  std::string label;
-};
+using StepFigure = fluid::SolverFigure;
 
 /// A step's figures: the solvers' (`solver`), then max |u| (cm/s) and the CFL number max|u| dt / h.
 struct StepFigures {
@@ -37,12 +30,13 @@ struct StepFigures {
 /// "fluid it 7, max|u| 21.2 cm/s, CFL 0.0034": the figures as the progress line shows them.
 std::string progress_details(const StepFigures& figures);
 
-/// The last step of a fluid on one grid: its Stokes solve's (FGMRES) iterations and residual (0 for the
-/// direct FFT solve), max |u| over the cell centres and max|u| dt / min h. Collective.
-StepFigures fluid_step_figures(const fluid::NavierStokes& fluid, double dt);
-/// The last step of a fluid on nested levels: its viscous and projection solves' iterations, max |u_n|
-/// over the composite faces and the CFL number with the finest spacing (an upper bound). Collective.
-StepFigures fluid_step_figures(const fluid::NestedNavierStokes& fluid, double dt);
+/// The last step of a fluid: its solves' figures (FlowSolver::last_solves), its largest speed and the
+/// CFL number max|u| dt / h with its smallest spacing (on nested levels an upper bound). Collective.
+StepFigures fluid_step_figures(const fluid::FlowSolver& fluid, double dt);
+
+/// "fluid per step: convection 0.002 s, viscous 0.01 s, pressure 0.02 s, 4.3 solver iterations": the
+/// averages of FlowSolver::statistics over the steps so far, for a run's summary.
+std::string fluid_summary(const fluid::FlowSolver& fluid);
 
 class StepDiagnostics {
  public:

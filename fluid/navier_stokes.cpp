@@ -1,5 +1,6 @@
 #include "fluid/navier_stokes.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <stdexcept>
@@ -7,6 +8,8 @@
 
 #include "fluid/fft_stokes.hpp"
 #include "fluid/krylov_stokes.hpp"
+#include "fluid/output.hpp"
+#include "fluid/queries.hpp"
 #include "fluid/solver_clock.hpp"
 #include "io/petsc_check.hpp"
 #include "io/stopwatch.hpp"
@@ -164,7 +167,7 @@ void NavierStokes::set_body_force(const VelocityFunction& force, double t)
 
 void NavierStokes::exchange(double t)
 {
-  Stopwatch watch(timings_.halo);
+  Stopwatch watch(statistics_.halo);
   Vec global;
   PETSC_CHECK(DMGetGlobalVector(grid_->dm(), &global));
   PETSC_CHECK(DMLocalToGlobal(grid_->dm(), state_, INSERT_VALUES, global));
@@ -209,7 +212,7 @@ void NavierStokes::update_backflow_drop()
 void NavierStokes::explicit_rhs(Vec convection_half, double dt)
 {
   // rhs = rho/dt u^n + mu/2 L u^n - rho N^{n+1/2} + f on faces, 0 on cells (continuity); one pass.
-  Stopwatch watch(timings_.viscous);
+  Stopwatch watch(statistics_.viscous);
   const double rho_dt = settings_.rho / dt, half_mu = 0.5 * settings_.mu, rho = settings_.rho;
   StagArray r(*grid_, rhs_), u(*grid_, state_, true), n(*grid_, convection_half, true),
       f(*grid_, force_, true);
@@ -251,12 +254,12 @@ void NavierStokes::step(double dt)
   auto solve = [&] {
     solver_->add_boundary_terms(rhs_, time_ + dt, time_ + 0.5 * dt);
     last_solve_ = solver_->solve(rhs_, state_);
-    timings_.viscous += last_solve_.helmholtz_seconds;
-    timings_.pressure += last_solve_.poisson_seconds;
-    timings_.solver_iterations += last_solve_.iterations;
+    statistics_.viscous += last_solve_.helmholtz_seconds;
+    statistics_.pressure += last_solve_.poisson_seconds;
+    statistics_.solver_iterations += last_solve_.iterations;
   };
   {
-    Stopwatch watch(timings_.convection);
+    Stopwatch watch(statistics_.convection);
     convective_term(*grid_, bc_, time_, state_, convection_, settings_.convection);
   }
   if (have_old_convection_) {
@@ -272,7 +275,7 @@ void NavierStokes::step(double dt)
     solve();
     exchange(time_ + dt);
     {
-      Stopwatch watch(timings_.convection);
+      Stopwatch watch(statistics_.convection);
       convective_term(*grid_, bc_, time_ + dt, state_, convection_half_, settings_.convection);
     }
     PETSC_CHECK(VecAXPBY(convection_half_, 0.5, 0.5, convection_));
@@ -288,8 +291,8 @@ void NavierStokes::step(double dt)
   time_ += dt;
   pressure_time_ = time_ - 0.5 * dt;
   ++steps_;
-  ++timings_.steps;
-  timings_.total += MPI_Wtime() - start;
+  ++statistics_.steps;
+  statistics_.total += MPI_Wtime() - start;
 }
 
 void NavierStokes::save(io::Hdf5File& file, const std::string& group) const
@@ -314,6 +317,60 @@ void NavierStokes::restore(const io::Hdf5File& file, const std::string& group)
   have_old_convection_ = clock.have_old_convection;
   // Ghosts (other ranks' values, boundary ghosts at time_) as the step's last exchange left them.
   exchange(time_);
+}
+
+std::string NavierStokes::describe() const
+{
+  const Index3& n = grid_->box().cells;
+  return "grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]);
+}
+
+double NavierStokes::finest_spacing() const
+{
+  return std::min({grid_->h(0), grid_->h(1), grid_->h(2)});
+}
+
+double NavierStokes::flux(const PlaneRegion& region) const
+{
+  return volume_flux(*this, region);
+}
+
+std::vector<double> NavierStokes::pressure_at(const std::vector<Real3>& points) const
+{
+  std::vector<double> p;
+  p.reserve(points.size());
+  for (const Real3& x : points) p.push_back(fluid::pressure_at(*this, x));
+  return p;
+}
+
+std::vector<Real3> NavierStokes::velocity_at(const std::vector<Real3>& points) const
+{
+  std::vector<Real3> u;
+  u.reserve(points.size());
+  for (const Real3& x : points) u.push_back(fluid::velocity_at(*this, x));
+  return u;
+}
+
+double NavierStokes::kinetic_energy() const
+{
+  return fluid::kinetic_energy(*this);
+}
+
+double NavierStokes::max_velocity() const
+{
+  return max_velocity_magnitude(*this);
+}
+
+std::vector<io::XdmfGrid> NavierStokes::write_fields(io::Hdf5File& file, const std::string& group,
+                                                     const std::string& file_reference) const
+{
+  return {fluid::write_fields(file, *this, group, file_reference)};
+}
+
+std::vector<SolverFigure> NavierStokes::last_solves() const
+{
+  return {{"fluid_iterations", static_cast<double>(last_solve_.iterations), "fluid it"},
+          {"fluid_residual", last_solve_.residual, ""}};
 }
 
 } // namespace ibvalve::fluid

@@ -12,74 +12,51 @@
 // method spreads), set before each step.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "fluid/boundary.hpp"
 #include "fluid/convection.hpp"
+#include "fluid/flow_solver.hpp"
 #include "fluid/grid.hpp"
+#include "fluid/settings.hpp"
 #include "fluid/stokes_solver.hpp"
 #include "io/hdf5.hpp"
 
 namespace ibvalve::fluid {
 
-enum class SolverKind { fft, krylov };
-/// The sub-solves of the Krylov solver's projection preconditioner: one hypre BoomerAMG V-cycle each,
-/// or the FFTW real-to-real transform solves (fluid/transform_subsolvers.hpp).
-enum class SubsolverKind { amg, fft };
-
-struct FluidSettings {
-  double rho = 1.0;
-  double mu = 0.01;
-  ConvectionScheme convection = ConvectionScheme::limited_upwind;
-  SolverKind solver = SolverKind::fft;
-  double rtol = 1e-12; // Krylov solver: relative tolerance of the outer FGMRES
-  double atol = 1e-14; // ... and absolute tolerance
-  PetscInt max_iterations = 200;
-  SubsolverKind subsolver = SubsolverKind::amg; // Krylov solver only
-};
-
-/// Wall-clock seconds spent in the parts of the steps so far.
-struct StepTimings {
-  double convection = 0.0;
-  double viscous = 0.0;  // explicit right side (viscous term, forces) + Helmholtz part of the solve
-  double pressure = 0.0; // Poisson part of the solve (and the Krylov solver's other work)
-  double halo = 0.0;     // ghost exchange and boundary ghosts
-  double total = 0.0;
-  PetscInt steps = 0;
-  PetscInt solver_iterations = 0;
-};
-
-class NavierStokes {
+class NavierStokes final : public FlowSolver {
  public:
   NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryConditions bc, const FluidSettings& settings);
   NavierStokes(const NavierStokes&) = delete;
   NavierStokes& operator=(const NavierStokes&) = delete;
 
   const StaggeredGrid& grid() const { return *grid_; }
-  const BoundaryConditions& boundary_conditions() const { return bc_; }
+  const BoundaryConditions& boundary_conditions() const override { return bc_; }
   /// Boundary data may change during a run (e.g. a Windkessel pressure): edit the sides through this.
   BoundaryConditions& boundary_conditions() { return bc_; }
-  const FluidSettings& settings() const { return settings_; }
+  const FluidSettings& settings() const override { return settings_; }
   const StokesSolver& solver() const { return *solver_; }
 
   /// Sets u(x, 0) on the faces (and p, for output and as a first guess) at time t.
-  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
+  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
+                             double t) override;
 
   /// The body force f^{n+1/2} for the next step, a local vector: fill its face slots (owned faces).
   /// It is kept (not cleared) between steps.
   Vec body_force() { return force_.get(); }
-  void set_body_force(const VelocityFunction& force, double t);
+  void set_body_force(const VelocityFunction& force, double t) override;
 
   /// Advances from time() to time() + dt.
-  void step(double dt);
+  void step(double dt) override;
 
-  double time() const { return time_; }
-  PetscInt steps_taken() const { return steps_; }
+  double time() const override { return time_; }
+  PetscInt steps_taken() const override { return steps_; }
   /// The state as a local vector: face slots u^n (ghosts filled, boundary conditions applied), cell
   /// slots p^{n-1/2} (ghosts filled). Read-only for callers; valid until the next step().
   Vec state() const { return state_.get(); }
   /// The time at which pressure() lives: time() - dt/2 after a step.
-  double pressure_time() const { return pressure_time_; }
-  const StepTimings& timings() const { return timings_; }
+  double pressure_time() const override { return pressure_time_; }
+  const StepStatistics& statistics() const override { return statistics_; }
   const SolveStatistics& last_solve() const { return last_solve_; }
 
   /// Writes everything step() reads into `group` of a checkpoint (collective): u^n and p^{n-1/2}, the
@@ -87,11 +64,24 @@ class NavierStokes {
   /// clock (time, pressure time, last step, step count). Grid fields are (z, y, x, 4) arrays of
   /// (u_x, u_y, u_z, p) per element over (N + 1) elements in each non-periodic direction (the extra
   /// face layer; slots that do not exist there hold 0), so the layout does not depend on the ranks.
-  void save(io::Hdf5File& file, const std::string& group) const;
+  void save(io::Hdf5File& file, const std::string& group) const override;
   /// Reads what save() wrote into this solver (same box and cells; any rank count). Call it once the
   /// boundary conditions are those of the checkpoint's time: the ghosts are refilled from them. On
   /// the same rank count, the steps that follow equal those of the uninterrupted run bit for bit.
-  void restore(const io::Hdf5File& file, const std::string& group);
+  void restore(const io::Hdf5File& file, const std::string& group) override;
+
+  // The rest of FlowSolver, through fluid/queries.hpp and fluid/output.hpp.
+  std::string describe() const override;
+  double finest_spacing() const override;
+  double flux(const PlaneRegion& region) const override;
+  std::vector<double> pressure_at(const std::vector<Real3>& points) const override;
+  std::vector<Real3> velocity_at(const std::vector<Real3>& points) const override;
+  double kinetic_energy() const override;
+  double max_velocity() const override;
+  std::vector<io::XdmfGrid> write_fields(io::Hdf5File& file, const std::string& group,
+                                         const std::string& file_reference) const override;
+  /// The FGMRES iterations and residual of the last step (0 for the direct FFT solve).
+  std::vector<SolverFigure> last_solves() const override;
 
  private:
   void exchange(double t);
@@ -110,7 +100,7 @@ class NavierStokes {
   PetscInt steps_ = 0;
   bool have_old_convection_ = false;
   StokesParameters parameters_{0.0, 0.0, 0.0}; // dt 0: the first step sets the solver up
-  StepTimings timings_;
+  StepStatistics statistics_;
   SolveStatistics last_solve_;
 };
 

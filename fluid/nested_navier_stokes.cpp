@@ -5,16 +5,19 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "fluid/composite_output.hpp"
 #include "fluid/composite_queries.hpp"
 #include "fluid/jacobi.hpp"
 #include "fluid/solver_clock.hpp"
 #include "io/errors.hpp"
 #include "io/petsc_check.hpp"
+#include "io/petsc_handle.hpp"
 #include "io/stopwatch.hpp"
 
 namespace ibvalve::fluid {
@@ -212,13 +215,13 @@ BoundaryConditions closed_box(const VelocityFunction& wall_velocity)
 } // namespace
 
 NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy,
-                                       VelocityFunction wall_velocity, const NestedFluidSettings& settings)
+                                       VelocityFunction wall_velocity, const FluidSettings& settings)
     : NestedNavierStokes(comm, hierarchy, closed_box(wall_velocity), settings)
 {
 }
 
 NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, BoundaryConditions bc,
-                                       const NestedFluidSettings& settings)
+                                       const FluidSettings& settings)
     : comm_(comm), hierarchy_(&hierarchy), bc_(std::move(bc)), settings_(settings)
 {
   if (!(settings.rho > 0.0) || !(settings.mu >= 0.0))
@@ -285,18 +288,18 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   PETSC_CHECK(KSPGetPC(pressure_ksp_, &pc));
   PETSC_CHECK(PCSetType(pc, PCHYPRE));
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
-  PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.pressure_rtol, 1e-50, PETSC_DEFAULT, 1000));
-  PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.prefix + "pressure_").c_str()));
+  PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.nested_prefix + "pressure_").c_str()));
   {
     // Set for this solver only: a closed-box solver made later in the process keeps PETSc's defaults.
-    const std::vector<std::string> added = operators_->any_dirichlet()
-                                               ? set_default_amg_options("-" + settings.prefix + "pressure_")
-                                               : std::vector<std::string>{};
+    const std::vector<std::string> added =
+        operators_->any_dirichlet() ? set_default_amg_options("-" + settings.nested_prefix + "pressure_")
+                                    : std::vector<std::string>{};
     PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
     for (const std::string& option : added) PETSC_CHECK(PetscOptionsClearValue(nullptr, option.c_str()));
   }
 
-  set_default_amg_options("-" + settings.prefix + "velocity_");
+  set_default_amg_options("-" + settings.nested_prefix + "velocity_");
   PETSC_CHECK(KSPCreate(comm, velocity_ksp_.out()));
   PETSC_CHECK(KSPSetType(velocity_ksp_, KSPGMRES));
   PETSC_CHECK(KSPSetPCSide(velocity_ksp_, PC_RIGHT));
@@ -304,8 +307,8 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   PETSC_CHECK(PCSetType(pc, PCHYPRE));
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
   PETSC_CHECK(KSPSetInitialGuessNonzero(velocity_ksp_, PETSC_TRUE));
-  PETSC_CHECK(KSPSetTolerances(velocity_ksp_, settings.velocity_rtol, 1e-50, PETSC_DEFAULT, 1000));
-  PETSC_CHECK(KSPSetOptionsPrefix(velocity_ksp_, (settings.prefix + "velocity_").c_str()));
+  PETSC_CHECK(KSPSetTolerances(velocity_ksp_, settings.rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetOptionsPrefix(velocity_ksp_, (settings.nested_prefix + "velocity_").c_str()));
 
   u_ = operators_->create_face_vector();
   force_ = operators_->create_face_vector();
@@ -362,7 +365,7 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
   build_helmholtz(dt);
   const petsc::OwnedVec rhs = operators_->create_face_vector(), work = operators_->create_face_vector();
   {
-    io::Stopwatch watch(stats_.seconds_velocity);
+    io::Stopwatch watch(stats_.viscous);
     // rho/dt u^n + mu/2 (L u^n + b(g^n) + b(g^{n+1})) - rho N - G p + f
     PETSC_CHECK(MatMult(velocity_ops_->laplacian(), u_, rhs));
     velocity_ops_->laplacian_data(velocity_ops_->data_values(wall_velocity_, t0), work);
@@ -381,17 +384,17 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
     PETSC_CHECK(VecAXPY(rhs, 1.0, force_));
     PETSC_CHECK(KSPSolve(velocity_ksp_, rhs, u_)); // u_ := u*
     check_reason(velocity_ksp_, "viscous");
-    PETSC_CHECK(KSPGetIterationNumber(velocity_ksp_, &stats_.velocity_iterations));
+    PETSC_CHECK(KSPGetIterationNumber(velocity_ksp_, &velocity_iterations_));
   }
   {
-    io::Stopwatch watch(stats_.seconds_pressure);
+    io::Stopwatch watch(stats_.pressure);
     const petsc::OwnedVec b = operators_->create_cell_vector(), phi = operators_->create_cell_vector(),
                           m_phi = operators_->create_cell_vector();
     PETSC_CHECK(VecPointwiseMult(work, operators_->weights(), u_));
     PETSC_CHECK(MatMultTranspose(divergence_, work, b));
     PETSC_CHECK(KSPSolve(pressure_ksp_, b, phi));
     check_reason(pressure_ksp_, "projection");
-    PETSC_CHECK(KSPGetIterationNumber(pressure_ksp_, &stats_.pressure_iterations));
+    PETSC_CHECK(KSPGetIterationNumber(pressure_ksp_, &pressure_iterations_));
     PETSC_CHECK(MatMult(gradient_, phi, work));
     PETSC_CHECK(VecAXPY(u_, -1.0, work));
     // p^{n+1/2} = p^{n-1/2} + rho/dt phi - mu/2 D G phi, with D G phi = -V^{-1} M phi.
@@ -428,9 +431,9 @@ void NestedNavierStokes::pressure_boundary_part(double t, Vec out) const
 void NestedNavierStokes::step(double dt)
 {
   if (!(dt > 0.0)) throw std::invalid_argument("nested Navier-Stokes: dt must be positive");
-  io::Stopwatch total(stats_.seconds_total);
+  io::Stopwatch total(stats_.total);
   {
-    io::Stopwatch watch(stats_.seconds_convection);
+    io::Stopwatch watch(stats_.convection);
     velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_,
                               settings_.convection);
   }
@@ -448,7 +451,7 @@ void NestedNavierStokes::step(double dt)
     PETSC_CHECK(VecCopy(p_, p0));
     advance(dt, convection_);
     {
-      io::Stopwatch watch(stats_.seconds_convection);
+      io::Stopwatch watch(stats_.convection);
       velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_ + dt), half,
                                 settings_.convection);
     }
@@ -465,6 +468,7 @@ void NestedNavierStokes::step(double dt)
   time_ += dt;
   pressure_time_ = time_ - 0.5 * dt;
   ++stats_.steps;
+  stats_.solver_iterations += velocity_iterations_ + pressure_iterations_;
   double u_max = 0.0;
   PETSC_CHECK(VecNorm(u_, NORM_INFINITY, &u_max));
   if (!std::isfinite(u_max))
@@ -582,7 +586,19 @@ std::vector<double> NestedNavierStokes::max_divergence_by_level() const
 
 double NestedNavierStokes::flux(const PlaneRegion& region) const
 {
-  return composite_flux(*operators_, u_, region);
+  // On a face plane of level 0 the composite faces there; between two, linear along the normal as on
+  // one grid (fluid/queries.hpp, volume_flux).
+  const int a = region.normal;
+  const double h0 = hierarchy_->h(0, a), lower = hierarchy_->domain().lower[a];
+  const double s = (region.position - lower) / h0;
+  if (std::abs(s - std::round(s)) <= 1e-9 * std::max(1.0, std::abs(s)))
+    return composite_flux(*operators_, u_, region);
+  const double below = std::floor(s), weight = s - below;
+  PlaneRegion lower_plane = region, upper_plane = region;
+  lower_plane.position = lower + below * h0;
+  upper_plane.position = lower + (below + 1.0) * h0;
+  return (1.0 - weight) * composite_flux(*operators_, u_, lower_plane) +
+         weight * composite_flux(*operators_, u_, upper_plane);
 }
 
 std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& points) const
@@ -755,6 +771,65 @@ void NestedNavierStokes::add_force_from_finest(Vec local)
   }
   PETSC_CHECK(VecAssemblyBegin(force_));
   PETSC_CHECK(VecAssemblyEnd(force_));
+}
+
+std::vector<SolverFigure> NestedNavierStokes::last_solves() const
+{
+  return {{"velocity_iterations", static_cast<double>(velocity_iterations_), "viscous it"},
+          {"pressure_iterations", static_cast<double>(pressure_iterations_), "pressure it"}};
+}
+
+double NestedNavierStokes::kinetic_energy() const
+{
+  petsc::OwnedVec squared;
+  PETSC_CHECK(VecDuplicate(u_, squared.out()));
+  PETSC_CHECK(VecPointwiseMult(squared, u_, u_));
+  double sum = 0.0;
+  PETSC_CHECK(VecDot(squared, operators_->weights(), &sum));
+  return 0.5 * settings_.rho * sum;
+}
+
+double NestedNavierStokes::max_velocity() const
+{
+  PetscReal umax = 0.0;
+  PETSC_CHECK(VecNorm(u_, NORM_INFINITY, &umax));
+  return static_cast<double>(umax);
+}
+
+std::string NestedNavierStokes::describe() const
+{
+  const GridHierarchy& h = *hierarchy_;
+  std::ostringstream s;
+  s.precision(4);
+  PetscInt cells = 0;
+  for (int l = 0; l < h.levels(); ++l) cells += h.uncovered_cells(l);
+  s << h.levels() << " nested levels (" << cells << " composite cells; level 0 " << h.domain_cells(0)[0]
+    << " x " << h.domain_cells(0)[1] << " x " << h.domain_cells(0)[2] << ", finest spacing "
+    << h.h(h.finest(), 0) << " cm)";
+  return s.str();
+}
+
+double NestedNavierStokes::finest_spacing() const
+{
+  const int finest = hierarchy_->finest();
+  return std::min({hierarchy_->h(finest, 0), hierarchy_->h(finest, 1), hierarchy_->h(finest, 2)});
+}
+
+std::vector<io::XdmfGrid> NestedNavierStokes::write_fields(io::Hdf5File& file, const std::string& group,
+                                                           const std::string& file_reference) const
+{
+  // The cell velocity's vectors are owned, so they are freed also when a write throws (a full disk must
+  // not leak them); `components` borrows their handles for the calls that take an array.
+  std::array<petsc::OwnedVec, 3> owned;
+  std::array<Vec, 3> components{};
+  for (std::size_t d = 0; d < 3; ++d) {
+    owned[d] = operators_->create_cell_vector();
+    components[d] = owned[d];
+  }
+  cell_velocity(components);
+  return write_composite_fields(file, operators_->cells(), {{"pressure", p_.get()}}, group, file_reference,
+                                group + "_", {{"velocity", components}},
+                                {{"pressure", "dyn/cm^2"}, {"velocity", "cm/s"}});
 }
 
 } // namespace ibvalve::fluid

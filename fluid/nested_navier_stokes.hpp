@@ -40,31 +40,13 @@
 #include "fluid/boundary.hpp"
 #include "fluid/composite_poisson.hpp"
 #include "fluid/composite_velocity.hpp"
+#include "fluid/flow_solver.hpp"
 #include "fluid/grid.hpp"
-#include "fluid/queries.hpp"
+#include "fluid/plane_region.hpp"
+#include "fluid/settings.hpp"
 #include "io/hdf5.hpp"
 
 namespace ibvalve::fluid {
-
-enum class PressureCoupling { consistent, adjoint };
-
-struct NestedFluidSettings {
-  double rho = 1.0;
-  double mu = 0.01;
-  PressureCoupling coupling = PressureCoupling::consistent;
-  // Centred by default: second order on every test; the limited scheme clips smooth extrema (docs/nested.md).
-  ConvectionScheme convection = ConvectionScheme::centered;
-  double velocity_rtol = 1e-12; // viscous solves (GMRES + BoomerAMG), options prefix <prefix>velocity_
-  double pressure_rtol = 1e-12; // projection (GMRES or CG + BoomerAMG), options prefix <prefix>pressure_
-  std::string prefix = "nested_";
-};
-
-struct NestedStepStatistics {
-  PetscInt velocity_iterations = 0; // last viscous solve
-  PetscInt pressure_iterations = 0; // last projection
-  double seconds_convection = 0.0, seconds_velocity = 0.0, seconds_pressure = 0.0, seconds_total = 0.0;
-  PetscInt steps = 0;
-};
 
 /// The composite gradient with quadratic coarse-fine interpolation (faces x cells, the face order of
 /// `velocity`): same-level faces (p+ - p-)/h; a coarse-fine face differentiates at the face the quadratic
@@ -73,16 +55,16 @@ struct NestedStepStatistics {
 /// itself covered). Annihilates constants. Caller destroys the matrix.
 petsc::OwnedMat consistent_composite_gradient(const CompositeVelocity& velocity);
 
-class NestedNavierStokes {
+class NestedNavierStokes final : public FlowSolver {
  public:
   /// `wall_velocity(x, t)`: the velocity on the walls (its normal part must be zero); empty = no slip.
   /// A closed box: every side a velocity side.
   NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, VelocityFunction wall_velocity,
-                     const NestedFluidSettings& settings);
+                     const FluidSettings& settings);
   /// Any velocity (u.n = 0) and traction sides; std::invalid_argument for a periodic side. The sides'
   /// functions are called during each step (a traction pressure may follow a Windkessel).
   NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hierarchy, BoundaryConditions bc,
-                     const NestedFluidSettings& settings);
+                     const FluidSettings& settings);
   NestedNavierStokes(const NestedNavierStokes&) = delete;
   NestedNavierStokes& operator=(const NestedNavierStokes&) = delete;
 
@@ -90,23 +72,28 @@ class NestedNavierStokes {
   /// The composite numbering (two-point operators, Neumann sides) and the face velocity machinery.
   const CompositeOperators& operators() const { return *operators_; }
   const CompositeVelocity& composite_velocity() const { return *velocity_ops_; }
-  const NestedFluidSettings& settings() const { return settings_; }
+  const FluidSettings& settings() const { return settings_; }
   const BoundaryConditions& boundary_conditions() const { return bc_; }
 
   /// u(x, t) on the composite faces and p(x, t) as p^{n-1/2} (the first step's pressure guess).
-  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure, double t);
+  void set_initial_condition(const VelocityFunction& velocity, const ScalarFunction& pressure,
+                             double t) override;
   /// The body force f^{n+1/2} on the composite faces (kept between steps).
   Vec body_force() { return force_.get(); }
-  void set_body_force(const VelocityFunction& force, double t);
+  void set_body_force(const VelocityFunction& force, double t) override;
 
-  void step(double dt);
-  double time() const { return time_; }
-  double pressure_time() const { return pressure_time_; }
-  PetscInt steps_taken() const { return stats_.steps; }
+  void step(double dt) override;
+  double time() const override { return time_; }
+  double pressure_time() const override { return pressure_time_; }
+  PetscInt steps_taken() const override { return stats_.steps; }
   /// Composite face velocity u^n (normal components) and composite cell pressure p^{n-1/2}.
   Vec velocity() const { return u_.get(); }
   Vec pressure() const { return p_.get(); }
-  const NestedStepStatistics& statistics() const { return stats_; }
+  const StepStatistics& statistics() const override { return stats_; }
+  /// The iterations of the last step's viscous solve and projection.
+  PetscInt velocity_iterations() const { return velocity_iterations_; }
+  PetscInt pressure_iterations() const { return pressure_iterations_; }
+  std::vector<SolverFigure> last_solves() const override;
   /// True when the last step's viscous solve was preconditioned by Jacobi (the Helmholtz matrix's
   /// jacobi_ratio at most jacobi_ratio_limit, fluid/jacobi.hpp), not BoomerAMG.
   bool velocity_by_jacobi() const { return velocity_by_jacobi_; }
@@ -121,21 +108,32 @@ class NestedNavierStokes {
   /// Adams–Bashforth extrapolation), the body force, the clock and the step counter. Each vector in the
   /// composite numbering (cells, then each cell's faces in cell order), which does not depend on the
   /// rank count. Collective.
-  void save(io::Hdf5File& file, const std::string& group) const;
+  void save(io::Hdf5File& file, const std::string& group) const override;
   /// Reads what save() wrote into this solver (same hierarchy). Collective; std::runtime_error naming
   /// the file and group when the checkpoint does not fit.
-  void restore(const io::Hdf5File& file, const std::string& group);
+  void restore(const io::Hdf5File& file, const std::string& group) override;
   /// max |D u| over the composite cells of each level (D the projection's divergence).
   std::vector<double> max_divergence_by_level() const;
-  /// Volume flux through a rectangle/disk on a level-0 face plane (composite_queries.hpp).
-  double flux(const PlaneRegion& region) const;
+  /// Volume flux through a rectangle/disk: on a level-0 face plane the sum over its composite faces
+  /// (composite_queries.hpp), between two such planes linear along the normal.
+  double flux(const PlaneRegion& region) const override;
   /// p^{n-1/2} at the points `x` (probes): trilinear interpolation of the cell pressures of the finest level
   /// holding each point (cell centres outside that level's boxes or the domain: the nearest cell's value
   /// along that direction). Collective; the same values on every rank.
-  std::vector<double> pressure_at(const std::vector<Real3>& x) const;
+  std::vector<double> pressure_at(const std::vector<Real3>& x) const override;
   /// u^n at the points `x` (probes): trilinear interpolation of each component from the faces of the finest
   /// level holding the point, ghost faces as in CompositeVelocity. Collective; the same values on every rank.
-  std::vector<Real3> velocity_at(const std::vector<Real3>& x) const;
+  std::vector<Real3> velocity_at(const std::vector<Real3>& x) const override;
+  /// 1/2 rho sum_f W_f u_f^2 over the composite faces (W_f each face's share of the volume).
+  double kinetic_energy() const override;
+  /// max |u_n| over the composite faces.
+  double max_velocity() const override;
+  std::string describe() const override;
+  double finest_spacing() const override;
+  /// The composite pressure and cell-centred velocity of every level box (fluid/composite_output.hpp;
+  /// covered cells averaged from the finer level), one XDMF grid a box.
+  std::vector<io::XdmfGrid> write_fields(io::Hdf5File& file, const std::string& group,
+                                         const std::string& file_reference) const override;
 
   /// The finest level as one StaggeredGrid (non-periodic, its own box; throws std::invalid_argument when
   /// the finest level has several boxes).
@@ -159,7 +157,7 @@ class NestedNavierStokes {
   const GridHierarchy* hierarchy_;
   BoundaryConditions bc_;
   VelocityFunction wall_velocity_; // the velocity sides' data (zero on traction sides)
-  NestedFluidSettings settings_;
+  FluidSettings settings_;
   std::unique_ptr<CompositeOperators> operators_, tangential_;
   std::unique_ptr<CompositeVelocity> velocity_ops_;
   petsc::OwnedMat gradient_;        // G: the gradient of the momentum equation and the projection
@@ -173,7 +171,8 @@ class NestedNavierStokes {
   petsc::OwnedVec convection_, convection_old_;
   double time_ = 0.0, pressure_time_ = 0.0, helmholtz_dt_ = 0.0, last_dt_ = 0.0;
   bool have_old_convection_ = false;
-  NestedStepStatistics stats_;
+  StepStatistics stats_;
+  PetscInt velocity_iterations_ = 0, pressure_iterations_ = 0;
   std::unique_ptr<StaggeredGrid> finest_;
   // Finest grid: for each local element and face slot, the composite value; for owned faces the index.
   std::vector<const FaceValue*> finest_values_;

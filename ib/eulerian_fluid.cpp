@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "fluid/navier_stokes.hpp"
 #include "fluid/nested_navier_stokes.hpp"
@@ -9,6 +10,15 @@
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {
+
+std::unique_ptr<EulerianFluid> make_eulerian_fluid(fluid::FlowSolver& fluid)
+{
+  if (auto* uniform = dynamic_cast<fluid::NavierStokes*>(&fluid))
+    return std::make_unique<UniformFluid>(*uniform);
+  if (auto* nested = dynamic_cast<fluid::NestedNavierStokes*>(&fluid))
+    return std::make_unique<NestedFluid>(*nested);
+  throw std::invalid_argument("ib: no IB view of this flow solver");
+}
 
 const fluid::StaggeredGrid& UniformFluid::grid() const
 {

@@ -11,6 +11,7 @@
 //    which is otherwise zero. A structure node that comes closer to the finest box's edge than the
 //    kernel's half support stops the run (RunError): read_hierarchy places the level with that room.
 // fluid/ knows nothing of the structure; this file is the only place where the two meet.
+#include <memory>
 #include <span>
 #include <string>
 
@@ -20,6 +21,7 @@
 #include "ib/interaction.hpp"
 
 namespace ibvalve::fluid {
+class FlowSolver;
 class NavierStokes;
 class NestedNavierStokes;
 } // namespace ibvalve::fluid
@@ -47,7 +49,13 @@ class EulerianFluid {
   /// nested grids, closer than `reach` cells (the kernel's half support) to the finest level's edge,
   /// where the kernel would be cut off. The walls of one grid are checked by GridInteraction.
   virtual void require_inside(std::span<const Vec3> nodes, int reach) const = 0;
+  /// Re-reads the fluid's state after it changed outside step() (a checkpoint restored). Collective.
+  virtual void refresh() {}
 };
+
+/// The IB's view of either flow solver: a UniformFluid of a fluid::NavierStokes, a NestedFluid of a
+/// fluid::NestedNavierStokes (whose u^n it copies at once). `fluid` must outlive the view.
+std::unique_ptr<EulerianFluid> make_eulerian_fluid(fluid::FlowSolver& fluid);
 
 /// fluid::NavierStokes as it is: grid(), state() and body_force() used in place.
 class UniformFluid final : public EulerianFluid {
@@ -92,6 +100,7 @@ class NestedFluid final : public EulerianFluid {
   /// box and the time. Sides of the box on the domain's sides are not checked (the boundary is met as on
   /// one grid).
   void require_inside(std::span<const Vec3> nodes, int reach) const override;
+  void refresh() override { copy_velocity(); }
 
   void copy_velocity();
   fluid::NestedNavierStokes& navier_stokes() const { return fluid_; }

@@ -54,8 +54,8 @@ std::vector<double> tether_weights(const fe::Mesh& mesh, const std::string& name
 
 } // namespace
 
-IbfeIntegrator::IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings)
-    : IbfeIntegrator(std::make_unique<UniformFluid>(fluid), nullptr, solid, std::move(settings))
+IbfeIntegrator::IbfeIntegrator(fluid::FlowSolver& fluid, const fe::SolidModel& solid, IbfeSettings settings)
+    : IbfeIntegrator(make_eulerian_fluid(fluid), nullptr, solid, std::move(settings))
 {
 }
 
@@ -270,6 +270,7 @@ void IbfeIntegrator::save(io::Hdf5File& file, const std::string& group) const
 
 void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
 {
+  fluid_.refresh(); // the fluid was restored first: its u^n is the checkpoint's
   auto read = [&](const std::string& name) {
     std::vector<double> values = file.read(group + "/" + name);
     if (values.size() != solid_.num_dofs())

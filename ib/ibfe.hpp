@@ -87,8 +87,9 @@ std::string describe_time_step(double dt, const StabilityEstimate& estimate);
 
 class IbfeIntegrator {
  public:
-  /// The structure on one uniform grid (fluid::NavierStokes, used through UniformFluid).
-  IbfeIntegrator(fluid::NavierStokes& fluid, const fe::SolidModel& solid, IbfeSettings settings);
+  /// The structure in either flow solver (through make_eulerian_fluid: one grid used in place, or the
+  /// finest of nested levels), which must outlive the integrator.
+  IbfeIntegrator(fluid::FlowSolver& fluid, const fe::SolidModel& solid, IbfeSettings settings);
   /// The structure on any EulerianFluid, e.g. the finest level of nested grids (NestedFluid), which
   /// must outlive the integrator.
   IbfeIntegrator(EulerianFluid& fluid, const fe::SolidModel& solid, IbfeSettings settings);
@@ -125,9 +126,10 @@ class IbfeIntegrator {
   /// Writes the structure's state into `group` of a checkpoint (collective): the displacement chi - X
   /// (all that the next step reads besides the fluid), the last nodal velocity and forces (output),
   /// and the starting points of the iterative mass solves. The fluid saves itself
-  /// (fluid::NavierStokes::save); a checkpoint of a coupled run holds both.
+  /// (fluid::FlowSolver::save); a checkpoint of a coupled run holds both.
   void save(io::Hdf5File& file, const std::string& group) const;
-  /// Reads what save() wrote (same mesh) and places the coupling points there.
+  /// Reads what save() wrote (same mesh) and places the coupling points there. Restore the fluid
+  /// first: this re-reads its velocity (EulerianFluid::refresh).
   void restore(const io::Hdf5File& file, const std::string& group);
 
   /// Places the coupling points for the nodes at X + `displacement`, interpolates the face velocity
@@ -147,7 +149,7 @@ class IbfeIntegrator {
                                        std::span<const double> velocity);
   void spread_force_density(std::span<const double> nodal_forces);
 
-  std::unique_ptr<EulerianFluid> owned_fluid_; // the UniformFluid made by the NavierStokes constructor
+  std::unique_ptr<EulerianFluid> owned_fluid_; // the view made by the FlowSolver constructor
   EulerianFluid& fluid_;
   const fe::SolidModel& solid_;
   IbfeSettings settings_;

@@ -100,6 +100,13 @@ std::optional<KernelKind> find_kernel(std::string_view name)
   return std::nullopt;
 }
 
+std::vector<KernelKind> every_kernel()
+{
+  std::vector<KernelKind> all;
+  for (const NamedKernel& k : kernels) all.push_back(k.kind);
+  return all;
+}
+
 std::string kernel_names()
 {
   std::string names;

@@ -20,6 +20,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace ibvalve::ib {
 
@@ -32,6 +33,8 @@ inline constexpr int max_kernel_support = 6;
 std::string kernel_name(KernelKind kind);
 std::optional<KernelKind> find_kernel(std::string_view name);
 /// All names, comma separated (for error messages and the schema).
+/// Every kernel, in the order kernel_names() lists them.
+std::vector<KernelKind> every_kernel();
 std::string kernel_names();
 inline constexpr KernelKind default_kernel = KernelKind::ib_4;
 

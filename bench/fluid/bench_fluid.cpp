@@ -88,14 +88,14 @@ int main(int argc, char** argv)
     fluid.set_initial_condition(u, p, 0.0);
     for (int i = 0; i < s; ++i) fluid.step(dt);
     const double setup = MPI_Wtime() - setup_start;
-    const StepTimings first = fluid.timings();
+    const StepStatistics first = fluid.statistics();
     MPI_Barrier(PETSC_COMM_WORLD);
     const double t0 = MPI_Wtime();
     for (int i = 0; i < s; ++i) fluid.step(dt);
     MPI_Barrier(PETSC_COMM_WORLD);
     const double per_step = (MPI_Wtime() - t0) / s;
-    const StepTimings all = fluid.timings();
-    auto part = [&](double StepTimings::*field) {
+    const StepStatistics all = fluid.statistics();
+    auto part = [&](double StepStatistics::*field) {
       double v = (all.*field - first.*field) / s;
       MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
       return v;
@@ -115,10 +115,10 @@ int main(int argc, char** argv)
                   static_cast<int>(n), size, size > 1 ? "s" : "", solver_name.c_str(), scheme.c_str(), dt, s,
                   s);
       std::printf("  time per step      %.4f s   (set-up + first %d steps %.2f s)\n", per_step, s, setup);
-      std::printf("    convection       %.4f s\n", part(&StepTimings::convection));
-      std::printf("    viscous solve    %.4f s\n", part(&StepTimings::viscous));
-      std::printf("    pressure solve   %.4f s\n", part(&StepTimings::pressure));
-      std::printf("    halo exchange    %.4f s\n", part(&StepTimings::halo));
+      std::printf("    convection       %.4f s\n", part(&StepStatistics::convection));
+      std::printf("    viscous solve    %.4f s\n", part(&StepStatistics::viscous));
+      std::printf("    pressure solve   %.4f s\n", part(&StepStatistics::pressure));
+      std::printf("    halo exchange    %.4f s\n", part(&StepStatistics::halo));
       std::printf("  solver iterations  %.2f per step\n",
                   static_cast<double>(all.solver_iterations - first.solver_iterations) / s);
       std::printf("  peak memory        %.1f MB (all ranks), %.1f MB rank 0\n", peak_total, peak_mb);
@@ -130,10 +130,10 @@ int main(int argc, char** argv)
                     fluid.time(), errors.velocity_max, errors.pressure_max, errors.velocity_l2,
                     errors.pressure_l2, divergence);
     } else {
-      part(&StepTimings::convection);
-      part(&StepTimings::viscous);
-      part(&StepTimings::pressure);
-      part(&StepTimings::halo);
+      part(&StepStatistics::convection);
+      part(&StepStatistics::viscous);
+      part(&StepStatistics::pressure);
+      part(&StepStatistics::halo);
     }
   }
   PetscFinalize();

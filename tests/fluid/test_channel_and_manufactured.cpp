@@ -145,7 +145,7 @@ FieldErrors run_manufactured(PetscInt n, double final_time)
   EXPECT_LT(worst_divergence, 1e-10) << "n = " << n;
   if (rank() == 0)
     std::printf("manufactured %2d^3: %d steps, %.1f Krylov iterations per step, max |div u| h/|u| %.1e\n",
-                static_cast<int>(n), steps, static_cast<double>(fluid.timings().solver_iterations) / steps,
+                static_cast<int>(n), steps, static_cast<double>(fluid.statistics().solver_iterations) / steps,
                 worst_divergence);
   return field_errors(fluid, u, p, false);
 }

@@ -255,7 +255,7 @@ StepResult run_walled(MPI_Comm comm, PetscInt n, bool cavity, SubsolverKind subs
   const double dt = 0.25 / static_cast<double>(n);
   for (int s = 0; s < steps; ++s) fluid->step(dt);
   StepResult r;
-  r.iterations_per_step = static_cast<double>(fluid->timings().solver_iterations) / steps;
+  r.iterations_per_step = static_cast<double>(fluid->statistics().solver_iterations) / steps;
   const CellFields f = cell_fields(*fluid);
   r.u = f.velocity;
   r.p = f.pressure;

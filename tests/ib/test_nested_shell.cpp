@@ -130,7 +130,8 @@ ShellRun run_shell(MPI_Comm comm, ib::EulerianFluid& fluid, int steps, double dt
 ShellRun nested_shell(MPI_Comm comm, int steps, double dt, const TwoLevels& levels, long* cells = nullptr)
 {
   const fluid::GridHierarchy hierarchy = two_levels(levels);
-  fluid::NestedFluidSettings settings;
+  fluid::FluidSettings settings;
+  settings.convection = fluid::ConvectionScheme::centered; // second order on smooth flows (docs/nested.md)
   settings.rho = rho;
   settings.mu = mu;
   fluid::NestedNavierStokes navier_stokes(comm, hierarchy, fluid::VelocityFunction{}, settings);
@@ -236,7 +237,8 @@ TEST(NestedShellRanks, OneRankAndAllRanksAgree)
 TEST(NestedShell, ANodeLeavingTheFinestLevelStopsTheRun)
 {
   const fluid::GridHierarchy hierarchy = two_levels();
-  fluid::NestedFluidSettings settings;
+  fluid::FluidSettings settings;
+  settings.convection = fluid::ConvectionScheme::centered; // second order on smooth flows (docs/nested.md)
   settings.rho = rho;
   settings.mu = mu;
   fluid::NestedNavierStokes navier_stokes(PETSC_COMM_WORLD, hierarchy, fluid::VelocityFunction{}, settings);

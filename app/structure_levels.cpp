@@ -1,0 +1,41 @@
+#include "app/structure_levels.hpp"
+
+#include <algorithm>
+
+#include "ib/kernels.hpp"
+
+namespace ibvalve::app {
+
+double composite_cells(const fluid::GridHierarchy& hierarchy)
+{
+  double cells = 1.0;
+  for (int d = 0; d < 3; ++d) cells *= static_cast<double>(hierarchy.domain_cells(0)[d]);
+  for (int level = 1; level < hierarchy.levels(); ++level)
+    for (const fluid::IndexBox& box : hierarchy.boxes(level))
+      cells += static_cast<double>(box.cells(0)) * static_cast<double>(box.cells(1)) *
+               static_cast<double>(box.cells(2));
+  return cells;
+}
+
+fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
+                                           std::span<const fe::Vec3> positions, ib::KernelKind kernel,
+                                           const std::string& structure_key)
+{
+  fluid::PhysicalBox bounds;
+  for (int d = 0; d < 3; ++d) {
+    bounds.lower[d] = 1e300;
+    bounds.upper[d] = -1e300;
+  }
+  for (const fe::Vec3& x : positions)
+    for (int d = 0; d < 3; ++d) {
+      bounds.lower[d] = std::min(bounds.lower[d], x[d]);
+      bounds.upper[d] = std::max(bounds.upper[d], x[d]);
+    }
+  const int reach = (ib::DeltaKernel(kernel).support() + 1) / 2;
+  fluid::GridHierarchy hierarchy = fluid::read_hierarchy(config, box, bounds, structure_key, reach);
+  if (hierarchy.boxes(hierarchy.finest()).size() != 1)
+    config.fail("nested.box", "the finest level must be one box: the structure lives on it");
+  return hierarchy;
+}
+
+} // namespace ibvalve::app

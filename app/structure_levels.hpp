@@ -1,0 +1,26 @@
+#pragma once
+// Nested grid levels placed around an immersed structure (docs/nested.md, "IB on the finest level"): the
+// ibfe and aortic-valve models put the structure on the finest level, which must be one box holding the
+// structure's starting configuration with room for the kernel's reach.
+#include <span>
+#include <string>
+
+#include "fe/mesh.hpp"
+#include "fluid/hierarchy.hpp"
+#include "ib/kernels.hpp"
+#include "io/config.hpp"
+
+namespace ibvalve::app {
+
+/// The cells of every level of `hierarchy`, in floating point (for the memory estimate).
+double composite_cells(const fluid::GridHierarchy& hierarchy);
+
+/// The nested levels of a case whose structure starts at `positions` (node positions): read_hierarchy with
+/// the structure's bounding box and the reach of `kernel`, automatic levels placed around it;
+/// `structure_key` names the structure in the error when explicit boxes miss it. InputError (nested.box)
+/// unless the finest level is one box (the structure lives on it).
+fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
+                                           std::span<const fe::Vec3> positions, ib::KernelKind kernel,
+                                           const std::string& structure_key);
+
+} // namespace ibvalve::app

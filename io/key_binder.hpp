@@ -1,0 +1,123 @@
+#pragma once
+// Each case-file key written once: a section of keys is one function
+//
+//   void bind(io::KeyBinder& keys, Settings& s)
+//   {
+//     keys.real("viscosity", "blood viscosity", s.mu).unit("cP").defaults(4.0).positive();
+//     ...
+//   }
+//
+// run twice: against a Schema (KeyBinder(schema)) it declares the keys, with their documentation, unit,
+// default and range; against the validated Config (KeyBinder(config)) it reads each key into its target,
+// in CGS. The key's name, its checks and where its value goes are then in one line, and the schema
+// cannot drift from what the code reads. A binder may carry a prefix ("windkessel"): its keys are then
+// "windkessel.<key>", so one section serves several tables.
+#include <concepts>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "io/config.hpp"
+
+namespace ibvalve::io {
+
+class KeyBinder {
+ public:
+  /// Declares keys into `schema`.
+  explicit KeyBinder(Schema& schema, std::string prefix = "");
+  /// Reads keys from `config` (validated against a schema the same binds declared).
+  explicit KeyBinder(const Config& config, std::string prefix = "");
+
+  /// True when reading a Config; false when declaring a Schema.
+  bool reading() const { return config_ != nullptr; }
+  /// The Config being read (reading() only): for the checks a schema cannot express, config().fail(...).
+  const Config& config() const;
+  /// The full key of `key`: "<prefix>.<key>", or `key` without a prefix.
+  std::string full(std::string_view key) const;
+  /// Declaring: adds every key of `other` (a schema built elsewhere); reading: nothing.
+  void merge(const Schema& other);
+  /// Declaring: calls `add(schema)` (a folder's add_schema, whose keys its own from_config reads);
+  /// reading: nothing.
+  template <class F>
+  void section(F&& add)
+  {
+    if (!reading()) add(*schema_);
+  }
+
+  KeyBuilder boolean(std::string_view key, std::string doc, bool& target);
+  KeyBuilder real(std::string_view key, std::string doc, double& target);
+  /// An optional key without a default: the target is set only when the case gives it.
+  KeyBuilder real(std::string_view key, std::string doc, std::optional<double>& target);
+  KeyBuilder string(std::string_view key, std::string doc, std::string& target);
+  /// A file named relative to the case file's folder (KeyBuilder::file); unset leaves the target empty.
+  KeyBuilder path(std::string_view key, std::string doc, std::filesystem::path& target,
+                  bool must_exist = true);
+  KeyBuilder reals(std::string_view key, std::string doc, std::vector<double>& target);
+  KeyBuilder integers(std::string_view key, std::string doc, std::vector<std::int64_t>& target);
+  KeyBuilder strings(std::string_view key, std::string doc, std::vector<std::string>& target);
+
+  /// The key bound to `target` (a field this binder bound), for messages about it.
+  template <class T>
+  const std::string& key_of(const T& target) const
+  {
+    return key_at(std::addressof(target));
+  }
+  /// Throws the InputError "file:line: key: message" of the key bound to `target` (reading only), for
+  /// the checks a schema cannot express.
+  template <class T>
+  [[noreturn]] void fail(const T& target, std::string_view message) const
+  {
+    config().fail(key_of(target), message);
+  }
+
+  template <std::integral T>
+  KeyBuilder integer(std::string_view key, std::string doc, T& target)
+  {
+    bound(key, &target);
+    if (reading()) {
+      if (config_->has(full(key))) target = static_cast<T>(config_->integer(full(key)));
+      return scratch();
+    }
+    return schema_->add_integer(full(key), std::move(doc));
+  }
+
+  /// A string key naming one of `names` (declared as its choices), read into the matching value.
+  template <class E>
+  KeyBuilder choice(std::string_view key, std::string doc, E& target,
+                    const std::vector<std::pair<std::string, E>>& names)
+  {
+    bound(key, &target);
+    if (reading()) {
+      if (config_->has(full(key))) {
+        const std::string name = config_->string(full(key));
+        for (const auto& [text, value] : names)
+          if (text == name) target = value;
+      }
+      return scratch();
+    }
+    std::vector<std::string> allowed;
+    for (const auto& entry : names) allowed.push_back(entry.first);
+    KeyBuilder builder = schema_->add_string(full(key), std::move(doc));
+    builder.choices(std::move(allowed));
+    return builder;
+  }
+
+ private:
+  /// What a reading binder returns: a builder whose settings go nowhere.
+  KeyBuilder scratch();
+  void bound(std::string_view key, const void* target);
+  const std::string& key_at(const void* target) const;
+
+  Schema* schema_ = nullptr;
+  const Config* config_ = nullptr;
+  std::string prefix_;
+  KeySpec scratch_;
+  std::vector<std::pair<const void*, std::string>> bound_; // each target and its full key
+};
+
+} // namespace ibvalve::io
