@@ -1,4 +1,4 @@
-// `model = "aortic-valve"`: the study's set-up (REFERENCE.md) on top of the IB/FE coupling
+// `model = "aortic-valve"`: the study's set-up (docs/reference.md) on top of the IB/FE coupling
 // (ib/ibfe.hpp): the tri-leaflet valve in its tube (fe/valve_mesh.hpp, generated at start-up or read
 // from a Gmsh file), fibers from the mesh groups (fibers/rules.hpp, FD1 or FD2), one material per body
 // (leaflets, tube), the tube's outer surface and the leaflets' attachments tethered; the box's inlet
@@ -357,7 +357,8 @@ class AorticValveRun : public PreparedRun {
       ib_.tethers.push_back({leaflet(n) + "_attachment", k.attachment_stiffness, k.attachment_damping});
 
     // The disks end in the middle of the tube wall by default: the jump of the boundary pressure then
-    // sits inside the structure, which holds it, and not in the fluid at the tube's end.
+    // sits inside the structure, which holds it, and not in the fluid at the tube's end (docs/reference.md,
+    // "Choices the study left open").
     const double mid_wall = g.tube_radius + 0.5 * g.tube_wall;
     inlet_radius_ = k.inlet_radius > 0 ? k.inlet_radius : mid_wall;
     outlet_radius_ = k.outlet_radius > 0 ? k.outlet_radius : mid_wall;

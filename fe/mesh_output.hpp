@@ -49,10 +49,11 @@ class MeshOutput {
   int step_ = 0;
 };
 
-/// The solid's fields at displacement u (REFERENCE.md): nodal displacement; per element J, fiber
-/// strain f0.(E f0), fiber stress f.(sigma f) (dyn/cm^2), current fiber direction f and reference f0.
-/// With a projection (built on solid.quadrature()), also the nodal L2 projections of J, fiber strain
-/// and fiber stress ("J_nodal", "fiber_strain_nodal", "fiber_stress_nodal") for smooth pictures.
+/// The solid's fields at displacement u (docs/reference.md, "Hemodynamic metrics"): nodal
+/// displacement; per element J, fiber strain f0.(E f0), fiber stress f.(sigma f) (dyn/cm^2), current fiber
+/// direction f and reference f0. With a projection (built on solid.quadrature()), also the nodal L2
+/// projections of J, fiber strain and fiber stress ("J_nodal", "fiber_strain_nodal", "fiber_stress_nodal")
+/// for smooth pictures.
 std::vector<MeshField> solid_fields(const SolidModel& solid, std::span<const double> u,
                                     const L2Projection* projection = nullptr);
 

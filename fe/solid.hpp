@@ -2,10 +2,11 @@
 // The hyperelastic solid on a finite-element mesh: body parts (each a set of elements with its
 // strain-energy law(s) — e.g. W1 plus a volumetric penalty — summed), fiber frames per element or
 // per quadrature point, and the weak-form quantities at a displacement u (nodal, interlaced x y z):
-//   nodal forces   F_a = - sum_q P(F_q) grad_X N_a(X_q) w_q det J_q   (DESIGN.md: -int P : grad_X N_a dX)
+//   nodal forces   F_a = - sum_q P(F_q) grad_X N_a(X_q) w_q det J_q   (-int P : grad_X N_a dX)
 //   stiffness      K_ab = sum_q grad_X N_a . (dP/dF) . grad_X N_b w_q det J_q   (= -dF_a/du_b)
 //   energy         sum_q W(F_q) w_q det J_q
-// with F_q = I + sum_a u_a (x) grad_X N_a.
+// with F_q = I + sum_a u_a (x) grad_X N_a (the weak form of the IB force: docs/reference.md, "Structure
+// and coupling").
 //
 // Selective reduced integration (SRI): a part may name `centre_laws`, integrated with one point per
 // element instead of the full rule: the law is evaluated at the element's mean deformation gradient
@@ -52,11 +53,11 @@ struct BodyPart {
   std::vector<std::shared_ptr<const materials::StrainEnergy>> centre_laws = {};
 };
 
-/// Per-element averages of the quantities one looks at in ParaView (REFERENCE.md): J = det F, the
-/// fiber strain f0 . E f0 with E = (C - I)/2, the fiber stress f . sigma f with f = F f0 / |F f0| and
-/// sigma = P F^T / J, the current fiber direction f; averaged over the element's quadrature points
-/// with their weights. Fiber quantities are zero where f0 is zero. The Cauchy stress of the centre laws
-/// is the one at the element centre, added to sigma at every point.
+/// Per-element averages of the quantities one looks at in ParaView (docs/reference.md, "Hemodynamic
+/// metrics"): J = det F, the fiber strain f0 . E f0 with E = (C - I)/2, the fiber stress f . sigma f with f =
+/// F f0 / |F f0| and sigma = P F^T / J, the current fiber direction f; averaged over the element's quadrature
+/// points with their weights. Fiber quantities are zero where f0 is zero. The Cauchy stress of the centre
+/// laws is the one at the element centre, added to sigma at every point.
 struct ElementFields {
   std::vector<double> J;
   std::vector<double> fiber_strain;

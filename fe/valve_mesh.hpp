@@ -1,9 +1,9 @@
 #pragma once
 // An idealized tri-leaflet aortic valve in a straight tube, meshed with trilinear hexahedra.
 //
-// The published study (Zhu et al. 2021, REFERENCE.md) gives the tube (inner radius 1.3 cm, wall
-// 0.15 cm, length 13 cm) and the leaflet thickness (0.04 cm) but not the leaflet surface, so the
-// valve here is parametric (docs/fe.md, "The aortic-valve mesh"):
+// The published study (Zhu et al. 2021; docs/reference.md, "Geometry") gives the tube (inner radius 1.3 cm,
+// wall 0.15 cm, length 13 cm) and the leaflet thickness (0.04 cm) but not the leaflet surface, so the valve
+// here is parametric (docs/fe.md, "The aortic-valve mesh"):
 //
 // - The tube axis is z; the tube runs from z = 0 (inlet, left-ventricle side) to z = tube_length.
 // - Three equal leaflets, each spanning 120 degrees less the free-edge gap, generated in the closed
@@ -41,7 +41,8 @@
 namespace ibvalve::fe {
 
 struct ValveMeshParameters {
-  // Geometry, cm (defaults from REFERENCE.md where it gives them, else chosen and documented).
+  // Geometry, cm (defaults from docs/reference.md, "Geometry", where the study gives them, else chosen
+  // and documented).
   double tube_radius = 1.3;
   double tube_wall = 0.15;
   double tube_length = 13.0;

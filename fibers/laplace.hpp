@@ -1,5 +1,6 @@
 #pragma once
-// Rule-based fiber fields from Laplace problems on an FE mesh (Bayer et al. 2012; REFERENCE.md):
+// Rule-based fiber fields from Laplace problems on an FE mesh (Bayer et al. 2012; docs/reference.md,
+// "Fiber architectures"):
 //   Laplace(u) = 0 in the body, u = value on Dirichlet node sets, du/dn = 0 on the rest of the
 //   boundary; the fiber direction is f0 = grad u / |grad u|.
 // Linear / trilinear elements, the stiffness K_ab = int grad N_a . grad N_b dX assembled in a PETSc

@@ -1,6 +1,7 @@
 #pragma once
-// The study's fiber architectures for valve leaflets (Zhu et al. 2021; REFERENCE.md), each a Laplace
-// problem on one leaflet (a volume physical group) with f0 = grad u / |grad u|:
+// The study's fiber architectures for valve leaflets (Zhu et al. 2021; docs/reference.md, "Fiber
+// architectures"), each a Laplace problem on one leaflet (a volume physical group) with
+// f0 = grad u / |grad u|:
 //   FD1 (body-fitted):    u = 1 at corner point n1, u = 0 at corner point n2 (the free edge's ends).
 //   FD2 (circumferential): u = 0 on tau1, u = 1 on tau2, the two halves of the attachment surface,
 //                          symmetric about the leaflet's centre line.

@@ -2,11 +2,11 @@
 // `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7) and the 12-criterion
 // scaled ranking (its Table 8), as Markdown, CSV and HTML.
 //
-// Ranking (REFERENCE.md): for each criterion the best case scores 1 and the worst 0, linearly in
-// between; a case's total is the sum; cases are ranked by total. When every case has the same value
-// all score 1. A criterion missing for any case (e.g. the fit error of a lumped run) is left out of
-// the ranking for all cases, and the output says so. Which direction is "best" is ibvalve's reading
-// of the study, listed in ranking_criteria() and docs/hemodynamics.md.
+// Ranking (docs/reference.md, "Hemodynamic metrics"): for each criterion the best case scores 1 and
+// the worst 0, linearly in between; a case's total is the sum; cases are ranked by total. When every case has
+// the same value all score 1. A criterion missing for any case (e.g. the fit error of a lumped run) is left
+// out of the ranking for all cases, and the output says so. Which direction is "best" is ibvalve's reading of
+// the study, listed in ranking_criteria() and docs/hemodynamics.md.
 #include <filesystem>
 #include <span>
 #include <string>

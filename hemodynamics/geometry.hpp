@@ -56,8 +56,8 @@ RegionAverage sphere_average(std::span<const Point> points, std::span<const doub
 /// f0 . (E f0) with E = (F^T F - I) / 2, the Green–Lagrange strain along the reference fiber f0
 /// (unit vector): (I4 - 1) / 2.
 double fiber_strain(const Eigen::Matrix3d& F, const Eigen::Vector3d& f0);
-/// f . (sigma f) with f = F f0 (REFERENCE.md's definition: f is not normalised, so this is
-/// lambda_f^2 times the Cauchy normal stress along the current fiber direction).
+/// f . (sigma f) with f = F f0 (as docs/reference.md, "Hemodynamic metrics", defines it: f is not
+/// normalised, so this is lambda_f^2 times the Cauchy normal stress along the current fiber direction).
 double fiber_stress(const Eigen::Matrix3d& sigma, const Eigen::Matrix3d& F, const Eigen::Vector3d& f0);
 
 } // namespace ibvalve::hemodynamics

@@ -1,6 +1,6 @@
 #pragma once
-// Hemodynamic metrics of one cardiac cycle of a valve run (REFERENCE.md, "Hemodynamic metrics"), with
-// the cycle's phases detected from the flow (and the orifice area when there is one).
+// Hemodynamic metrics of one cardiac cycle of a valve run (docs/reference.md, "Hemodynamic metrics"),
+// with the cycle's phases detected from the flow (and the orifice area when there is one).
 //
 // Phase rules (every threshold is a setting; docs/hemodynamics.md explains them with figures):
 //  * Cycle: [t0 + k T, t0 + (k+1) T], T = `period`, t0 the first sample, k = `cycle` (-1: the last full

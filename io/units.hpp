@@ -6,7 +6,7 @@
 
 namespace ibvalve::units {
 
-inline constexpr double mmHg = 1333.22;   // dyn/cm^2 (REFERENCE.md)
+inline constexpr double mmHg = 1333.22;   // dyn/cm^2 (docs/reference.md, "Units")
 inline constexpr double kPa = 1.0e4;      // dyn/cm^2
 inline constexpr double Pa = 10.0;        // dyn/cm^2
 inline constexpr double mL = 1.0;         // cm^3

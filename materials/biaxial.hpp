@@ -1,5 +1,5 @@
 #pragma once
-// Planar biaxial test of a thin incompressible sample (REFERENCE.md, "Constitutive fitting").
+// Planar biaxial test of a thin incompressible sample (docs/reference.md, "Constitutive fitting").
 //
 // The sample is stretched by lambda1 along axis 1 (the fiber direction) and lambda2 along axis 2,
 // F = diag(l1, l2, l3) with l3 = 1/(l1 l2) (incompressible). With the invariant derivatives

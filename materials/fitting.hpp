@@ -1,5 +1,5 @@
 #pragma once
-// Fitting a law's parameters to planar biaxial data (REFERENCE.md, "Constitutive fitting").
+// Fitting a law's parameters to planar biaxial data (docs/reference.md, "Constitutive fitting").
 //
 // Data: one CSV file per sample with the columns (any order, more columns ignored, '#' comments)
 //   lambda1, lambda2, sigma11_kPa, sigma22_kPa

@@ -7,7 +7,8 @@
 // P = dW/dF and dP/dF are assembled from them in law.cpp (chain rule through dI/dF), and the planar
 // biaxial Cauchy stresses in biaxial.hpp.
 //
-// Laws (REFERENCE.md; Zhu et al. 2021, Front. Physiol. 12:682893, eqs. for W1-W3):
+// Laws (docs/reference.md, "Constitutive laws"; Zhu et al. 2021, Front. Physiol. 12:682893, eqs. for
+// W1-W3):
 //   neo-Hookean  Psi = mu/2 (I1 - 3)
 //   W1           Psi = C10 (exp(C01 (I1-3)) - 1) + k1/(2 k2) (exp(k2 (I4-1)^2) - 1)
 //   W2           Psi = mu (I1-3) + c0 (exp(c1 (I1-3)^2 + c2 (I4-1)^4) - 1)

@@ -34,8 +34,8 @@ struct WindkesselParameters {
 };
 
 /// A named parameter set; "stergiopulos-typeA" is the human Type A beat of Stergiopulos et al. (1999)
-/// used by the reference study (REFERENCE.md): R_c 0.033 mmHg s/mL, R_p 0.79 mmHg s/mL,
-/// C 1.75 mL/mmHg, P_d 0, P_Wk(0) 85 mmHg.
+/// used by the reference study (docs/reference.md, "Boundary conditions"): R_c 0.033 mmHg s/mL,
+/// R_p 0.79 mmHg s/mL, C 1.75 mL/mmHg, P_d 0, P_Wk(0) 85 mmHg.
 std::optional<WindkesselParameters> preset(std::string_view name);
 std::vector<std::string> preset_names();
 

@@ -1,4 +1,4 @@
-// Fluid benchmark (TARGETS.md, "Fluid step"): the 3-D periodic ABC flow with mean advection on N^3
+// Fluid benchmark (docs/reference.md, "Targets"): the 3-D periodic ABC flow with mean advection on N^3
 // cells, rho = 1, mu = 0.01, dt = 0.0625/N; or (flow = cavity) a walled box: the unit cube with
 // velocity sides, the lid z = 1 moving in x (16 x(1-x) y(1-y)), started from a wall-compatible swirl,
 // dt = 0.25/N; or (flow = valve) the valve case's kind of sides: a 3.5 x 3.5 x 3.5 cm box of blood

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Generate the SYNTHETIC planar biaxial samples of this folder (no measured data).
 
-Each sample is the W1 law of Zhu et al. (2021) (REFERENCE.md),
+Each sample is the W1 law of Zhu et al. (2021) (docs/reference.md, "Constitutive laws"),
     W1 = C10 (exp(C01 (I1-3)) - 1) + k1/(2 k2) (exp(k2 (I4-1)^2) - 1),
 evaluated for an incompressible thin sheet (lambda3 = 1/(lambda1 lambda2), sigma33 = 0), fiber along
 axis 1, with the stated parameters below, plus Gaussian noise:

@@ -13,7 +13,8 @@ data, so ibvalve ships this stand-in. It is built, not measured:
   relaxation near 0.42 s).
   Using the elastance shape for the pressure is an approximation (it ignores the volume change during
   ejection); it gives a smooth, physiological-looking systolic wave.
-* P_base = 5 mmHg, P_peak = 120 mmHg (REFERENCE.md: systolic peak about 120 mmHg, diastolic a few mmHg).
+* P_base = 5 mmHg, P_peak = 120 mmHg (docs/reference.md, "Boundary conditions": systolic peak about
+  120 mmHg, diastolic a few mmHg).
 * P_kick(t): the atrial contraction at the end of diastole, a periodic Gaussian of 3 mmHg centred at
   0.72 s with a 0.03 s standard deviation.
 

@@ -17,18 +17,18 @@ ejects, relaxes isovolumically and fills, each phase from the model rather than 
 * Outlet: the Windkessel preset stergiopulos-typeA (Stergiopulos, Westerhof, Westerhof 1999, Am J
   Physiol 276:H81, fitted to the Type A beat of Murgo, Westerhof, Giolma & Altobelli 1980, Circulation
   62:105: late systolic pressure above early systolic): R_c = 0.033 and R_p = 0.79 mmHg s/mL,
-  C = 1.75 mL/mmHg, P_d = 0 (REFERENCE.md).
+  C = 1.75 mL/mmHg, P_d = 0 (docs/reference.md, "Boundary conditions").
 * Aortic valve: a diode with the Bernoulli loss rho Q^2 / (2 A^2), A = 3.19 cm^2 (the lumped example's
   open orifice, 0.6 pi 1.3^2), so P_LV exceeds P_Ao by the few mmHg a normal valve takes.
 * Filling: a mitral diode with resistance R_mv from a left-atrial pressure P_LA plus an atrial kick
   (a periodic Gaussian before the next contraction).
-* Chosen, not taken from a paper, to meet the study's timing and a normal human beat (REFERENCE.md:
-  0.8 s cycle, systolic LV peak about 120 mmHg, diastolic a few mmHg): t_max = 0.34 s (ejection ends
-  near t_max; the opening comes at about 0.23 t_max), E_max = 3.0 mmHg/mL (with the volumes, the
-  stroke and so the aortic pressure; 3.3 gives a 132 mmHg peak), E_min = 0.07 mmHg/mL, V_0 = 10 mL,
-  P_LA = 7 mmHg, R_mv = 0.005 mmHg s/mL, kick 4 mmHg at 0.73 s (width 0.025 s). They give (--summary)
-  the aortic valve open 0.079-0.353 s, end-diastolic 8.9 mmHg, peak 126.9 mmHg at 0.161 s, minimum
-  4.6 mmHg, P_Ao 115/71 mmHg, a stroke volume of 91 mL from 136 mL (ejection fraction 0.67).
+* Chosen, not taken from a paper, to meet the study's timing and a normal human beat (docs/reference.md,
+  "Boundary conditions": 0.8 s cycle, systolic LV peak about 120 mmHg, diastolic a few mmHg): t_max =
+  0.34 s (ejection ends near t_max; the opening comes at about 0.23 t_max), E_max = 3.0 mmHg/mL (with
+  the volumes, the stroke and so the aortic pressure; 3.3 gives a 132 mmHg peak), E_min = 0.07 mmHg/mL,
+  V_0 = 10 mL, P_LA = 7 mmHg, R_mv = 0.005 mmHg s/mL, kick 4 mmHg at 0.73 s (width 0.025 s). They give
+  (--summary) the aortic valve open 0.079-0.353 s, end-diastolic 8.9 mmHg, peak 126.9 mmHg at 0.161 s,
+  minimum 4.6 mmHg, P_Ao 115/71 mmHg, a stroke volume of 91 mL from 136 mL (ejection fraction 0.67).
 
 t = 0 is the onset of contraction (end-diastole): the elastance starts to rise there with zero slope,
 and the mitral valve has closed just before, so the pressure is flat across the period end (C^1). The

@@ -3,7 +3,7 @@
 // The nodal forces on the face X_i = 1 sum to -P e_i (sum over that face of N_a is X_i, whose gradient
 // is e_i), which gives P, then sigma = P F^T / J with sigma33 = 0 imposed by the hydrostatic pressure
 // (subtract sigma33). This must equal the planar-biaxial analytics of materials/biaxial.hpp
-// (REFERENCE.md) to round-off: < 1e-8 relative.
+// (docs/reference.md, "Constitutive fitting") to round-off: < 1e-8 relative.
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -28,7 +28,7 @@ struct Case {
   double fiber_angle;
 };
 
-// The study's fitted means (REFERENCE.md); neo-Hookean and HGO with typical values.
+// The study's fitted means (docs/reference.md, "Constitutive laws"); neo-Hookean and HGO with typical values.
 const std::vector<Case> cases{
     {materials::LawKind::neo_hookean, {10.0}, 0.0},
     {materials::LawKind::W1, {1.21, 7.99, 24.23, 57.62}, 0.0},

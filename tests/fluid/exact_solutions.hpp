@@ -32,7 +32,8 @@ struct AdvectedTaylorGreen {
   }
 };
 
-/// The ABC (Arnold–Beltrami–Childress) flow with mean advection of TARGETS.md (rho = 1, A = B = C = 1).
+/// The ABC (Arnold–Beltrami–Childress) flow with mean advection of docs/reference.md, "Targets"
+/// (rho = 1, A = B = C = 1).
 struct AbcFlow {
   double mu = 0.01;
   Real3 velocity(const Real3& x, double t) const

@@ -1,6 +1,6 @@
 // Second-order convergence on periodic boxes (fft solver): an advected Taylor–Green vortex and the
-// ABC flow of TARGETS.md on 16^3, 32^3 and 64^3 grids, with dt proportional to h, to a fixed short
-// time. Orders are measured from the errors on successive grids.
+// ABC flow of docs/reference.md, "Targets", on 16^3, 32^3 and 64^3 grids, with dt proportional to h,
+// to a fixed short time. Orders are measured from the errors on successive grids.
 #include <gtest/gtest.h>
 
 #include "tests/fluid/exact_solutions.hpp"

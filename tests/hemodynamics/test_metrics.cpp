@@ -1,4 +1,5 @@
-// Metrics on synthetic valve series with closed-form answers (REFERENCE.md definitions).
+// Metrics on synthetic valve series with closed-form answers (the definitions of docs/reference.md,
+// "Hemodynamic metrics").
 //
 // One 0.8 s cycle, repeated: a half-sine forward ejection on [0.1, 0.4] s (400 mL/s), a half-sine
 // closing backflow on [0.4, 0.46] s (80 mL/s), a half-sine leakage lobe over the rest of diastole

@@ -1,4 +1,5 @@
-// Units at the edges: every conversion the case files use, against the definitions in REFERENCE.md.
+// Units at the edges: every conversion the case files use, against the definitions in docs/reference.md,
+// "Units".
 #include <gtest/gtest.h>
 
 #include "io/units.hpp"

@@ -1,6 +1,6 @@
 // Planar biaxial analytics (materials/biaxial.hpp) against (a) the law's 3-D stress P evaluated on the
 // homogeneous deformation F = diag(l1, l2, 1/(l1 l2)) of one element with sigma33 = 0 imposed, and
-// (b) the Cauchy stresses written out in REFERENCE.md for W1, W2, W3.
+// (b) the Cauchy stresses written out in docs/reference.md, "Constitutive laws", for W1, W2, W3.
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -67,8 +67,8 @@ TEST(Biaxial, AnalyticStressesEqualTheLawsStressOnAHomogeneousElement)
 
 TEST(Biaxial, MatchesTheCauchyStressesOfTheReference)
 {
-  // REFERENCE.md: sigma_W1 = -p I + 2 C10 C01 e^{C01 (I1-3)} B + 2 k1 (I4-1) e^{k2 (I4-1)^2} f (x) f, etc.,
-  // with p from sigma33 = 0.
+  // docs/reference.md, "Constitutive laws": sigma_W1 = -p I + 2 C10 C01 e^{C01 (I1-3)} B
+  // + 2 k1 (I4-1) e^{k2 (I4-1)^2} f (x) f, etc., with p from sigma33 = 0.
   const double l1 = 1.08, l2 = 1.17, l3 = 1 / (l1 * l2);
   const double I1 = l1 * l1 + l2 * l2 + l3 * l3, I4 = l1 * l1;
   const double C10 = 1.21, C01 = 7.99, k1 = 24.23, k2 = 57.62;

@@ -55,7 +55,7 @@ std::vector<LawCase> cases()
   for (const auto fc : {FiberCompression::excluded, FiberCompression::included}) {
     const std::string suffix =
         fc == FiberCompression::excluded ? "_fibers_tension_only" : "_fibers_both_ways";
-    // Study parameters (REFERENCE.md), converted to CGS.
+    // Study parameters (docs/reference.md, "Constitutive laws"), converted to CGS.
     out.push_back(
         {"neo_hookean" + suffix, law(LawKind::neo_hookean, {50.0 * kPa}, fc), oblique_fiber(), 50 * kPa});
     out.push_back({"W1" + suffix, law(LawKind::W1, {1.21 * kPa, 7.99, 24.23 * kPa, 57.62}, fc),
@@ -194,7 +194,8 @@ INSTANTIATE_TEST_SUITE_P(Laws, LawTest, ::testing::ValuesIn(cases()),
 
 TEST(ReferenceState, AsWrittenTheIsotropicPartsCarryTheHydrostaticStressTheCorrectionRemoves)
 {
-  // W1: P(I) = 2 C10 C01 I as written (REFERENCE.md); W2: 2 mu I; W3: 2 C1 I; neo-Hookean: mu I.
+  // W1: P(I) = 2 C10 C01 I as written (docs/reference.md, "Constitutive laws"); W2: 2 mu I; W3: 2 C1 I;
+  // neo-Hookean: mu I.
   const LawOptions raw{FiberCompression::excluded, ReferenceState::as_written};
   const FiberFrame frame = oblique_fiber();
   const Mat3 I = Mat3::Identity();

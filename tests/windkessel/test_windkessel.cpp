@@ -49,7 +49,7 @@ TEST(Windkessel, PresetIsTheStudysTypeABeatInCgs)
   EXPECT_NEAR(p.initial_pressure, 85.0 * 1333.22, 1e-9);
   EXPECT_NEAR(p.time_constant(), 0.79 * 1.75, 1e-12); // R_p C in seconds, unit-free check
   EXPECT_FALSE(wk::preset("no-such-preset"));
-  // P_Ao(0) = P_Wk(0) (REFERENCE.md): no flow before the first step by default.
+  // P_Ao(0) = P_Wk(0) (docs/reference.md, "Boundary conditions"): no flow before the first step by default.
   wk::ThreeElementWindkessel w(p);
   EXPECT_DOUBLE_EQ(w.outlet_pressure(), p.initial_pressure);
 }
