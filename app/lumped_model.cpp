@@ -2,15 +2,8 @@
 // Windkessel, in 0-D, then the hemodynamic report. It explores outlet and valve parameters in about
 // a second and exercises the metrics/report pipeline end to end before a 3-D run exists.
 //
-// Valve (Mynard, Davidson, Penny & Smolich 2012, Int J Numer Meth Biomed Eng 28:626): a state
-// zeta in [0, 1] sets the effective orifice area A = (A_max - A_min) zeta + A_min, with
-// A_max = M_st A_ann, A_min = M_rg A_ann; the flow obeys Bernoulli with inertance,
-//   dp = B Q|Q| + L dQ/dt,  B = rho / (2 A^2),  L = rho l_eff / A,  dp = P_LV - P_Ao,
-// and zeta opens or closes at rates proportional to the pressure difference,
-//   dzeta/dt = (1 - zeta) K_vo (dp - dp_open)   when dp > dp_open,
-//   dzeta/dt = zeta K_vc (dp - dp_close)         when dp < dp_close.
-// Outlet: C dP_Wk/dt = Q - (P_Wk - P_d)/R_p, P_Ao = P_Wk + R_c Q (windkessel/windkessel.hpp). The
-// three states (Q, zeta, P_Wk) advance together by classical Runge–Kutta 4 with a fixed step.
+// The valve's equations and their Runge–Kutta 4 step (Mynard et al. 2012) are
+// windkessel/lumped_valve.hpp; this file holds the case-file keys, the run's time loop and its output.
 #include <array>
 #include <cmath>
 #include <functional>
@@ -32,6 +25,7 @@
 #include "io/files.hpp"
 #include "io/logger.hpp"
 #include "io/units.hpp"
+#include "windkessel/lumped_valve.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
 
@@ -39,66 +33,8 @@ namespace ibvalve::app {
 
 namespace {
 
-struct ValveParameters {
-  double annulus_area = 0.0;    // cm^2
-  double max_area_fraction = 0; // M_st
-  double min_area_fraction = 0; // M_rg
-  double effective_length = 0;  // cm
-  double opening_rate = 0;      // K_vo, 1/(dyn/cm^2 s)
-  double closing_rate = 0;      // K_vc
-  double opening_pressure = 0;  // dyn/cm^2
-  double closing_pressure = 0;
-  double density = 0; // g/cm^3
-
-  double area(double zeta) const
-  {
-    return annulus_area * ((max_area_fraction - min_area_fraction) * zeta + min_area_fraction);
-  }
-};
-
-/// The lumped system's state and right-hand side.
-struct LumpedSystem {
-  using State = std::array<double, 3>; // Q (cm^3/s), zeta, P_Wk (dyn/cm^2)
-  const windkessel::PeriodicWaveform& lv_pressure;
-  const windkessel::ThreeElementWindkessel& outlet; // for its parameters and right-hand side
-  ValveParameters valve;
-
-  double aortic_pressure(const State& y) const
-  {
-    return y[2] + outlet.parameters().proximal_resistance * y[0];
-  }
-
-  State rate(double t, const State& y) const
-  {
-    const double q = y[0], zeta = std::clamp(y[1], 0.0, 1.0);
-    const double dp = lv_pressure(t) - aortic_pressure(y);
-    const double area = valve.area(zeta);
-    const double bernoulli = valve.density / (2.0 * area * area);
-    const double inertance = valve.density * valve.effective_length / area;
-    double dzeta = 0.0;
-    if (dp > valve.opening_pressure)
-      dzeta = (1.0 - zeta) * valve.opening_rate * (dp - valve.opening_pressure);
-    else if (dp < valve.closing_pressure)
-      dzeta = zeta * valve.closing_rate * (dp - valve.closing_pressure);
-    return {(dp - bernoulli * q * std::abs(q)) / inertance, dzeta, outlet.reservoir_rate(y[2], q)};
-  }
-
-  State step(double t, const State& y, double dt) const
-  {
-    auto axpy = [](const State& a, double s, const State& b) {
-      return State{a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
-    };
-    const State k1 = rate(t, y);
-    const State k2 = rate(t + 0.5 * dt, axpy(y, 0.5 * dt, k1));
-    const State k3 = rate(t + 0.5 * dt, axpy(y, 0.5 * dt, k2));
-    const State k4 = rate(t + dt, axpy(y, dt, k3));
-    State next;
-    for (std::size_t i = 0; i < 3; ++i)
-      next[i] = y[i] + dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    next[1] = std::clamp(next[1], 0.0, 1.0);
-    return next;
-  }
-};
+using windkessel::LumpedSystem;
+using windkessel::ValveParameters;
 
 void add_lumped_schema(io::Schema& s)
 {
