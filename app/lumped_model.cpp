@@ -302,12 +302,13 @@ class LumpedRun : public PreparedRun {
     options.plots = plots_;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
     const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
-    const auto& m = *doc.find("metrics");
+    const auto& m = doc.at("metrics");
     auto show = [&](const char* key) {
-      const auto* entry = m.find(key);
-      const auto* v = entry ? entry->find("value") : nullptr;
-      return (v && v->is_number() ? hemodynamics::format_value(v->number()) : std::string("missing")) + " " +
-             (entry ? entry->find("unit")->string() : "");
+      if (!m.contains(key)) return std::string("missing ");
+      const auto& entry = m.at(key);
+      const auto& v = entry.at("value");
+      return (v.is_number() ? hemodynamics::format_value(v.get<double>()) : std::string("missing")) + " " +
+             entry.at("unit").get<std::string>();
     };
     summary.lines.push_back("V_F " + show("forward_volume") + ", RF " + show("regurgitant_fraction") +
                             ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +

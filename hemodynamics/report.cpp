@@ -1,6 +1,7 @@
 #include "hemodynamics/report.hpp"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -170,6 +171,15 @@ std::string format_value(double value)
   return buffer;
 }
 
+std::string exact_value(double value)
+{
+  if (!std::isfinite(value)) return "null";
+  char buffer[64];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  (void)error; // 64 characters hold every double
+  return std::string(buffer, end);
+}
+
 // ---------------------------------------------------------------------------------------------
 // metrics.json
 
@@ -178,13 +188,12 @@ namespace {
 Json metric_json(const std::string& symbol, const std::string& unit, const std::string& description,
                  std::optional<double> value, const std::string& note)
 {
-  Json::Object o;
-  o.emplace_back("value", value ? Json(*value) : Json());
-  o.emplace_back("unit", unit);
-  o.emplace_back("symbol", symbol);
-  o.emplace_back("description", description);
-  if (!note.empty()) o.emplace_back("note", note);
-  return Json(std::move(o));
+  Json o{{"value", value ? Json(*value) : Json()},
+         {"unit", unit},
+         {"symbol", symbol},
+         {"description", description}};
+  if (!note.empty()) o["note"] = note;
+  return o;
 }
 
 /// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
@@ -222,68 +231,68 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const fs::path& run_directory)
 {
-  Json::Object settings_json{{"period_s", settings.period},
-                             {"cycle", settings.cycle},
-                             {"forward_threshold_mL_per_s", settings.forward_threshold},
-                             {"closure_rule", closure_rule_name(settings.closure_rule)},
-                             {"closure_flow_fraction", settings.closure_flow_fraction},
-                             {"open_area_fraction", settings.open_area_fraction},
-                             {"closed_area_fraction", settings.closed_area_fraction},
-                             {"density_g_per_mL", settings.density}};
+  const Json settings_json{{"period_s", settings.period},
+                           {"cycle", settings.cycle},
+                           {"forward_threshold_mL_per_s", settings.forward_threshold},
+                           {"closure_rule", closure_rule_name(settings.closure_rule)},
+                           {"closure_flow_fraction", settings.closure_flow_fraction},
+                           {"open_area_fraction", settings.open_area_fraction},
+                           {"closed_area_fraction", settings.closed_area_fraction},
+                           {"density_g_per_mL", settings.density}};
   const Phases& p = metrics.phases;
-  Json::Object phases{{"cycle_start", p.cycle_start},
-                      {"cycle_end", p.cycle_end},
-                      {"ejection_start", p.ejection_start},
-                      {"ejection_end", p.ejection_end},
-                      {"closure", p.closure},
-                      {"closure_rule", p.closure_rule},
-                      {"peak_forward_time", p.peak_forward_time},
-                      {"peak_regurgitant_time", p.peak_regurgitant_time},
-                      {"opening_start", p.opening_start},
-                      {"fully_open_start", p.fully_open_start},
-                      {"fully_open_end", p.fully_open_end},
-                      {"closing_end", p.closing_end}};
-  Json::Object values;
+  const Json phases{{"cycle_start", p.cycle_start},
+                    {"cycle_end", p.cycle_end},
+                    {"ejection_start", p.ejection_start},
+                    {"ejection_end", p.ejection_end},
+                    {"closure", p.closure},
+                    {"closure_rule", p.closure_rule},
+                    {"peak_forward_time", p.peak_forward_time},
+                    {"peak_regurgitant_time", p.peak_regurgitant_time},
+                    {"opening_start", p.opening_start},
+                    {"fully_open_start", p.fully_open_start},
+                    {"fully_open_end", p.fully_open_end},
+                    {"closing_end", p.closing_end}};
+  Json values = Json::object();
   for (const Metric& m : metrics.metrics)
-    values.emplace_back(m.key, metric_json(m.symbol, m.unit, m.description, m.value, m.note));
-  Json::Array notes;
-  for (const auto& n : metrics.notes) notes.emplace_back(n);
+    values[m.key] = metric_json(m.symbol, m.unit, m.description, m.value, m.note);
+  Json notes = Json::array();
+  for (const auto& n : metrics.notes) notes.push_back(n);
   const fs::path extra_file = run_directory / "extra_metrics.json";
   if (fs::exists(extra_file)) {
     Json extra;
     try {
       extra = Json::parse(io::read_text_file(extra_file));
-    } catch (const std::runtime_error& error) {
+    } catch (const Json::parse_error& error) {
       throw InputError(extra_file.string() + ": " + error.what());
     }
     if (!extra.is_object()) throw InputError(extra_file.string() + ": expected a JSON object of metrics");
-    for (const auto& [key, v] : extra.object()) {
+    for (const auto& [key, v] : extra.items()) {
       auto text = [&](const char* field) {
-        const Json* f = v.find(field);
-        return f && f->is_string() ? f->string() : std::string();
+        const auto f = v.find(field);
+        return f != v.end() && f->is_string() ? f->get<std::string>() : std::string();
       };
       if (v.is_number()) {
-        values.emplace_back(key, metric_json(key, "", "from extra_metrics.json", v.number(), ""));
+        values[key] = metric_json(key, "", "from extra_metrics.json", v.get<double>(), "");
       } else if (v.is_object()) {
-        const Json* value = v.find("value");
-        values.emplace_back(
-            key, metric_json(text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
-                             value && value->is_number() ? std::optional(value->number()) : std::nullopt,
-                             text("note")));
+        const auto value = v.find("value");
+        values[key] = metric_json(
+            text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
+            value != v.end() && value->is_number() ? std::optional(value->get<double>()) : std::nullopt,
+            text("note"));
       } else {
         throw InputError(extra_file.string() + ": " + key +
                          ": expected a number or an object with \"value\"");
       }
     }
-    notes.emplace_back("metrics added from extra_metrics.json");
+    notes.push_back("metrics added from extra_metrics.json");
   }
-  return Json(Json::Object{{"ibvalve_metrics", 1},
-                           {"run", run_name},
-                           {"source", "timeseries.csv"},
-                           {"settings", Json(std::move(settings_json))},
-                           {"phases", Json(std::move(phases))},
-                           {"metrics", Json(std::move(values))},
-                           {"notes", Json(std::move(notes))}});
+  return Json{{"ibvalve_metrics", 1},
+              {"run", run_name},
+              {"source", "timeseries.csv"},
+              {"settings", settings_json},
+              {"phases", phases},
+              {"metrics", values},
+              {"notes", notes}};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -304,27 +313,34 @@ constexpr PlotInfo plot_list[] = {
     {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
 };
 
+double number(const Json& v)
+{
+  return v.is_number() ? v.get<double>() : NAN;
+}
+
+/// A metric's text field ("" when absent).
+std::string text(const Json& metric, const char* field)
+{
+  const auto f = metric.find(field);
+  return f != metric.end() && f->is_string() ? f->get<std::string>() : std::string();
+}
+
 std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
 {
   std::ostringstream md;
-  md << "# ibvalve report: " << doc.find("run")->string() << "\n\n";
-  const Json& ph = *doc.find("phases");
-  md << "Cycle ["
-     << format_value(ph.find("cycle_start")->is_number() ? ph.find("cycle_start")->number() : NAN) << ", "
-     << format_value(ph.find("cycle_end")->number()) << "] s of `timeseries.csv`.\n\n";
+  md << "# ibvalve report: " << doc.at("run").get<std::string>() << "\n\n";
+  const Json& ph = doc.at("phases");
+  md << "Cycle [" << format_value(number(ph.at("cycle_start"))) << ", "
+     << format_value(number(ph.at("cycle_end"))) << "] s of `timeseries.csv`.\n\n";
   md << "| metric | symbol | value | unit | note |\n|---|---|---|---|---|\n";
-  for (const auto& [key, m] : doc.find("metrics")->object()) {
-    const Json* v = m.find("value");
-    const Json* note = m.find("note");
-    md << "| " << (m.find("description")->string().empty() ? key : m.find("description")->string()) << " (`"
-       << key << "`) | " << m.find("symbol")->string() << " | "
-       << format_value(v->is_number() ? v->number() : NAN) << " | " << m.find("unit")->string() << " | "
-       << (note ? note->string() : "") << " |\n";
+  for (const auto& [key, m] : doc.at("metrics").items()) {
+    md << "| " << (text(m, "description").empty() ? key : text(m, "description")) << " (`" << key << "`) | "
+       << text(m, "symbol") << " | " << format_value(number(m.at("value"))) << " | " << text(m, "unit")
+       << " | " << text(m, "note") << " |\n";
   }
   md << "\n## Phases (s)\n\n| instant | time |\n|---|---|\n";
-  for (const auto& [key, v] : ph.object())
-    md << "| " << key << " | "
-       << (v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN)) << " |\n";
+  for (const auto& [key, v] : ph.items())
+    md << "| " << key << " | " << (v.is_string() ? v.get<std::string>() : format_value(number(v))) << " |\n";
   md << "\n## Plots\n\n";
   for (const auto& p : plots) {
     std::string caption;
@@ -334,7 +350,7 @@ std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
   }
   if (plots.empty()) md << "(no plots)\n\n";
   md << "## Notes\n\n";
-  for (const auto& n : doc.find("notes")->array()) md << "- " << n.string() << "\n";
+  for (const auto& n : doc.at("notes")) md << "- " << n.get<std::string>() << "\n";
   md << "\nDefinitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is "
         "positive.\n";
   return md.str();
@@ -343,7 +359,7 @@ std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
 std::string html(const Json& doc, const std::vector<fs::path>& plots)
 {
   std::ostringstream h;
-  const std::string run = html_escape(doc.find("run")->string());
+  const std::string run = html_escape(doc.at("run").get<std::string>());
   h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ibvalve report: " << run
     << "</title>\n<style>\nbody{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}\n"
        "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
@@ -352,29 +368,25 @@ std::string html(const Json& doc, const std::vector<fs::path>& plots)
        "0}img{max-width:100%}\n"
        ".missing{color:#999}\n</style>\n</head>\n<body>\n<h1>ibvalve report: "
     << run << "</h1>\n";
-  const Json& ph = *doc.find("phases");
-  h << "<p>Cycle [" << format_value(ph.find("cycle_start")->number()) << ", "
-    << format_value(ph.find("cycle_end")->number())
+  const Json& ph = doc.at("phases");
+  h << "<p>Cycle [" << format_value(number(ph.at("cycle_start"))) << ", "
+    << format_value(number(ph.at("cycle_end")))
     << "] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>\n";
   h << "<h2>Metrics</h2>\n<table "
        "id=\"metrics\">\n<tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th>"
        "<th>note</th></tr>\n";
-  for (const auto& [key, m] : doc.find("metrics")->object()) {
-    const Json* v = m.find("value");
-    const Json* note = m.find("note");
-    const bool has = v->is_number();
-    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(m.find("description")->string())
-      << " (<code>" << html_escape(key) << "</code>)</td><td>" << html_escape(m.find("symbol")->string())
-      << "</td><td class=\"value" << (has ? "" : " missing") << "\" data-value=\""
-      << (has ? json_number(v->number()) : "null") << "\">" << format_value(has ? v->number() : NAN)
-      << "</td><td>" << html_escape(m.find("unit")->string()) << "</td><td>"
-      << html_escape(note ? note->string() : "") << "</td></tr>\n";
+  for (const auto& [key, m] : doc.at("metrics").items()) {
+    const double v = number(m.at("value"));
+    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(text(m, "description"))
+      << " (<code>" << html_escape(key) << "</code>)</td><td>" << html_escape(text(m, "symbol"))
+      << "</td><td class=\"value" << (m.at("value").is_number() ? "" : " missing") << "\" data-value=\""
+      << exact_value(v) << "\">" << format_value(v) << "</td><td>" << html_escape(text(m, "unit"))
+      << "</td><td>" << html_escape(text(m, "note")) << "</td></tr>\n";
   }
   h << "</table>\n<h2>Phases</h2>\n<table id=\"phases\">\n<tr><th>instant</th><th>time (s)</th></tr>\n";
-  for (const auto& [key, v] : ph.object())
+  for (const auto& [key, v] : ph.items())
     h << "<tr><td>" << html_escape(key) << "</td><td class=\"value\">"
-      << html_escape(v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN))
-      << "</td></tr>\n";
+      << html_escape(v.is_string() ? v.get<std::string>() : format_value(number(v))) << "</td></tr>\n";
   h << "</table>\n<h2>Plots</h2>\n";
   for (const auto& p : plots) {
     std::string caption;
@@ -389,7 +401,7 @@ std::string html(const Json& doc, const std::vector<fs::path>& plots)
   }
   if (plots.empty()) h << "<p>(no plots)</p>\n";
   h << "<h2>Notes</h2>\n<ul>\n";
-  for (const auto& n : doc.find("notes")->array()) h << "<li>" << html_escape(n.string()) << "</li>\n";
+  for (const auto& n : doc.at("notes")) h << "<li>" << html_escape(n.get<std::string>()) << "</li>\n";
   h << "<li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is "
        "positive.</li>\n</ul>\n</body>\n</html>\n";
   return h.str();
@@ -452,7 +464,8 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";
-  io::write_file_atomically(files.json, doc.dump() + "\n");
+  // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
+  io::write_file_atomically(files.json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 
   std::string plot_problem;
   if (options.plots) {

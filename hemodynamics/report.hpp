@@ -6,13 +6,16 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
-#include "hemodynamics/json.hpp"
 #include "hemodynamics/metrics.hpp"
 #include "io/config.hpp"
 
 namespace ibvalve::hemodynamics {
+
+/// JSON as metrics.json holds it: members keep the order they were written in.
+using Json = nlohmann::ordered_json;
 
 /// The [report] keys (period, cycle, thresholds, closure rule, density, plots) under `prefix`.
 void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
@@ -66,5 +69,8 @@ std::string base64(std::string_view data);
 std::string html_escape(std::string_view text);
 /// A value for tables: 4 significant digits (or "missing").
 std::string format_value(double value);
+/// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or
+/// "null" when it is not finite.
+std::string exact_value(double value);
 
 } // namespace ibvalve::hemodynamics
