@@ -155,7 +155,8 @@ class LumpedRun : public PreparedRun {
   explicit LumpedRun(const io::Config& config)
       : lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
         outlet_(windkessel::parameters_from_config(config, "windkessel")),
-        settings_(hemodynamics::metric_settings_from_config(config, "report"))
+        settings_(hemodynamics::metric_settings_from_config(config, "report")),
+        templates_(hemodynamics::report_templates_from_config(config, "report"))
   {
     const double radius = config.real("valve.annulus_radius");
     valve_.annulus_area = std::numbers::pi * radius * radius;
@@ -300,6 +301,7 @@ class LumpedRun : public PreparedRun {
     options.settings = settings_;
     options.python = python_executable;
     options.plots = plots_;
+    options.templates = templates_;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
     const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
     const auto& m = doc.at("metrics");
@@ -320,6 +322,7 @@ class LumpedRun : public PreparedRun {
   windkessel::PeriodicWaveform lv_pressure_;
   windkessel::ThreeElementWindkessel outlet_;
   hemodynamics::MetricSettings settings_;
+  std::filesystem::path templates_;
   ValveParameters valve_;
   double period_ = 0.8;
   long cycles_ = 1, steps_per_cycle_ = 1, every_ = 1;

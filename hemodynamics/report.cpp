@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "hemodynamics/text_template.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -20,6 +21,46 @@
 namespace ibvalve::hemodynamics {
 
 namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Templates
+
+namespace {
+
+constexpr const char* html_template_name = "report.html.tpl";
+constexpr const char* markdown_template_name = "report.md.tpl";
+
+struct ReportTemplates {
+  TextTemplate html, markdown;
+};
+
+/// The templates of `folder` (either file may be missing: the built-in one then serves), or the built-in
+/// ones when `folder` is empty. InputError for a folder that is missing or holds neither file, and for a
+/// template that does not parse.
+ReportTemplates load_templates(const fs::path& folder)
+{
+  auto builtin = [](const char* name) {
+    for (const TemplateFile& t : builtin_report_templates())
+      if (std::string_view(t.name) == name) return t.text;
+    throw std::logic_error(std::string("no built-in template ") + name);
+  };
+  auto load = [&](const char* name, TextTemplate::Escaping escaping) {
+    const fs::path file = folder / name;
+    if (folder.empty() || !fs::exists(file))
+      return TextTemplate(builtin(name), std::string("built-in ") + name, escaping);
+    return TextTemplate(io::read_text_file(file), file.string(), escaping);
+  };
+  if (!folder.empty()) {
+    if (!fs::is_directory(folder)) throw InputError(folder.string() + ": report.templates: no such folder");
+    if (!fs::exists(folder / html_template_name) && !fs::exists(folder / markdown_template_name))
+      throw InputError(folder.string() + ": report.templates: holds neither " + html_template_name + " nor " +
+                       markdown_template_name);
+  }
+  return {load(html_template_name, TextTemplate::Escaping::html),
+          load(markdown_template_name, TextTemplate::Escaping::none)};
+}
+
+} // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Settings
@@ -56,6 +97,10 @@ void add_report_schema(io::Schema& schema, const std::string& prefix)
       .below(1.0);
   schema.add_real(p + "density", "blood density for the EOA formula").unit("g/mL").defaults(1.0).positive();
   schema.add_boolean(p + "plots", "draw the report's plots (matplotlib)").defaults(true);
+  schema
+      .add_string(p + "templates", "folder of report.html.tpl and/or report.md.tpl laid out in place of the "
+                                   "built-in ones (`ibvalve report --write-templates DIR` copies those)")
+      .file(false);
 }
 
 MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix)
@@ -113,6 +158,16 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
   return s;
 }
 
+fs::path report_templates_from_config(const io::Config& config, const std::string& prefix)
+{
+  const std::string key = prefix + ".templates";
+  if (!config.has(key)) return {};
+  const fs::path folder = config.path(key);
+  if (!fs::is_directory(folder)) config.fail(key, "no such folder '" + folder.string() + "'");
+  load_templates(folder); // a template that does not parse is refused now, not after the run
+  return folder;
+}
+
 std::optional<double> recorded_period(const fs::path& run_directory)
 {
   const fs::path file = run_directory / "config.toml";
@@ -123,6 +178,20 @@ std::optional<double> recorded_period(const fs::path& run_directory)
   const toml::node* n = report->get("period");
   if (!n || !n->is_number()) return std::nullopt;
   return *n->value<double>();
+}
+
+fs::path recorded_templates(const fs::path& run_directory)
+{
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return {};
+  const toml::table root = io::parse_toml_file(file);
+  const toml::node* n = root.at_path("report.templates").node();
+  if (!n) return {};
+  if (!n->is_string())
+    throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) +
+                     ": report.templates: expected a string");
+  const fs::path folder(*n->value<std::string>());
+  return folder.is_relative() ? run_directory / folder : folder;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -296,7 +365,7 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 }
 
 // ---------------------------------------------------------------------------------------------
-// Markdown and HTML
+// What the templates fill in
 
 namespace {
 
@@ -313,98 +382,64 @@ constexpr PlotInfo plot_list[] = {
     {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
 };
 
-double number(const Json& v)
+/// What the templates fill in (the names templates/report.md.tpl lists), from metrics.json's document.
+kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::path>& plots)
 {
-  return v.is_number() ? v.get<double>() : NAN;
-}
-
-/// A metric's text field ("" when absent).
-std::string text(const Json& metric, const char* field)
-{
-  const auto f = metric.find(field);
-  return f != metric.end() && f->is_string() ? f->get<std::string>() : std::string();
-}
-
-std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
-{
-  std::ostringstream md;
-  md << "# ibvalve report: " << doc.at("run").get<std::string>() << "\n\n";
-  const Json& ph = doc.at("phases");
-  md << "Cycle [" << format_value(number(ph.at("cycle_start"))) << ", "
-     << format_value(number(ph.at("cycle_end"))) << "] s of `timeseries.csv`.\n\n";
-  md << "| metric | symbol | value | unit | note |\n|---|---|---|---|---|\n";
+  using kainjow::mustache::data;
+  auto number = [](const Json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  auto text = [](const Json& m, const char* field) {
+    const auto f = m.find(field);
+    return f != m.end() && f->is_string() ? f->get<std::string>() : std::string();
+  };
+  data values;
+  values.set("run", doc.at("run").get<std::string>());
+  const Json& phases = doc.at("phases");
+  values.set("cycle_start", format_value(number(phases.at("cycle_start"))));
+  values.set("cycle_end", format_value(number(phases.at("cycle_end"))));
+  data metrics{data::type::list};
   for (const auto& [key, m] : doc.at("metrics").items()) {
-    md << "| " << (text(m, "description").empty() ? key : text(m, "description")) << " (`" << key << "`) | "
-       << text(m, "symbol") << " | " << format_value(number(m.at("value"))) << " | " << text(m, "unit")
-       << " | " << text(m, "note") << " |\n";
+    const Json& v = m.at("value");
+    data row;
+    row.set("key", key);
+    row.set("description", text(m, "description"));
+    row.set("label", text(m, "description").empty() ? key : text(m, "description"));
+    row.set("symbol", text(m, "symbol"));
+    row.set("value", format_value(number(v)));
+    row.set("exact", v.is_number() ? exact_value(v.get<double>()) : std::string("null"));
+    row.set("missing", !v.is_number());
+    row.set("unit", text(m, "unit"));
+    row.set("note", text(m, "note"));
+    metrics.push_back(row);
   }
-  md << "\n## Phases (s)\n\n| instant | time |\n|---|---|\n";
-  for (const auto& [key, v] : ph.items())
-    md << "| " << key << " | " << (v.is_string() ? v.get<std::string>() : format_value(number(v))) << " |\n";
-  md << "\n## Plots\n\n";
+  values.set("metrics", metrics);
+  data phase_rows{data::type::list};
+  for (const auto& [key, v] : phases.items()) {
+    data row;
+    row.set("name", key);
+    row.set("time", v.is_string() ? v.get<std::string>() : format_value(number(v)));
+    phase_rows.push_back(row);
+  }
+  values.set("phases", phase_rows);
+  data plot_rows{data::type::list};
   for (const auto& p : plots) {
     std::string caption;
     for (const auto& info : plot_list)
       if (p.filename() == info.file) caption = info.caption;
-    md << "![" << caption << "](" << p.filename().string() << ")\n\n";
+    data row;
+    row.set("file", p.filename().string());
+    row.set("caption", caption);
+    row.set("png_base64", base64(io::read_text_file(p)));
+    plot_rows.push_back(row);
   }
-  if (plots.empty()) md << "(no plots)\n\n";
-  md << "## Notes\n\n";
-  for (const auto& n : doc.at("notes")) md << "- " << n.get<std::string>() << "\n";
-  md << "\nDefinitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is "
-        "positive.\n";
-  return md.str();
-}
-
-std::string html(const Json& doc, const std::vector<fs::path>& plots)
-{
-  std::ostringstream h;
-  const std::string run = html_escape(doc.at("run").get<std::string>());
-  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ibvalve report: " << run
-    << "</title>\n<style>\nbody{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}\n"
-       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
-       "8px;text-align:left}\n"
-       "td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em "
-       "0}img{max-width:100%}\n"
-       ".missing{color:#999}\n</style>\n</head>\n<body>\n<h1>ibvalve report: "
-    << run << "</h1>\n";
-  const Json& ph = doc.at("phases");
-  h << "<p>Cycle [" << format_value(number(ph.at("cycle_start"))) << ", "
-    << format_value(number(ph.at("cycle_end")))
-    << "] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>\n";
-  h << "<h2>Metrics</h2>\n<table "
-       "id=\"metrics\">\n<tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th>"
-       "<th>note</th></tr>\n";
-  for (const auto& [key, m] : doc.at("metrics").items()) {
-    const double v = number(m.at("value"));
-    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(text(m, "description"))
-      << " (<code>" << html_escape(key) << "</code>)</td><td>" << html_escape(text(m, "symbol"))
-      << "</td><td class=\"value" << (m.at("value").is_number() ? "" : " missing") << "\" data-value=\""
-      << exact_value(v) << "\">" << format_value(v) << "</td><td>" << html_escape(text(m, "unit"))
-      << "</td><td>" << html_escape(text(m, "note")) << "</td></tr>\n";
+  values.set("plots", plot_rows);
+  data notes{data::type::list};
+  for (const auto& n : doc.at("notes")) {
+    data row;
+    row.set("text", n.get<std::string>());
+    notes.push_back(row);
   }
-  h << "</table>\n<h2>Phases</h2>\n<table id=\"phases\">\n<tr><th>instant</th><th>time (s)</th></tr>\n";
-  for (const auto& [key, v] : ph.items())
-    h << "<tr><td>" << html_escape(key) << "</td><td class=\"value\">"
-      << html_escape(v.is_string() ? v.get<std::string>() : format_value(number(v))) << "</td></tr>\n";
-  h << "</table>\n<h2>Plots</h2>\n";
-  for (const auto& p : plots) {
-    std::string caption;
-    for (const auto& info : plot_list)
-      if (p.filename() == info.file) caption = info.caption;
-    const std::string name = p.filename().string();
-    // Embedded (the file opens anywhere) and linked to the PNG beside it.
-    h << "<figure><a href=\"" << html_escape(name) << "\"><img alt=\"" << html_escape(caption)
-      << "\" src=\"data:image/png;base64," << base64(io::read_text_file(p)) << "\"></a><figcaption>"
-      << html_escape(caption) << " (<a href=\"" << html_escape(name) << "\">" << html_escape(name)
-      << "</a>)</figcaption></figure>\n";
-  }
-  if (plots.empty()) h << "<p>(no plots)</p>\n";
-  h << "<h2>Notes</h2>\n<ul>\n";
-  for (const auto& n : doc.at("notes")) h << "<li>" << html_escape(n.get<std::string>()) << "</li>\n";
-  h << "<li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is "
-       "positive.</li>\n</ul>\n</body>\n</html>\n";
-  return h.str();
+  values.set("notes", notes);
+  return values;
 }
 
 } // namespace
@@ -416,6 +451,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   if (!fs::exists(series_file))
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
+  const ReportTemplates templates = load_templates(options.templates);
   // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
   const double period = options.settings.period;
   const std::string period_name =
@@ -485,9 +521,25 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     for (const auto& info : plot_list)
       if (fs::exists(files.directory / info.file)) files.plots.push_back(files.directory / info.file);
   }
-  io::write_file_atomically(files.markdown, markdown(doc, files.plots));
-  io::write_file_atomically(files.html, html(doc, files.plots));
+  const kainjow::mustache::data values = template_values(doc, files.plots);
+  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
+  io::write_file_atomically(files.markdown, markdown);
+  io::write_file_atomically(files.html, html);
   if (!plot_problem.empty()) throw RunError(plot_problem);
+  return files;
+}
+
+std::vector<fs::path> write_builtin_templates(const fs::path& folder)
+{
+  std::vector<fs::path> files;
+  for (const TemplateFile& t : builtin_report_templates()) {
+    files.push_back(folder / t.name);
+    if (fs::exists(files.back()))
+      throw InputError(files.back().string() + ": exists (nothing was overwritten)");
+  }
+  fs::create_directories(folder);
+  for (std::size_t i = 0; i < files.size(); ++i)
+    io::write_file_atomically(files[i], builtin_report_templates()[i].text);
   return files;
 }
 

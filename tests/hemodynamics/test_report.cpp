@@ -1,5 +1,6 @@
 // Reports and comparisons: exact numbers, the report files of a synthetic run (HTML that references
-// existing PNGs and shows metrics.json's values), extra metrics, and the scaled ranking.
+// existing PNGs and shows metrics.json's values), extra metrics, the templates (standalone lines, a
+// user's own, a broken one refused), and the scaled ranking.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
+#include "hemodynamics/text_template.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 
@@ -116,6 +118,94 @@ TEST(Report, BadRunFoldersAreInputErrorsBeforeWriting)
   EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError); // missing columns
   EXPECT_FALSE(fs::exists(run / "report"));
   fs::remove_all(run);
+}
+
+TEST(Template, StandaloneTagLinesLeaveNoTraceWhetherTheirSectionIsRenderedOrNot)
+{
+  const hd::TextTemplate t(
+      "{{! a comment\n  over two lines }}\n# {{title}}\n\n{{#rows}}\n- {{text}}\n{{/rows}}\n"
+      "{{^rows}}\n(none)\n{{/rows}}\n\n{{empty}}\nend {{#flag}}on{{/flag}}\n",
+      "t.tpl", hd::TextTemplate::Escaping::html);
+  kainjow::mustache::data values;
+  values.set("title", "a < b");
+  values.set("empty", "");
+  values.set("flag", false);
+  kainjow::mustache::data rows{kainjow::mustache::data::type::list};
+  for (const char* text : {"one", "two"}) {
+    kainjow::mustache::data row;
+    row.set("text", text);
+    rows.push_back(row);
+  }
+  values.set("rows", rows);
+  EXPECT_EQ(t.render(values), "# a &lt; b\n\n- one\n- two\n\n\nend \n");
+  values.set("rows", kainjow::mustache::data{kainjow::mustache::data::type::list});
+  EXPECT_EQ(t.render(values), "# a &lt; b\n\n(none)\n\n\nend \n");
+}
+
+TEST(Template, ABrokenTemplateIsAnInputErrorNamingFileAndLine)
+{
+  try {
+    hd::TextTemplate("line 1\n{{#rows}}\nno end\n", "mine.tpl", hd::TextTemplate::Escaping::none);
+    FAIL() << "an unclosed section was accepted";
+  } catch (const ibvalve::InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("mine.tpl:2: Unclosed section \"rows\"", 0), 0u)
+        << error.what();
+  }
+  EXPECT_THROW(hd::TextTemplate("{{value", "mine.tpl", hd::TextTemplate::Escaping::none),
+               ibvalve::InputError);
+}
+
+TEST(Report, AUsersTemplateLaysOutTheReportAndTheBuiltInOneServesForTheOtherFile)
+{
+  const auto run = scratch("user_template");
+  write_run(run, 300.0);
+  const auto templates = scratch("user_template_files");
+  const auto written = hd::write_builtin_templates(templates);
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_THROW(hd::write_builtin_templates(templates), ibvalve::InputError); // nothing is overwritten
+  std::string html = ibvalve::io::read_text_file(templates / "report.html.tpl");
+  html.replace(html.find("<h2>Metrics</h2>"), 16, "<h2>MARKER {{run}}</h2>");
+  ibvalve::io::write_file_atomically(templates / "report.html.tpl", html);
+  fs::remove(templates / "report.md.tpl");
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const std::string builtin_md = ibvalve::io::read_text_file(files.markdown);
+  options.templates = templates;
+  hd::write_report(run, options);
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<h2>MARKER ibvalve_test_report_user_template</h2>"),
+            std::string::npos);
+  EXPECT_EQ(ibvalve::io::read_text_file(files.markdown), builtin_md);
+  fs::remove_all(run);
+  fs::remove_all(templates);
+}
+
+TEST(Report, ABrokenOrMissingTemplateIsRefusedBeforeAnythingIsWritten)
+{
+  const auto run = scratch("broken_template");
+  write_run(run, 300.0);
+  const auto templates = scratch("broken_template_files");
+  std::ofstream(templates / "report.md.tpl") << "# {{run}}\n{{#metrics}}\n| {{key}} |\n";
+  hd::ReportOptions options;
+  options.plots = false;
+  options.templates = templates;
+  try {
+    hd::write_report(run, options);
+    FAIL() << "a broken template was accepted";
+  } catch (const ibvalve::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find((templates / "report.md.tpl").string() + ":2:"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(run / "report"));
+  options.templates = templates / "absent";
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError);
+  fs::remove(templates / "report.md.tpl");
+  options.templates = templates; // a folder holding neither template
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError);
+  EXPECT_FALSE(fs::exists(run / "report"));
+  fs::remove_all(run);
+  fs::remove_all(templates);
 }
 
 TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
