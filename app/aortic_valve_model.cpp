@@ -304,7 +304,8 @@ class AorticValveRun : public PreparedRun {
       : config_(config), keys_(config_),
         lv_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
         outlet_parameters_(windkessel::parameters_from_config(config, "windkessel")),
-        report_(hemodynamics::metric_settings_from_config(config, "report"))
+        report_(hemodynamics::metric_settings_from_config(config, "report")),
+        report_templates_(hemodynamics::report_templates_from_config(config, "report"))
   {
     bind(keys_, k_);
     const AorticValveKeys& k = k_;
@@ -639,6 +640,7 @@ class AorticValveRun : public PreparedRun {
     if (cycle == 0) options.settings.period = length;
     options.python = python_executable;
     options.plots = plots_;
+    options.templates = report_templates_;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
@@ -656,6 +658,7 @@ class AorticValveRun : public PreparedRun {
   windkessel::PeriodicWaveform lv_;
   windkessel::WindkesselParameters outlet_parameters_;
   hemodynamics::MetricSettings report_;
+  std::filesystem::path report_templates_;
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_;
   fe::Mesh mesh_;

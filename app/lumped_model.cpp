@@ -91,7 +91,8 @@ class LumpedRun : public PreparedRun {
   explicit LumpedRun(const io::Config& config)
       : lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
         outlet_(windkessel::parameters_from_config(config, "windkessel")),
-        settings_(hemodynamics::metric_settings_from_config(config, "report"))
+        settings_(hemodynamics::metric_settings_from_config(config, "report")),
+        templates_(hemodynamics::report_templates_from_config(config, "report"))
   {
     const double radius = config.real("valve.annulus_radius");
     valve_.annulus_area = std::numbers::pi * radius * radius;
@@ -223,14 +224,16 @@ class LumpedRun : public PreparedRun {
     options.settings = settings_;
     options.python = python_executable;
     options.plots = plots_;
+    options.templates = templates_;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
     const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
-    const auto& m = *doc.find("metrics");
+    const auto& m = doc.at("metrics");
     auto show = [&](const char* key) {
-      const auto* entry = m.find(key);
-      const auto* v = entry ? entry->find("value") : nullptr;
-      return (v && v->is_number() ? hemodynamics::format_value(v->number()) : std::string("missing")) + " " +
-             (entry ? entry->find("unit")->string() : "");
+      if (!m.contains(key)) return std::string("missing ");
+      const auto& entry = m.at(key);
+      const auto& v = entry.at("value");
+      return (v.is_number() ? hemodynamics::format_value(v.get<double>()) : std::string("missing")) + " " +
+             entry.at("unit").get<std::string>();
     };
     summary.lines.push_back("V_F " + show("forward_volume") + ", RF " + show("regurgitant_fraction") +
                             ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +
@@ -241,6 +244,7 @@ class LumpedRun : public PreparedRun {
   windkessel::PeriodicWaveform lv_pressure_;
   windkessel::ThreeElementWindkessel outlet_;
   hemodynamics::MetricSettings settings_;
+  std::filesystem::path templates_;
   ValveParameters valve_;
   double period_ = 0.8;
   long cycles_ = 1, steps_per_cycle_ = 1, every_ = 1;

@@ -1,6 +1,7 @@
 // `ibvalve report RUN_DIR`: metrics.json, report.md and report.html (with matplotlib plots) for a run
-// folder's timeseries.csv. Metric settings come from the run's config.toml ([report] table) unless
-// given on the command line.
+// folder's timeseries.csv. Metric settings (and the templates folder) come from the run's config.toml
+// ([report] table) unless given on the command line. `ibvalve report --write-templates DIR` copies the
+// built-in templates out for restyling.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -55,11 +56,18 @@ struct ReportCommandOptions {
   std::optional<double> period;
   std::optional<int> cycle;
   std::optional<std::string> closure_rule;
+  std::optional<std::filesystem::path> templates;
+  std::optional<std::filesystem::path> write_templates;
 };
 
 int report(const ReportCommandOptions& options)
 {
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
+    if (options.write_templates) {
+      for (const auto& file : hemodynamics::write_builtin_templates(*options.write_templates))
+        io::Logger::global().info("template: " + file.string());
+      return;
+    }
     hemodynamics::ReportOptions report_options;
     // The run's own settings (its config.toml's [report] table: the period of its cycle, the density)
     // unless given here; a given period is checked against the run's cycle.
@@ -72,6 +80,8 @@ int report(const ReportCommandOptions& options)
       report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
     report_options.python = options.python;
     report_options.plots = !options.no_plots;
+    report_options.templates =
+        options.templates ? *options.templates : hemodynamics::recorded_templates(options.run_directory);
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
     io::Logger::global().info("metrics: " + files.json.string());
     io::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
@@ -88,7 +98,7 @@ void add_report_command(CLI::App& app, CommandAction& action)
   CLI::App* sub = app.add_subcommand(
       "report",
       "Write RUN_DIR/report/: metrics.json, report.md, report.html and plots from RUN_DIR/timeseries.csv");
-  sub->add_option("run", options->run_directory, "the run folder")->required();
+  CLI::Option* run = sub->add_option("run", options->run_directory, "the run folder");
   sub->add_option("--python", options->python,
                   "Python with matplotlib and numpy (default: the one CMake found)");
   sub->add_flag("--no-plots", options->no_plots, "skip the plots");
@@ -100,8 +110,17 @@ void add_report_command(CLI::App& app, CommandAction& action)
       ->check(CLI::Range(-1, 1000000));
   sub->add_option("--closure-rule", options->closure_rule, "how the closure instant is found")
       ->check(CLI::IsMember({"auto", "flow", "area"}));
-  sub->callback(
-      [options, &action] { action = [options](const PetscArguments&) { return report(*options); }; });
+  sub->add_option("--templates", options->templates,
+                  "folder of report.html.tpl and/or report.md.tpl to lay the report out with (default: "
+                  "report.templates of the run, else the built-in ones)");
+  sub->add_option("--write-templates", options->write_templates,
+                  "write the built-in report.html.tpl and report.md.tpl into this folder (to restyle "
+                  "them) instead of a report")
+      ->excludes(run);
+  sub->callback([options, run, &action] {
+    if (!options->write_templates && run->count() == 0) throw CLI::RequiredError("run");
+    action = [options](const PetscArguments&) { return report(*options); };
+  });
 }
 
 } // namespace ibvalve::app

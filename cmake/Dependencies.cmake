@@ -9,6 +9,9 @@ find_package(tomlplusplus REQUIRED)
 find_package(CLI11 REQUIRED)
 find_package(GTest REQUIRED)
 find_package(Ceres REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+# {fmt} (libfmt-dev): GCC 12 has no <format>; target fmt::fmt.
+find_package(fmt REQUIRED)
 
 # HDF5, Open MPI flavour (parallel I/O).
 set(HDF5_PREFER_PARALLEL TRUE)
@@ -27,6 +30,11 @@ find_library(GMSH_LIBRARY gmsh REQUIRED)
 add_library(ibvalve_gmsh INTERFACE)
 target_include_directories(ibvalve_gmsh SYSTEM INTERFACE ${GMSH_INCLUDE_DIR})
 target_link_libraries(ibvalve_gmsh INTERFACE ${GMSH_LIBRARY})
+
+# kainjow-mustache (libkainjow-mustache-dev) is one header, without a CMake or pkg-config file.
+find_path(MUSTACHE_INCLUDE_DIR kainjow/mustache.hpp REQUIRED)
+add_library(ibvalve_mustache INTERFACE)
+target_include_directories(ibvalve_mustache SYSTEM INTERFACE ${MUSTACHE_INCLUDE_DIR})
 
 # PETSc brings MPI; keep its headers out of -Werror's reach.
 add_library(ibvalve_petsc INTERFACE)

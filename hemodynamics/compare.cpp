@@ -49,7 +49,7 @@ CaseResult load_case(const fs::path& run_directory)
   if (fs::exists(stored)) {
     try {
       doc = Json::parse(io::read_text_file(stored));
-    } catch (const std::runtime_error& error) {
+    } catch (const Json::parse_error& error) {
       throw InputError(stored.string() + ": " + error.what());
     }
   } else {
@@ -65,29 +65,35 @@ CaseResult load_case(const fs::path& run_directory)
       throw InputError(series_file.string() + ": " + error.what());
     }
   }
-  const Json* metrics = doc.find("metrics");
-  if (!metrics || !metrics->is_object()) throw InputError(stored.string() + ": no \"metrics\" object");
+  const auto metrics = doc.find("metrics");
+  if (metrics == doc.end() || !metrics->is_object())
+    throw InputError(stored.string() + ": no \"metrics\" object");
   c.metrics = *metrics;
   return c;
 }
 
 namespace {
 
+/// The member `field` of metric `key`, or nullptr.
+const Json* metric_field(const CaseResult& c, const std::string& key, const char* field)
+{
+  const auto m = c.metrics.find(key);
+  if (m == c.metrics.end() || !m->is_object()) return nullptr;
+  const auto v = m->find(field);
+  return v == m->end() ? nullptr : &*v;
+}
+
 std::optional<double> metric_value(const CaseResult& c, const std::string& key)
 {
-  const Json* m = c.metrics.find(key);
-  if (!m) return std::nullopt;
-  const Json* v = m->find("value");
-  if (!v || !v->is_number() || !std::isfinite(v->number())) return std::nullopt;
-  return v->number();
+  const Json* v = metric_field(c, key, "value");
+  if (!v || !v->is_number() || !std::isfinite(v->get<double>())) return std::nullopt;
+  return v->get<double>();
 }
 
 std::string metric_text(const CaseResult& c, const std::string& key, const char* field)
 {
-  const Json* m = c.metrics.find(key);
-  if (!m) return "";
-  const Json* v = m->find(field);
-  return v && v->is_string() ? v->string() : "";
+  const Json* v = metric_field(c, key, field);
+  return v && v->is_string() ? v->get<std::string>() : "";
 }
 
 /// Every metric key, in the order of first appearance over the cases.
@@ -95,7 +101,7 @@ std::vector<std::string> all_keys(std::span<const CaseResult> cases)
 {
   std::vector<std::string> keys;
   for (const auto& c : cases)
-    for (const auto& [key, value] : c.metrics.object())
+    for (const auto& [key, value] : c.metrics.items())
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
   for (const auto& criterion : ranking_criteria())
     if (std::find(keys.begin(), keys.end(), criterion.key) == keys.end()) keys.push_back(criterion.key);
@@ -112,7 +118,7 @@ std::string csv_field(const std::string& s)
 
 std::string full(std::optional<double> v)
 {
-  return v ? json_number(*v) : "missing";
+  return v ? exact_value(*v) : "missing";
 }
 std::string shown(std::optional<double> v)
 {
@@ -204,8 +210,8 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   ranking_csv << ",total,rank\n";
   for (const auto& row : ranking.rows) {
     ranking_csv << csv_field(row.name);
-    for (const auto& s : row.scores) ranking_csv << "," << (s ? json_number(*s) : "missing");
-    ranking_csv << "," << json_number(row.total) << "," << row.rank << "\n";
+    for (const auto& s : row.scores) ranking_csv << "," << (s ? exact_value(*s) : "missing");
+    ranking_csv << "," << exact_value(row.total) << "," << row.rank << "\n";
   }
 
   // --- Markdown
@@ -258,7 +264,7 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
     for (const auto& c : cases) {
       const auto v = metric_value(c, key);
       h << "<td class=\"value" << (v ? "" : " missing") << "\" data-value=\""
-        << (v ? json_number(*v) : "null") << "\">" << shown(v) << "</td>";
+        << (v ? exact_value(*v) : "null") << "\">" << shown(v) << "</td>";
     }
     h << "</tr>\n";
   }

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "hemodynamics/json.hpp"
 #include "hemodynamics/metrics.hpp"
+#include "hemodynamics/report.hpp"
 
 namespace ibvalve::hemodynamics {
 

@@ -1,6 +1,7 @@
 #include "hemodynamics/report.hpp"
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "hemodynamics/text_template.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 #include "io/logger.hpp"
@@ -19,6 +21,46 @@
 namespace ibvalve::hemodynamics {
 
 namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Templates
+
+namespace {
+
+constexpr const char* html_template_name = "report.html.tpl";
+constexpr const char* markdown_template_name = "report.md.tpl";
+
+struct ReportTemplates {
+  TextTemplate html, markdown;
+};
+
+/// The templates of `folder` (either file may be missing: the built-in one then serves), or the built-in
+/// ones when `folder` is empty. InputError for a folder that is missing or holds neither file, and for a
+/// template that does not parse.
+ReportTemplates load_templates(const fs::path& folder)
+{
+  auto builtin = [](const char* name) {
+    for (const TemplateFile& t : builtin_report_templates())
+      if (std::string_view(t.name) == name) return t.text;
+    throw std::logic_error(std::string("no built-in template ") + name);
+  };
+  auto load = [&](const char* name, TextTemplate::Escaping escaping) {
+    const fs::path file = folder / name;
+    if (folder.empty() || !fs::exists(file))
+      return TextTemplate(builtin(name), std::string("built-in ") + name, escaping);
+    return TextTemplate(io::read_text_file(file), file.string(), escaping);
+  };
+  if (!folder.empty()) {
+    if (!fs::is_directory(folder)) throw InputError(folder.string() + ": report.templates: no such folder");
+    if (!fs::exists(folder / html_template_name) && !fs::exists(folder / markdown_template_name))
+      throw InputError(folder.string() + ": report.templates: holds neither " + html_template_name + " nor " +
+                       markdown_template_name);
+  }
+  return {load(html_template_name, TextTemplate::Escaping::html),
+          load(markdown_template_name, TextTemplate::Escaping::none)};
+}
+
+} // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Settings
@@ -55,6 +97,10 @@ void add_report_schema(io::Schema& schema, const std::string& prefix)
       .below(1.0);
   schema.add_real(p + "density", "blood density for the EOA formula").unit("g/mL").defaults(1.0).positive();
   schema.add_boolean(p + "plots", "draw the report's plots (matplotlib)").defaults(true);
+  schema
+      .add_string(p + "templates", "folder of report.html.tpl and/or report.md.tpl laid out in place of the "
+                                   "built-in ones (`ibvalve report --write-templates DIR` copies those)")
+      .file(false);
 }
 
 MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix)
@@ -112,6 +158,16 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
   return s;
 }
 
+fs::path report_templates_from_config(const io::Config& config, const std::string& prefix)
+{
+  const std::string key = prefix + ".templates";
+  if (!config.has(key)) return {};
+  const fs::path folder = config.path(key);
+  if (!fs::is_directory(folder)) config.fail(key, "no such folder '" + folder.string() + "'");
+  load_templates(folder); // a template that does not parse is refused now, not after the run
+  return folder;
+}
+
 std::optional<double> recorded_period(const fs::path& run_directory)
 {
   const fs::path file = run_directory / "config.toml";
@@ -122,6 +178,20 @@ std::optional<double> recorded_period(const fs::path& run_directory)
   const toml::node* n = report->get("period");
   if (!n || !n->is_number()) return std::nullopt;
   return *n->value<double>();
+}
+
+fs::path recorded_templates(const fs::path& run_directory)
+{
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return {};
+  const toml::table root = io::parse_toml_file(file);
+  const toml::node* n = root.at_path("report.templates").node();
+  if (!n) return {};
+  if (!n->is_string())
+    throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) +
+                     ": report.templates: expected a string");
+  const fs::path folder(*n->value<std::string>());
+  return folder.is_relative() ? run_directory / folder : folder;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -170,6 +240,15 @@ std::string format_value(double value)
   return buffer;
 }
 
+std::string exact_value(double value)
+{
+  if (!std::isfinite(value)) return "null";
+  char buffer[64];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  (void)error; // 64 characters hold every double
+  return std::string(buffer, end);
+}
+
 // ---------------------------------------------------------------------------------------------
 // metrics.json
 
@@ -178,13 +257,12 @@ namespace {
 Json metric_json(const std::string& symbol, const std::string& unit, const std::string& description,
                  std::optional<double> value, const std::string& note)
 {
-  Json::Object o;
-  o.emplace_back("value", value ? Json(*value) : Json());
-  o.emplace_back("unit", unit);
-  o.emplace_back("symbol", symbol);
-  o.emplace_back("description", description);
-  if (!note.empty()) o.emplace_back("note", note);
-  return Json(std::move(o));
+  Json o{{"value", value ? Json(*value) : Json()},
+         {"unit", unit},
+         {"symbol", symbol},
+         {"description", description}};
+  if (!note.empty()) o["note"] = note;
+  return o;
 }
 
 /// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
@@ -222,72 +300,72 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const fs::path& run_directory)
 {
-  Json::Object settings_json{{"period_s", settings.period},
-                             {"cycle", settings.cycle},
-                             {"forward_threshold_mL_per_s", settings.forward_threshold},
-                             {"closure_rule", closure_rule_name(settings.closure_rule)},
-                             {"closure_flow_fraction", settings.closure_flow_fraction},
-                             {"open_area_fraction", settings.open_area_fraction},
-                             {"closed_area_fraction", settings.closed_area_fraction},
-                             {"density_g_per_mL", settings.density}};
+  const Json settings_json{{"period_s", settings.period},
+                           {"cycle", settings.cycle},
+                           {"forward_threshold_mL_per_s", settings.forward_threshold},
+                           {"closure_rule", closure_rule_name(settings.closure_rule)},
+                           {"closure_flow_fraction", settings.closure_flow_fraction},
+                           {"open_area_fraction", settings.open_area_fraction},
+                           {"closed_area_fraction", settings.closed_area_fraction},
+                           {"density_g_per_mL", settings.density}};
   const Phases& p = metrics.phases;
-  Json::Object phases{{"cycle_start", p.cycle_start},
-                      {"cycle_end", p.cycle_end},
-                      {"ejection_start", p.ejection_start},
-                      {"ejection_end", p.ejection_end},
-                      {"closure", p.closure},
-                      {"closure_rule", p.closure_rule},
-                      {"peak_forward_time", p.peak_forward_time},
-                      {"peak_regurgitant_time", p.peak_regurgitant_time},
-                      {"opening_start", p.opening_start},
-                      {"fully_open_start", p.fully_open_start},
-                      {"fully_open_end", p.fully_open_end},
-                      {"closing_end", p.closing_end}};
-  Json::Object values;
+  const Json phases{{"cycle_start", p.cycle_start},
+                    {"cycle_end", p.cycle_end},
+                    {"ejection_start", p.ejection_start},
+                    {"ejection_end", p.ejection_end},
+                    {"closure", p.closure},
+                    {"closure_rule", p.closure_rule},
+                    {"peak_forward_time", p.peak_forward_time},
+                    {"peak_regurgitant_time", p.peak_regurgitant_time},
+                    {"opening_start", p.opening_start},
+                    {"fully_open_start", p.fully_open_start},
+                    {"fully_open_end", p.fully_open_end},
+                    {"closing_end", p.closing_end}};
+  Json values = Json::object();
   for (const Metric& m : metrics.metrics)
-    values.emplace_back(m.key, metric_json(m.symbol, m.unit, m.description, m.value, m.note));
-  Json::Array notes;
-  for (const auto& n : metrics.notes) notes.emplace_back(n);
+    values[m.key] = metric_json(m.symbol, m.unit, m.description, m.value, m.note);
+  Json notes = Json::array();
+  for (const auto& n : metrics.notes) notes.push_back(n);
   const fs::path extra_file = run_directory / "extra_metrics.json";
   if (fs::exists(extra_file)) {
     Json extra;
     try {
       extra = Json::parse(io::read_text_file(extra_file));
-    } catch (const std::runtime_error& error) {
+    } catch (const Json::parse_error& error) {
       throw InputError(extra_file.string() + ": " + error.what());
     }
     if (!extra.is_object()) throw InputError(extra_file.string() + ": expected a JSON object of metrics");
-    for (const auto& [key, v] : extra.object()) {
+    for (const auto& [key, v] : extra.items()) {
       auto text = [&](const char* field) {
-        const Json* f = v.find(field);
-        return f && f->is_string() ? f->string() : std::string();
+        const auto f = v.find(field);
+        return f != v.end() && f->is_string() ? f->get<std::string>() : std::string();
       };
       if (v.is_number()) {
-        values.emplace_back(key, metric_json(key, "", "from extra_metrics.json", v.number(), ""));
+        values[key] = metric_json(key, "", "from extra_metrics.json", v.get<double>(), "");
       } else if (v.is_object()) {
-        const Json* value = v.find("value");
-        values.emplace_back(
-            key, metric_json(text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
-                             value && value->is_number() ? std::optional(value->number()) : std::nullopt,
-                             text("note")));
+        const auto value = v.find("value");
+        values[key] = metric_json(
+            text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
+            value != v.end() && value->is_number() ? std::optional(value->get<double>()) : std::nullopt,
+            text("note"));
       } else {
         throw InputError(extra_file.string() + ": " + key +
                          ": expected a number or an object with \"value\"");
       }
     }
-    notes.emplace_back("metrics added from extra_metrics.json");
+    notes.push_back("metrics added from extra_metrics.json");
   }
-  return Json(Json::Object{{"ibvalve_metrics", 1},
-                           {"run", run_name},
-                           {"source", "timeseries.csv"},
-                           {"settings", Json(std::move(settings_json))},
-                           {"phases", Json(std::move(phases))},
-                           {"metrics", Json(std::move(values))},
-                           {"notes", Json(std::move(notes))}});
+  return Json{{"ibvalve_metrics", 1},
+              {"run", run_name},
+              {"source", "timeseries.csv"},
+              {"settings", settings_json},
+              {"phases", phases},
+              {"metrics", values},
+              {"notes", notes}};
 }
 
 // ---------------------------------------------------------------------------------------------
-// Markdown and HTML
+// What the templates fill in
 
 namespace {
 
@@ -304,95 +382,64 @@ constexpr PlotInfo plot_list[] = {
     {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
 };
 
-std::string markdown(const Json& doc, const std::vector<fs::path>& plots)
+/// What the templates fill in (the names templates/report.md.tpl lists), from metrics.json's document.
+kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::path>& plots)
 {
-  std::ostringstream md;
-  md << "# ibvalve report: " << doc.find("run")->string() << "\n\n";
-  const Json& ph = *doc.find("phases");
-  md << "Cycle ["
-     << format_value(ph.find("cycle_start")->is_number() ? ph.find("cycle_start")->number() : NAN) << ", "
-     << format_value(ph.find("cycle_end")->number()) << "] s of `timeseries.csv`.\n\n";
-  md << "| metric | symbol | value | unit | note |\n|---|---|---|---|---|\n";
-  for (const auto& [key, m] : doc.find("metrics")->object()) {
-    const Json* v = m.find("value");
-    const Json* note = m.find("note");
-    md << "| " << (m.find("description")->string().empty() ? key : m.find("description")->string()) << " (`"
-       << key << "`) | " << m.find("symbol")->string() << " | "
-       << format_value(v->is_number() ? v->number() : NAN) << " | " << m.find("unit")->string() << " | "
-       << (note ? note->string() : "") << " |\n";
+  using kainjow::mustache::data;
+  auto number = [](const Json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  auto text = [](const Json& m, const char* field) {
+    const auto f = m.find(field);
+    return f != m.end() && f->is_string() ? f->get<std::string>() : std::string();
+  };
+  data values;
+  values.set("run", doc.at("run").get<std::string>());
+  const Json& phases = doc.at("phases");
+  values.set("cycle_start", format_value(number(phases.at("cycle_start"))));
+  values.set("cycle_end", format_value(number(phases.at("cycle_end"))));
+  data metrics{data::type::list};
+  for (const auto& [key, m] : doc.at("metrics").items()) {
+    const Json& v = m.at("value");
+    data row;
+    row.set("key", key);
+    row.set("description", text(m, "description"));
+    row.set("label", text(m, "description").empty() ? key : text(m, "description"));
+    row.set("symbol", text(m, "symbol"));
+    row.set("value", format_value(number(v)));
+    row.set("exact", v.is_number() ? exact_value(v.get<double>()) : std::string("null"));
+    row.set("missing", !v.is_number());
+    row.set("unit", text(m, "unit"));
+    row.set("note", text(m, "note"));
+    metrics.push_back(row);
   }
-  md << "\n## Phases (s)\n\n| instant | time |\n|---|---|\n";
-  for (const auto& [key, v] : ph.object())
-    md << "| " << key << " | "
-       << (v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN)) << " |\n";
-  md << "\n## Plots\n\n";
+  values.set("metrics", metrics);
+  data phase_rows{data::type::list};
+  for (const auto& [key, v] : phases.items()) {
+    data row;
+    row.set("name", key);
+    row.set("time", v.is_string() ? v.get<std::string>() : format_value(number(v)));
+    phase_rows.push_back(row);
+  }
+  values.set("phases", phase_rows);
+  data plot_rows{data::type::list};
   for (const auto& p : plots) {
     std::string caption;
     for (const auto& info : plot_list)
       if (p.filename() == info.file) caption = info.caption;
-    md << "![" << caption << "](" << p.filename().string() << ")\n\n";
+    data row;
+    row.set("file", p.filename().string());
+    row.set("caption", caption);
+    row.set("png_base64", base64(io::read_text_file(p)));
+    plot_rows.push_back(row);
   }
-  if (plots.empty()) md << "(no plots)\n\n";
-  md << "## Notes\n\n";
-  for (const auto& n : doc.find("notes")->array()) md << "- " << n.string() << "\n";
-  md << "\nDefinitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is "
-        "positive.\n";
-  return md.str();
-}
-
-std::string html(const Json& doc, const std::vector<fs::path>& plots)
-{
-  std::ostringstream h;
-  const std::string run = html_escape(doc.find("run")->string());
-  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ibvalve report: " << run
-    << "</title>\n<style>\nbody{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}\n"
-       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
-       "8px;text-align:left}\n"
-       "td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em "
-       "0}img{max-width:100%}\n"
-       ".missing{color:#999}\n</style>\n</head>\n<body>\n<h1>ibvalve report: "
-    << run << "</h1>\n";
-  const Json& ph = *doc.find("phases");
-  h << "<p>Cycle [" << format_value(ph.find("cycle_start")->number()) << ", "
-    << format_value(ph.find("cycle_end")->number())
-    << "] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>\n";
-  h << "<h2>Metrics</h2>\n<table "
-       "id=\"metrics\">\n<tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th>"
-       "<th>note</th></tr>\n";
-  for (const auto& [key, m] : doc.find("metrics")->object()) {
-    const Json* v = m.find("value");
-    const Json* note = m.find("note");
-    const bool has = v->is_number();
-    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(m.find("description")->string())
-      << " (<code>" << html_escape(key) << "</code>)</td><td>" << html_escape(m.find("symbol")->string())
-      << "</td><td class=\"value" << (has ? "" : " missing") << "\" data-value=\""
-      << (has ? json_number(v->number()) : "null") << "\">" << format_value(has ? v->number() : NAN)
-      << "</td><td>" << html_escape(m.find("unit")->string()) << "</td><td>"
-      << html_escape(note ? note->string() : "") << "</td></tr>\n";
+  values.set("plots", plot_rows);
+  data notes{data::type::list};
+  for (const auto& n : doc.at("notes")) {
+    data row;
+    row.set("text", n.get<std::string>());
+    notes.push_back(row);
   }
-  h << "</table>\n<h2>Phases</h2>\n<table id=\"phases\">\n<tr><th>instant</th><th>time (s)</th></tr>\n";
-  for (const auto& [key, v] : ph.object())
-    h << "<tr><td>" << html_escape(key) << "</td><td class=\"value\">"
-      << html_escape(v.is_string() ? v.string() : format_value(v.is_number() ? v.number() : NAN))
-      << "</td></tr>\n";
-  h << "</table>\n<h2>Plots</h2>\n";
-  for (const auto& p : plots) {
-    std::string caption;
-    for (const auto& info : plot_list)
-      if (p.filename() == info.file) caption = info.caption;
-    const std::string name = p.filename().string();
-    // Embedded (the file opens anywhere) and linked to the PNG beside it.
-    h << "<figure><a href=\"" << html_escape(name) << "\"><img alt=\"" << html_escape(caption)
-      << "\" src=\"data:image/png;base64," << base64(io::read_text_file(p)) << "\"></a><figcaption>"
-      << html_escape(caption) << " (<a href=\"" << html_escape(name) << "\">" << html_escape(name)
-      << "</a>)</figcaption></figure>\n";
-  }
-  if (plots.empty()) h << "<p>(no plots)</p>\n";
-  h << "<h2>Notes</h2>\n<ul>\n";
-  for (const auto& n : doc.find("notes")->array()) h << "<li>" << html_escape(n.string()) << "</li>\n";
-  h << "<li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is "
-       "positive.</li>\n</ul>\n</body>\n</html>\n";
-  return h.str();
+  values.set("notes", notes);
+  return values;
 }
 
 } // namespace
@@ -404,6 +451,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   if (!fs::exists(series_file))
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
+  const ReportTemplates templates = load_templates(options.templates);
   // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
   const double period = options.settings.period;
   const std::string period_name =
@@ -452,7 +500,8 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";
-  io::write_file_atomically(files.json, doc.dump() + "\n");
+  // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
+  io::write_file_atomically(files.json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 
   std::string plot_problem;
   if (options.plots) {
@@ -472,9 +521,25 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     for (const auto& info : plot_list)
       if (fs::exists(files.directory / info.file)) files.plots.push_back(files.directory / info.file);
   }
-  io::write_file_atomically(files.markdown, markdown(doc, files.plots));
-  io::write_file_atomically(files.html, html(doc, files.plots));
+  const kainjow::mustache::data values = template_values(doc, files.plots);
+  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
+  io::write_file_atomically(files.markdown, markdown);
+  io::write_file_atomically(files.html, html);
   if (!plot_problem.empty()) throw RunError(plot_problem);
+  return files;
+}
+
+std::vector<fs::path> write_builtin_templates(const fs::path& folder)
+{
+  std::vector<fs::path> files;
+  for (const TemplateFile& t : builtin_report_templates()) {
+    files.push_back(folder / t.name);
+    if (fs::exists(files.back()))
+      throw InputError(files.back().string() + ": exists (nothing was overwritten)");
+  }
+  fs::create_directories(folder);
+  for (std::size_t i = 0; i < files.size(); ++i)
+    io::write_file_atomically(files[i], builtin_report_templates()[i].text);
   return files;
 }
 

@@ -1,18 +1,23 @@
 #pragma once
 // `ibvalve report`: metrics.json, report.md and report.html (plots by matplotlib) for one run folder,
-// and the metric settings as case-file keys ([report] table).
+// and the metric settings as case-file keys ([report] table). The Markdown and HTML are laid out by
+// Mustache templates (hemodynamics/templates/, built in; a user's own with report.templates).
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
-#include "hemodynamics/json.hpp"
 #include "hemodynamics/metrics.hpp"
 #include "io/config.hpp"
 
 namespace ibvalve::hemodynamics {
+
+/// JSON as metrics.json holds it: members keep the order they were written in.
+using Json = nlohmann::ordered_json;
 
 /// The [report] keys (period, cycle, thresholds, closure rule, density, plots) under `prefix`.
 void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
@@ -22,8 +27,14 @@ MetricSettings metric_settings_from_config(const io::Config& config, const std::
 /// key of the wrong type is an InputError.
 MetricSettings metric_settings_from_run(const std::filesystem::path& run_directory);
 
+/// The folder of the report's templates (report.templates under `prefix`), empty when not given.
+std::filesystem::path report_templates_from_config(const io::Config& config,
+                                                   const std::string& prefix = "report");
+
 /// The cycle length a run folder records (report.period of its config.toml), if it records one.
 std::optional<double> recorded_period(const std::filesystem::path& run_directory);
+/// The templates folder a run folder records (report.templates of its config.toml), empty if none.
+std::filesystem::path recorded_templates(const std::filesystem::path& run_directory);
 
 struct ReportOptions {
   MetricSettings settings;
@@ -33,6 +44,9 @@ struct ReportOptions {
   bool period_given = false;
   /// The run's own cycle (recorded_period), which a given period is checked against.
   std::optional<double> run_period;
+  /// A folder holding report.html.tpl and/or report.md.tpl, used instead of the built-in ones; empty =
+  /// the built-in ones.
+  std::filesystem::path templates;
 };
 
 struct ReportFiles {
@@ -52,13 +66,24 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 
 /// Reads <run>/timeseries.csv, computes the metrics and writes <run>/report/{metrics.json, report.md,
 /// report.html, plot_report.py, *.png}. Bad input (missing file, missing column, bad line, a period
-/// longer than the series or holding fewer than 10 of its rows) is an InputError raised before anything
-/// is written; a plotting failure is a RunError after the metrics,
-/// Markdown and HTML (without plots) are written.
+/// longer than the series or holding fewer than 10 of its rows, a missing templates folder or a template
+/// that does not parse) is an InputError raised before anything is written; a plotting failure is a
+/// RunError after the metrics, Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 
 /// The embedded plotting script (hemodynamics/plot_report.py).
 const char* plot_report_script();
+
+/// A built-in template: its file name (report.html.tpl, report.md.tpl) and text
+/// (hemodynamics/templates/, embedded at build time).
+struct TemplateFile {
+  const char* name;
+  const char* text;
+};
+std::span<const TemplateFile> builtin_report_templates();
+/// Writes the built-in templates into `folder` (created if needed) for a user to restyle; an existing
+/// file there is an InputError (nothing is overwritten). Returns the files written.
+std::vector<std::filesystem::path> write_builtin_templates(const std::filesystem::path& folder);
 
 /// Base64 of binary data (RFC 4648), for images embedded in HTML.
 std::string base64(std::string_view data);
@@ -66,5 +91,8 @@ std::string base64(std::string_view data);
 std::string html_escape(std::string_view text);
 /// A value for tables: 4 significant digits (or "missing").
 std::string format_value(double value);
+/// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or
+/// "null" when it is not finite.
+std::string exact_value(double value);
 
 } // namespace ibvalve::hemodynamics

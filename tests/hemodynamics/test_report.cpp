@@ -1,5 +1,6 @@
-// Reports and comparisons: JSON round trips, the report files of a synthetic run (HTML that
-// references existing PNGs and shows metrics.json's values), extra metrics, and the scaled ranking.
+// Reports and comparisons: exact numbers, the report files of a synthetic run (HTML that references
+// existing PNGs and shows metrics.json's values), extra metrics, the templates (standalone lines, a
+// user's own, a broken one refused), and the scaled ranking.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
+#include "hemodynamics/text_template.hpp"
 #include "io/errors.hpp"
 #include "io/files.hpp"
 
@@ -50,21 +52,12 @@ void write_run(const fs::path& dir, double forward_amplitude)
 
 } // namespace
 
-TEST(Json, RoundTripsNumbersStringsAndStructure)
+TEST(Report, ExactValuesReadBackAndBase64IsThatOfRfc4648)
 {
-  hd::Json doc(hd::Json::Object{{"a", 0.1},
-                                {"b", hd::Json::Array{1.0 / 3.0, -2.5e-300, hd::Json(), true}},
-                                {"c", "quote \" backslash \\ newline \n"},
-                                {"nan", std::nan("")}});
-  const hd::Json back = hd::Json::parse(doc.dump());
-  EXPECT_EQ(back.find("a")->number(), 0.1);
-  EXPECT_EQ(back.find("b")->array()[0].number(), 1.0 / 3.0);
-  EXPECT_EQ(back.find("b")->array()[1].number(), -2.5e-300);
-  EXPECT_TRUE(back.find("b")->array()[2].is_null());
-  EXPECT_EQ(back.find("c")->string(), "quote \" backslash \\ newline \n");
-  EXPECT_TRUE(back.find("nan")->is_null());
-  EXPECT_THROW(hd::Json::parse("{\"a\": 1,}"), std::runtime_error);
-  EXPECT_THROW(hd::Json::parse("[1, 2"), std::runtime_error);
+  EXPECT_EQ(hd::exact_value(0.1), "0.1");
+  EXPECT_EQ(std::stod(hd::exact_value(1.0 / 3.0)), 1.0 / 3.0);
+  EXPECT_EQ(std::stod(hd::exact_value(-2.5e-300)), -2.5e-300);
+  EXPECT_EQ(hd::exact_value(std::nan("")), "null");
   EXPECT_EQ(hd::base64("Man"), "TWFu");
   EXPECT_EQ(hd::base64("Ma"), "TWE=");
   EXPECT_EQ(hd::base64("M"), "TQ==");
@@ -95,23 +88,23 @@ TEST(Report, HtmlReferencesExistingPngsAndShowsTheMetricsOfTheJson)
   EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos); // embedded PNG signature
   // The values in the HTML are those of metrics.json.
   const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  const hd::Json& metrics = doc.at("metrics");
   std::regex cell("<tr data-key=\"([a-z_]+)\">.*?data-value=\"([^\"]+)\"");
   int compared = 0;
   for (auto it = std::sregex_iterator(html.begin(), html.end(), cell); it != std::sregex_iterator(); ++it) {
-    const hd::Json* m = doc.find("metrics")->find((*it)[1].str());
-    ASSERT_NE(m, nullptr) << (*it)[1];
-    const hd::Json* v = m->find("value");
+    ASSERT_TRUE(metrics.contains((*it)[1].str())) << (*it)[1];
+    const hd::Json& v = metrics.at((*it)[1].str()).at("value");
     if ((*it)[2] == "null") {
-      EXPECT_TRUE(v->is_null());
+      EXPECT_TRUE(v.is_null());
     } else {
-      EXPECT_EQ(std::stod((*it)[2]), v->number()) << (*it)[1];
+      EXPECT_EQ(std::stod((*it)[2]), v.get<double>()) << (*it)[1];
     }
     ++compared;
   }
-  EXPECT_EQ(static_cast<std::size_t>(compared), doc.find("metrics")->object().size());
-  EXPECT_EQ(doc.find("metrics")->find("fit_error")->find("value")->number(), 1.25);
-  EXPECT_EQ(doc.find("metrics")->find("strain_variation")->find("value")->number(), 0.05);
-  EXPECT_GT(doc.find("metrics")->find("forward_volume")->find("value")->number(), 0.0);
+  EXPECT_EQ(static_cast<std::size_t>(compared), metrics.size());
+  EXPECT_EQ(metrics.at("fit_error").at("value").get<double>(), 1.25);
+  EXPECT_EQ(metrics.at("strain_variation").at("value").get<double>(), 0.05);
+  EXPECT_GT(metrics.at("forward_volume").at("value").get<double>(), 0.0);
   fs::remove_all(run);
 }
 
@@ -127,20 +120,104 @@ TEST(Report, BadRunFoldersAreInputErrorsBeforeWriting)
   fs::remove_all(run);
 }
 
+TEST(Template, StandaloneTagLinesLeaveNoTraceWhetherTheirSectionIsRenderedOrNot)
+{
+  const hd::TextTemplate t(
+      "{{! a comment\n  over two lines }}\n# {{title}}\n\n{{#rows}}\n- {{text}}\n{{/rows}}\n"
+      "{{^rows}}\n(none)\n{{/rows}}\n\n{{empty}}\nend {{#flag}}on{{/flag}}\n",
+      "t.tpl", hd::TextTemplate::Escaping::html);
+  kainjow::mustache::data values;
+  values.set("title", "a < b");
+  values.set("empty", "");
+  values.set("flag", false);
+  kainjow::mustache::data rows{kainjow::mustache::data::type::list};
+  for (const char* text : {"one", "two"}) {
+    kainjow::mustache::data row;
+    row.set("text", text);
+    rows.push_back(row);
+  }
+  values.set("rows", rows);
+  EXPECT_EQ(t.render(values), "# a &lt; b\n\n- one\n- two\n\n\nend \n");
+  values.set("rows", kainjow::mustache::data{kainjow::mustache::data::type::list});
+  EXPECT_EQ(t.render(values), "# a &lt; b\n\n(none)\n\n\nend \n");
+}
+
+TEST(Template, ABrokenTemplateIsAnInputErrorNamingFileAndLine)
+{
+  try {
+    hd::TextTemplate("line 1\n{{#rows}}\nno end\n", "mine.tpl", hd::TextTemplate::Escaping::none);
+    FAIL() << "an unclosed section was accepted";
+  } catch (const ibvalve::InputError& error) {
+    EXPECT_EQ(std::string(error.what()).rfind("mine.tpl:2: Unclosed section \"rows\"", 0), 0u)
+        << error.what();
+  }
+  EXPECT_THROW(hd::TextTemplate("{{value", "mine.tpl", hd::TextTemplate::Escaping::none),
+               ibvalve::InputError);
+}
+
+TEST(Report, AUsersTemplateLaysOutTheReportAndTheBuiltInOneServesForTheOtherFile)
+{
+  const auto run = scratch("user_template");
+  write_run(run, 300.0);
+  const auto templates = scratch("user_template_files");
+  const auto written = hd::write_builtin_templates(templates);
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_THROW(hd::write_builtin_templates(templates), ibvalve::InputError); // nothing is overwritten
+  std::string html = ibvalve::io::read_text_file(templates / "report.html.tpl");
+  html.replace(html.find("<h2>Metrics</h2>"), 16, "<h2>MARKER {{run}}</h2>");
+  ibvalve::io::write_file_atomically(templates / "report.html.tpl", html);
+  fs::remove(templates / "report.md.tpl");
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const std::string builtin_md = ibvalve::io::read_text_file(files.markdown);
+  options.templates = templates;
+  hd::write_report(run, options);
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<h2>MARKER ibvalve_test_report_user_template</h2>"),
+            std::string::npos);
+  EXPECT_EQ(ibvalve::io::read_text_file(files.markdown), builtin_md);
+  fs::remove_all(run);
+  fs::remove_all(templates);
+}
+
+TEST(Report, ABrokenOrMissingTemplateIsRefusedBeforeAnythingIsWritten)
+{
+  const auto run = scratch("broken_template");
+  write_run(run, 300.0);
+  const auto templates = scratch("broken_template_files");
+  std::ofstream(templates / "report.md.tpl") << "# {{run}}\n{{#metrics}}\n| {{key}} |\n";
+  hd::ReportOptions options;
+  options.plots = false;
+  options.templates = templates;
+  try {
+    hd::write_report(run, options);
+    FAIL() << "a broken template was accepted";
+  } catch (const ibvalve::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find((templates / "report.md.tpl").string() + ":2:"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(run / "report"));
+  options.templates = templates / "absent";
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError);
+  fs::remove(templates / "report.md.tpl");
+  options.templates = templates; // a folder holding neither template
+  EXPECT_THROW(hd::write_report(run, options), ibvalve::InputError);
+  EXPECT_FALSE(fs::exists(run / "report"));
+  fs::remove_all(run);
+  fs::remove_all(templates);
+}
+
 TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
 {
   auto make = [](const std::string& name, double vf, double rf, std::optional<double> fit) {
     hd::CaseResult c;
     c.name = name;
-    hd::Json::Object m;
     auto entry = [](std::optional<double> v) {
-      return hd::Json(
-          hd::Json::Object{{"value", v ? hd::Json(*v) : hd::Json()}, {"unit", ""}, {"symbol", ""}});
+      return hd::Json{{"value", v ? hd::Json(*v) : hd::Json()}, {"unit", ""}, {"symbol", ""}};
     };
-    m.emplace_back("forward_volume", entry(vf));
-    m.emplace_back("regurgitant_fraction", entry(rf));
-    m.emplace_back("fit_error", entry(fit));
-    c.metrics = hd::Json(std::move(m));
+    c.metrics = hd::Json{
+        {"forward_volume", entry(vf)}, {"regurgitant_fraction", entry(rf)}, {"fit_error", entry(fit)}};
     return c;
   };
   std::vector<hd::CaseResult> cases{make("a", 60, 10, 1.0), make("b", 80, 5, std::nullopt),

@@ -1,0 +1,52 @@
+{{! The HTML report of `ibvalve report` (Mustache: https://mustache.github.io/mustache.5.html).
+    A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
+    those of report.md.tpl:
+      run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
+      unit, note), phases (name, time), plots (file, caption, png_base64), notes (text).
+    The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
+    docs/hemodynamics.md says how to use your own copy (report.templates). }}
+<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>ibvalve report: {{run}}</title>
+<style>
+body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}
+table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:left}
+td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 0}img{max-width:100%}
+.missing{color:#999}
+</style>
+</head>
+<body>
+<h1>ibvalve report: {{run}}</h1>
+<p>Cycle [{{cycle_start}}, {{cycle_end}}] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>
+<h2>Metrics</h2>
+<table id="metrics">
+<tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th><th>note</th></tr>
+{{#metrics}}
+<tr data-key="{{key}}"><td>{{description}} (<code>{{key}}</code>)</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}" data-value="{{exact}}">{{value}}</td><td>{{unit}}</td><td>{{note}}</td></tr>
+{{/metrics}}
+</table>
+<h2>Phases</h2>
+<table id="phases">
+<tr><th>instant</th><th>time (s)</th></tr>
+{{#phases}}
+<tr><td>{{name}}</td><td class="value">{{time}}</td></tr>
+{{/phases}}
+</table>
+<h2>Plots</h2>
+{{#plots}}
+<figure><a href="{{file}}"><img alt="{{caption}}" src="data:image/png;base64,{{{png_base64}}}"></a><figcaption>{{caption}} (<a href="{{file}}">{{file}}</a>)</figcaption></figure>
+{{/plots}}
+{{^plots}}
+<p>(no plots)</p>
+{{/plots}}
+<h2>Notes</h2>
+<ul>
+{{#notes}}
+<li>{{text}}</li>
+{{/notes}}
+<li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is positive.</li>
+</ul>
+</body>
+</html>

@@ -1,0 +1,46 @@
+{{! The Markdown report of `ibvalve report` (Mustache: https://mustache.github.io/mustache.5.html).
+    Values are inserted as they are (no escaping). What a template can use:
+      run                       the run folder's name (or its config's `name`)
+      cycle_start, cycle_end    the analysed cycle, s, 4 significant digits
+      metrics                   list: key, label (description, else key), description, symbol,
+                                value (4 significant digits, or "missing"), exact (every digit, or
+                                "null"), missing (true when there is no value), unit, note
+      phases                    list: name, time (s, 4 significant digits, "missing", or a rule's name)
+      plots                     list: file (PNG beside the report), caption, png_base64
+      notes                     list: text
+    docs/hemodynamics.md says how to use your own copy (report.templates). }}
+# ibvalve report: {{run}}
+
+Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
+
+| metric | symbol | value | unit | note |
+|---|---|---|---|---|
+{{#metrics}}
+| {{label}} (`{{key}}`) | {{symbol}} | {{value}} | {{unit}} | {{note}} |
+{{/metrics}}
+
+## Phases (s)
+
+| instant | time |
+|---|---|
+{{#phases}}
+| {{name}} | {{time}} |
+{{/phases}}
+
+## Plots
+
+{{#plots}}
+![{{caption}}]({{file}})
+
+{{/plots}}
+{{^plots}}
+(no plots)
+
+{{/plots}}
+## Notes
+
+{{#notes}}
+- {{text}}
+{{/notes}}
+
+Definitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is positive.

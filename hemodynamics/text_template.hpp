@@ -1,0 +1,36 @@
+#pragma once
+// A Mustache template (https://mustache.github.io/mustache.5.html), rendered by kainjow::mustache
+// (libkainjow-mustache-dev): how the reports' HTML and Markdown are laid out, so that a user restyles
+// them by editing a file, without recompiling.
+//
+// Lines holding nothing but one section, inverted-section, end or comment tag ("standalone" lines)
+// leave no trace in the output, as the Mustache specification says. kainjow::mustache keeps the line
+// break of such a line when its section is not rendered (an empty list, a false value) or when the
+// tag is a comment, so the text is prepared before parsing: standalone lines lose their blanks and line
+// break, and every other line starts with a marker that keeps the library's own, partial rule from
+// removing it; the markers are taken out of the rendered text.
+#include <string>
+#include <string_view>
+
+#include <kainjow/mustache.hpp>
+
+namespace ibvalve::hemodynamics {
+
+class TextTemplate {
+ public:
+  enum class Escaping {
+    none, // Markdown: values as they are
+    html, // {{name}} is made safe inside HTML ({{{name}}} is not)
+  };
+  /// Parses `text`; an InputError "origin: ..." (origin names the file) when it is no valid template.
+  TextTemplate(std::string_view text, std::string origin, Escaping escaping);
+
+  /// The text with `values` filled in; an InputError naming the origin when rendering fails.
+  std::string render(const kainjow::mustache::data& values) const;
+
+ private:
+  std::string origin_;
+  mutable kainjow::mustache::mustache template_;
+};
+
+} // namespace ibvalve::hemodynamics
