@@ -44,11 +44,11 @@
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 #include "io/key_binder.hpp"
-#include "io/logger.hpp"
-#include "io/units.hpp"
+#include "base/logger.hpp"
+#include "base/units.hpp"
 #include "materials/settings.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
@@ -383,7 +383,7 @@ class AorticValveRun : public PreparedRun {
 
   RunSummary run(const RunContext& context) override
   {
-    auto& log = io::Logger::global();
+    auto& log = base::Logger::global();
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
 
     // Fibers (rule FD1/FD2) from each leaflet's groups, computed on the mesh at start-up.

@@ -9,7 +9,7 @@
 #include "app/commands.hpp"
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -39,7 +39,7 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
         }
     const auto files = hemodynamics::write_comparison(cases, options.output);
     const auto ranking = hemodynamics::rank_cases(cases);
-    auto& log = io::Logger::global();
+    auto& log = base::Logger::global();
     for (const auto& row : ranking.rows)
       log.info("rank " + std::to_string(row.rank) + ": " + row.name + " (total " +
                hemodynamics::format_value(row.total) + ")");

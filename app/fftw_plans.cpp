@@ -7,9 +7,9 @@
 
 #include "fluid/fft_stokes.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -39,7 +39,7 @@ void load_fftw_plans(const RunContext& context)
   int accepted = fluid::import_fftw_wisdom(io::read_text_file(file)) ? 1 : 0, all = 0;
   MPI_Allreduce(&accepted, &all, 1, MPI_INT, MPI_MIN, context.comm);
   if (!all)
-    io::Logger::global().warn(
+    base::Logger::global().warn(
         file.parent_path().string() +
         ": FFTW did not accept the run's plans (another FFTW build?); the transforms are "
         "planned anew and the restart agrees with the run to round-off only");

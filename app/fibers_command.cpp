@@ -14,8 +14,8 @@
 #include "fe/mesh_output.hpp"
 #include "fibers/rules.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {
@@ -34,7 +34,7 @@ struct FibersCommandOptions {
 
 int run_fibers(const FibersCommandOptions& options)
 {
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   // The rule and the axis come from the command line: its errors say so and name the option.
   fibers::FiberRule rule{};
   try {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "app/commands.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "materials/fitting.hpp"
 
 namespace ibvalve::app {
@@ -46,7 +46,7 @@ std::string padded(const std::string& text, std::size_t width)
 int fit(const FitCommandOptions& options)
 {
   using namespace materials;
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   const auto kind = find_law(options.law);
   if (!kind) throw InputError("command line: --law: '" + options.law + "' is not one of " + law_names());
   if (options.fiber_compression != "off" && options.fiber_compression != "on")

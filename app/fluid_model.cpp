@@ -23,9 +23,9 @@
 #include "fluid/queries.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -217,7 +217,7 @@ class FluidRun : public PreparedRun {
 
   RunSummary run(const RunContext& context) override
   {
-    auto& log = io::Logger::global();
+    auto& log = base::Logger::global();
     std::unique_ptr<fluid::NavierStokes> fluid;
     if (context.restart) load_fftw_plans(context);
     try {

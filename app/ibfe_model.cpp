@@ -27,12 +27,12 @@
 #include "fluid/hierarchy.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
-#include "ib/shapes.hpp"
+#include "fe/shell_mesh.hpp"
 #include "io/checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "io/xdmf.hpp"
 #include "materials/settings.hpp"
 
@@ -207,7 +207,7 @@ class IbfeRun : public PreparedRun {
                    layers = static_cast<double>(config.integer("structure.shell.layers"));
       check_size(config, 6.0 * patches * patches * (layers + 1.0), 6.0 * patches * patches * layers,
                  "structure.shell.patches");
-      mesh_ = ib::spherical_shell_mesh(center_, ri, ro,
+      mesh_ = fe::spherical_shell_mesh(center_, ri, ro,
                                        static_cast<int>(config.integer("structure.shell.patches")),
                                        static_cast<int>(config.integer("structure.shell.layers")));
     }
@@ -249,7 +249,7 @@ class IbfeRun : public PreparedRun {
 
   RunSummary run(const RunContext& context) override
   {
-    auto& log = io::Logger::global();
+    auto& log = base::Logger::global();
     fluid::BoundaryConditions bc;
     if (!box_.periodic[0])
       for (int side = 0; side < 6; ++side) bc.side(side).kind = fluid::SideKind::velocity;

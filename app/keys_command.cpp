@@ -9,7 +9,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::app {
 

@@ -21,10 +21,10 @@
 #include "hemodynamics/timeseries.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
-#include "io/units.hpp"
+#include "base/logger.hpp"
+#include "base/units.hpp"
 #include "windkessel/lumped_valve.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
@@ -161,7 +161,7 @@ class LumpedRun : public PreparedRun {
   RunSummary simulate(const RunContext& context)
   {
     const std::filesystem::path& directory = context.run_directory;
-    auto& log = io::Logger::global();
+    auto& log = base::Logger::global();
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};

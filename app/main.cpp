@@ -11,8 +11,8 @@
 
 #include "app/commands.hpp"
 #include "app/version.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 
 namespace {
 
@@ -45,7 +45,7 @@ int main(int argc, char** argv)
   int petsc_argc = static_cast<int>(petsc_argv.size());
   char** petsc_argv_ptr = petsc_argv.data();
   if (PetscInitialize(&petsc_argc, &petsc_argv_ptr, nullptr, nullptr) != 0) return 1;
-  io::Logger::global().set_communicator(PETSC_COMM_WORLD);
+  base::Logger::global().set_communicator(PETSC_COMM_WORLD);
 
   CLI::App cli{"ibvalve: immersed-boundary / finite-element heart-valve simulator.\n"
                "Case-file keys: ibvalve keys [MODEL] (--format toml for a case skeleton).\n" +
@@ -83,7 +83,7 @@ int main(int argc, char** argv)
     if (error.get_exit_code() == 0) {
       if (rank_of_world() == 0) cli.exit(error);
     } else {
-      io::Logger::global().error("command line: " + std::string(error.what()) + " (see ibvalve --help)");
+      base::Logger::global().error("command line: " + std::string(error.what()) + " (see ibvalve --help)");
       code = exit_code_input_error;
     }
     PetscFinalize();
@@ -93,17 +93,17 @@ int main(int argc, char** argv)
   try {
     code = action(petsc_arguments);
   } catch (const InputError& error) {
-    io::Logger::global().error(error.what());
+    base::Logger::global().error(error.what());
     code = exit_code_input_error;
   } catch (const RunError& error) {
-    io::Logger::global().error(error.what());
-    io::Logger::global().error("the run stopped; all output so far is kept");
+    base::Logger::global().error(error.what());
+    base::Logger::global().error("the run stopped; all output so far is kept");
     code = exit_code_run_error;
   } catch (const std::exception& error) {
-    io::Logger::global().error(std::string("internal error: ") + error.what());
+    base::Logger::global().error(std::string("internal error: ") + error.what());
     code = 1;
   }
-  io::Logger::global().close_file();
+  base::Logger::global().close_file();
   PetscFinalize();
   return code;
 }

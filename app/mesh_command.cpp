@@ -8,8 +8,8 @@
 #include "app/commands.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/valve_mesh.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -30,7 +30,7 @@ int write_valve_mesh(const fe::ValveMeshParameters& parameters, const std::files
     if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
     fe::write_msh(mesh, output);
   }
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   log.info("wrote " + output.string() + ": " + std::to_string(mesh.num_elements()) + " hexahedra, " +
            std::to_string(mesh.num_nodes()) + " nodes");
   std::string groups;

@@ -12,8 +12,8 @@
 #include "app/commands.hpp"
 #include "app/version.hpp"
 #include "hemodynamics/report.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -65,7 +65,7 @@ int report(const ReportCommandOptions& options)
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     if (options.write_templates) {
       for (const auto& file : hemodynamics::write_builtin_templates(*options.write_templates))
-        io::Logger::global().info("template: " + file.string());
+        base::Logger::global().info("template: " + file.string());
       return;
     }
     hemodynamics::ReportOptions report_options;
@@ -83,8 +83,8 @@ int report(const ReportCommandOptions& options)
     report_options.templates =
         options.templates ? *options.templates : hemodynamics::recorded_templates(options.run_directory);
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
-    io::Logger::global().info("metrics: " + files.json.string());
-    io::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
+    base::Logger::global().info("metrics: " + files.json.string());
+    base::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
                               std::to_string(files.plots.size()) + " plots)");
   });
   return 0;

@@ -6,7 +6,7 @@
 #include <petscsys.h>
 #include <unistd.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::app {
 

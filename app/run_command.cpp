@@ -15,9 +15,9 @@
 #include "app/version.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
@@ -238,7 +238,7 @@ void warn_unused_petsc_options()
   for (PetscInt i = 0; i < count; ++i) list += std::string(list.empty() ? "" : " ") + "-" + names[i];
   PETSC_CHECK(PetscOptionsLeftRestore(nullptr, &count, &names, &values));
   if (!list.empty())
-    io::Logger::global().warn("PETSc options not used: " + list +
+    base::Logger::global().warn("PETSc options not used: " + list +
                               " (check the name and the solver prefix: `ibvalve --help` lists the prefixes)");
 }
 
@@ -259,17 +259,17 @@ int run_case(RunOptions options, const PetscArguments& petsc)
       throw InputError(options.restart.string() + ": not a run folder (no config.toml to restart from)");
     options.case_file = options.restart / "config.toml";
   }
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   log.start_clock();
-  if (options.quiet) log.set_level(io::LogLevel::quiet);
-  if (options.verbose) log.set_level(io::LogLevel::verbose);
+  if (options.quiet) log.set_level(base::LogLevel::quiet);
+  if (options.verbose) log.set_level(base::LogLevel::verbose);
 
   const io::Config config = load_case(options);
   if (!options.quiet && !options.verbose) {
     const std::string level = config.string("log.level");
-    log.set_level(level == "quiet"     ? io::LogLevel::quiet
-                  : level == "verbose" ? io::LogLevel::verbose
-                                       : io::LogLevel::normal);
+    log.set_level(level == "quiet"     ? base::LogLevel::quiet
+                  : level == "verbose" ? base::LogLevel::verbose
+                                       : base::LogLevel::normal);
   }
   log.set_progress_interval(config.real("log.progress_interval"));
   // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
@@ -328,7 +328,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     log.always(summary.stopped);
     return summary.exit_code;
   }
-  log.info("finished in " + io::format_duration(log.wall_seconds()) + "; output in " + directory.string());
+  log.info("finished in " + base::format_duration(log.wall_seconds()) + "; output in " + directory.string());
   return summary.exit_code;
 }
 

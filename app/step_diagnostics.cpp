@@ -63,18 +63,18 @@ StepDiagnostics::StepDiagnostics(MPI_Comm comm, const std::filesystem::path& dir
         io::truncate_csv_rows(path, first_step);
       } catch (const std::exception& e) {
         // Diagnostics are no part of the state: a file that cannot be continued is started anew.
-        io::Logger::global().warn(std::string(e.what()) + "; diagnostics.csv starts anew");
+        base::Logger::global().warn(std::string(e.what()) + "; diagnostics.csv starts anew");
         append = false;
       }
     }
     csv_ = io::CsvWriter(path, columns, append, units);
   });
-  last_wall_ = io::Logger::global().wall_seconds();
+  last_wall_ = base::Logger::global().wall_seconds();
 }
 
 std::string StepDiagnostics::write(long step, double t, const StepFigures& figures)
 {
-  const double wall = io::Logger::global().wall_seconds();
+  const double wall = base::Logger::global().wall_seconds();
   if (root_) {
     std::vector<double> row{static_cast<double>(step), t, wall - last_wall_};
     for (const StepFigure& f : figures.solver) row.push_back(f.value);

@@ -10,7 +10,7 @@
 #include <mpi.h>
 
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 #include "fluid/flow_solver.hpp"
 

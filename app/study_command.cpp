@@ -21,8 +21,8 @@
 
 #include "app/commands.hpp"
 #include "io/config.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -127,7 +127,7 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
 {
   const Study study = read_study(options);
   if (options.jobs) return print_jobs(study, options);
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   std::vector<std::filesystem::path> folders;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const StudyCase& c = study.cases[i];

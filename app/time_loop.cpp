@@ -5,9 +5,9 @@
 
 #include "app/stop_signal.hpp"
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
@@ -34,7 +34,7 @@ io::CheckpointHeader restart(const io::Checkpoints& checkpoints, const RunContex
     context.accept_restart();
     io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
   });
-  io::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
+  base::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
                             ", t = " + std::to_string(header.time) + " s)");
   return header;
 }
@@ -57,7 +57,7 @@ std::string stopped_line(std::int64_t step, std::int64_t steps, const std::files
 
 RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
 {
-  auto& log = io::Logger::global();
+  auto& log = base::Logger::global();
   const std::filesystem::path& directory = context.run_directory;
   const std::int64_t steps = loop.steps;
   const bool fields = loop.fields_every >= 0;

@@ -8,7 +8,7 @@
 
 #include <gmsh.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::fe {
 

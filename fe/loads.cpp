@@ -1,6 +1,6 @@
 #include "fe/loads.hpp"
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::fe {
 

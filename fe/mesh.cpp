@@ -7,7 +7,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::fe {
 

@@ -5,8 +5,8 @@
 
 #include <petscsnes.h>
 
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::fe {
@@ -29,7 +29,7 @@ PetscErrorCode residual_callback(SNES, Vec u, Vec r, void* context)
   try {
     static_cast<QuasiStaticSolver*>(context)->residual(u, r);
   } catch (const std::exception& error) {
-    io::Logger::global().error(std::string("quasi-static residual: ") + error.what());
+    base::Logger::global().error(std::string("quasi-static residual: ") + error.what());
     return PETSC_ERR_LIB;
   }
   return 0;
@@ -40,7 +40,7 @@ PetscErrorCode jacobian_callback(SNES, Vec u, Mat J, Mat, void* context)
   try {
     static_cast<QuasiStaticSolver*>(context)->jacobian(u, J);
   } catch (const std::exception& error) {
-    io::Logger::global().error(std::string("quasi-static tangent: ") + error.what());
+    base::Logger::global().error(std::string("quasi-static tangent: ") + error.what());
     return PETSC_ERR_LIB;
   }
   return 0;

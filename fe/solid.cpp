@@ -5,7 +5,7 @@
 
 #include <Eigen/LU>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::fe {
 

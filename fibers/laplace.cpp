@@ -8,7 +8,7 @@
 #include <petscksp.h>
 
 #include "fe/nodal_system.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::fibers {

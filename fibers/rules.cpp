@@ -7,7 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::fibers {

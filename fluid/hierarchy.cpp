@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "base/errors.hpp"
 #include "io/config.hpp"
-#include "io/errors.hpp"
 
 namespace ibvalve::fluid {
 

@@ -19,7 +19,8 @@
 
 #include <petscksp.h>
 
-#include "fluid/navier_stokes.hpp"
+#include "fluid/settings.hpp"
+#include "fluid/stokes_solver.hpp"
 #include "fluid/transform_subsolvers.hpp"
 
 namespace ibvalve::fluid {

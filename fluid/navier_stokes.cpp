@@ -6,18 +6,18 @@
 #include <stdexcept>
 #include <vector>
 
+#include "base/stopwatch.hpp"
 #include "fluid/fft_stokes.hpp"
 #include "fluid/krylov_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
 #include "fluid/solver_clock.hpp"
 #include "io/petsc_check.hpp"
-#include "io/stopwatch.hpp"
 
 namespace ibvalve::fluid {
 
 namespace {
-using io::Stopwatch;
+using base::Stopwatch;
 
 /// This rank's block of a checkpoint array (NavierStokes::save): (z, y, x, 4) over the elements it
 /// owns, including the extra face layer N of a non-periodic direction on the rank that owns it.

@@ -11,14 +11,14 @@
 #include <utility>
 #include <vector>
 
+#include "base/errors.hpp"
+#include "base/stopwatch.hpp"
 #include "fluid/composite_output.hpp"
 #include "fluid/composite_queries.hpp"
 #include "fluid/jacobi.hpp"
 #include "fluid/solver_clock.hpp"
-#include "io/errors.hpp"
 #include "io/petsc_check.hpp"
 #include "io/petsc_handle.hpp"
-#include "io/stopwatch.hpp"
 
 namespace ibvalve::fluid {
 
@@ -365,7 +365,7 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
   build_helmholtz(dt);
   const petsc::OwnedVec rhs = operators_->create_face_vector(), work = operators_->create_face_vector();
   {
-    io::Stopwatch watch(stats_.viscous);
+    base::Stopwatch watch(stats_.viscous);
     // rho/dt u^n + mu/2 (L u^n + b(g^n) + b(g^{n+1})) - rho N - G p + f
     PETSC_CHECK(MatMult(velocity_ops_->laplacian(), u_, rhs));
     velocity_ops_->laplacian_data(velocity_ops_->data_values(wall_velocity_, t0), work);
@@ -387,7 +387,7 @@ void NestedNavierStokes::advance(double dt, Vec convection_half)
     PETSC_CHECK(KSPGetIterationNumber(velocity_ksp_, &velocity_iterations_));
   }
   {
-    io::Stopwatch watch(stats_.pressure);
+    base::Stopwatch watch(stats_.pressure);
     const petsc::OwnedVec b = operators_->create_cell_vector(), phi = operators_->create_cell_vector(),
                           m_phi = operators_->create_cell_vector();
     PETSC_CHECK(VecPointwiseMult(work, operators_->weights(), u_));
@@ -431,9 +431,9 @@ void NestedNavierStokes::pressure_boundary_part(double t, Vec out) const
 void NestedNavierStokes::step(double dt)
 {
   if (!(dt > 0.0)) throw std::invalid_argument("nested Navier-Stokes: dt must be positive");
-  io::Stopwatch total(stats_.total);
+  base::Stopwatch total(stats_.total);
   {
-    io::Stopwatch watch(stats_.convection);
+    base::Stopwatch watch(stats_.convection);
     velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_), convection_,
                               settings_.convection);
   }
@@ -451,7 +451,7 @@ void NestedNavierStokes::step(double dt)
     PETSC_CHECK(VecCopy(p_, p0));
     advance(dt, convection_);
     {
-      io::Stopwatch watch(stats_.convection);
+      base::Stopwatch watch(stats_.convection);
       velocity_ops_->convection(u_, velocity_ops_->data_values(wall_velocity_, time_ + dt), half,
                                 settings_.convection);
     }

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "hemodynamics/report.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::hemodynamics {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::hemodynamics {
 

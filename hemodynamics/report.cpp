@@ -14,9 +14,9 @@
 #include <unistd.h>
 
 #include "hemodynamics/text_template.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -493,7 +493,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
                format_value(rf) + " % is outside 0-100 %";
   if (!warning.empty()) {
     files.warning = warning + "; the metrics are of a " + format_value(period) + " s window";
-    io::Logger::global().warn(files.warning);
+    base::Logger::global().warn(files.warning);
   }
   files.directory = run_directory / "report";
   fs::create_directories(files.directory);

@@ -5,7 +5,7 @@
 #include <charconv>
 #include <vector>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::hemodynamics {

@@ -6,7 +6,7 @@
 
 #include "fluid/navier_stokes.hpp"
 #include "fluid/nested_navier_stokes.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {

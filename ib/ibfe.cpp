@@ -10,16 +10,16 @@
 #include <mpi.h>
 
 #include "fe/loads.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "io/petsc_check.hpp"
-#include "io/stopwatch.hpp"
+#include "base/stopwatch.hpp"
 
 namespace ibvalve::ib {
 
 namespace {
 
-using io::Stopwatch;
+using base::Stopwatch;
 
 std::string format(double value)
 {
@@ -86,7 +86,7 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   place_points(displacement_);
 
   const StabilityEstimate s = stability_estimate();
-  io::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
+  base::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
                             std::to_string(points_.size()) +
                             " coupling points at the start; stable time step estimate " + format(s.dt) +
                             " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
@@ -147,7 +147,7 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
   const std::size_t capped = points_.update(x, h_min_);
   if (capped > 0 && !warned_capped_) {
     warned_capped_ = true;
-    io::Logger::global().warn("ib: " + std::to_string(capped) + " elements are stretched so far that " +
+    base::Logger::global().warn("ib: " + std::to_string(capped) + " elements are stretched so far that " +
                               std::to_string(settings_.points.max_points) +
                               " coupling points per direction leave gaps wider than ib.point_spacing grid "
                               "cells; the fluid may leak through them (shown once)");
@@ -223,9 +223,9 @@ void IbfeIntegrator::step(double dt)
   if (timings_.steps == 0) {
     const StabilityEstimate s = stability_estimate();
     if (dt > s.dt)
-      io::Logger::global().warn("ib: " + describe_time_step(dt, s) + "; the run may blow up");
+      base::Logger::global().warn("ib: " + describe_time_step(dt, s) + "; the run may blow up");
     else
-      io::Logger::global().info("ib: " + describe_time_step(dt, s));
+      base::Logger::global().info("ib: " + describe_time_step(dt, s));
   }
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.

@@ -9,7 +9,7 @@
 
 #include <mpi.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {

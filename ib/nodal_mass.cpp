@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "io/collective.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::io {
 
@@ -240,7 +240,7 @@ std::optional<std::filesystem::path> Checkpoints::latest() const
         return;
       }
       if (verdict == Verdict::foreign) throw InputError(file.string() + ": " + why);
-      Logger::global().warn("skipping checkpoint " + file.string() + ": " + why + "; trying the one before");
+      base::Logger::global().warn("skipping checkpoint " + file.string() + ": " + why + "; trying the one before");
     }
   });
   int length = static_cast<int>(chosen.size());

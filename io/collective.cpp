@@ -3,7 +3,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::io {
 

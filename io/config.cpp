@@ -7,8 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "io/errors.hpp"
-#include "io/units.hpp"
+#include "base/errors.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::io {
 

@@ -11,7 +11,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace ibvalve::io {
 

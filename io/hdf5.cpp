@@ -11,7 +11,7 @@
 
 #include "io/collective.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 namespace ibvalve::io {
 
@@ -144,7 +144,7 @@ Hdf5File::~Hdf5File()
     try {
       close();
     } catch (const std::exception& e) {
-      Logger::global().error(e.what());
+      base::Logger::global().error(e.what());
     }
   }
   if (file_ >= 0) H5Fclose(file_);

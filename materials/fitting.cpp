@@ -11,7 +11,7 @@
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::materials {

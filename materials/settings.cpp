@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::materials {
 

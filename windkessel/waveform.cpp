@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::windkessel {

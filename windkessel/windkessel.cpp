@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "io/errors.hpp"
-#include "io/units.hpp"
+#include "base/errors.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::windkessel {
 

@@ -16,7 +16,7 @@
 #include "fe/solid.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "ib/ibfe.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 
@@ -32,7 +32,7 @@ int main(int argc, char** argv)
     int ranks = 1, rank = 0;
     MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-    io::Logger::global().set_level(io::LogLevel::quiet);
+    base::Logger::global().set_level(base::LogLevel::quiet);
 
     fluid::BoxGeometry box;
     box.cells = {cells, cells, cells};

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 

@@ -19,9 +19,9 @@
 
 #include <petscsys.h>
 
+#include "base/units.hpp"
 #include "hemodynamics/metrics.hpp"
 #include "hemodynamics/timeseries.hpp"
-#include "io/units.hpp"
 #include "windkessel/lumped_valve.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"

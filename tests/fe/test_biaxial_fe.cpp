@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "fe/solid.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "materials/biaxial.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
@@ -98,7 +98,7 @@ TEST_P(BiaxialFe, OneElementStressesMatchTheBiaxialAnalytics)
   std::ostringstream message;
   message << "one-element biaxial (" << mesh.type().name() << "), all laws: largest relative stress error "
           << worst;
-  io::Logger::global().info(message.str());
+  base::Logger::global().info(message.str());
 }
 
 INSTANTIATE_TEST_SUITE_P(HexAndTet, BiaxialFe,

@@ -11,7 +11,7 @@
 #include "fe/gmsh_io.hpp"
 #include "fe/loads.hpp"
 #include "fe/mesh.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using namespace ibvalve::fe;
 

@@ -41,7 +41,7 @@
 #include <petscksp.h>
 
 #include "fe/solid.hpp"
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 #include "io/petsc_check.hpp"
 #include "tests/fe/neo_hookean_fixture.hpp"
 
@@ -264,7 +264,7 @@ TEST(SelectiveIntegration, OneElementThickCantileverLocksWhenFullyIntegratedAndC
   for (std::size_t k = 1; k < errors.size(); ++k) EXPECT_GT(std::log2(errors[k - 1] / errors[k]), 1.5);
   EXPECT_LT(errors[2], 0.035);
   EXPECT_LT(errors[3], 0.01);
-  ibvalve::io::Logger::global().info(table.str());
+  ibvalve::base::Logger::global().info(table.str());
 }
 
 TEST(SelectiveIntegration, CantileverWithSRIApproachesTheContinuumAsTheThicknessIsRefined)
@@ -293,5 +293,5 @@ TEST(SelectiveIntegration, CantileverWithSRIApproachesTheContinuumAsTheThickness
     EXPECT_LT(full / continuum, 2.0 * predicted_full) << through << " elements through";
     EXPECT_GT(full / continuum, predicted_full) << through << " elements through";
   }
-  ibvalve::io::Logger::global().info(table.str());
+  ibvalve::base::Logger::global().info(table.str());
 }

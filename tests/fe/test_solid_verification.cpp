@@ -13,8 +13,8 @@
 
 #include "fe/loads.hpp"
 #include "fe/quasi_static.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "tests/fe/neo_hookean_fixture.hpp"
 
 using namespace ibvalve::fe;
@@ -83,7 +83,7 @@ TEST_P(SolidVerification, UniaxialTensionOfANeoHookeanBarGivesTheAnalyticStretch
   EXPECT_LT(error / ((l - 1) * length), 1e-10);
   std::ostringstream message;
   message << "uniaxial: stretch " << l << ", lateral " << t << ", max nodal error " << error << " cm";
-  ibvalve::io::Logger::global().info(message.str());
+  ibvalve::base::Logger::global().info(message.str());
 }
 
 TEST(SolidFailures, NewtonThatCannotConvergeIsARunErrorNamingTheStep)
@@ -206,7 +206,7 @@ TEST_P(SolidVerification, ManufacturedBendingConvergesAtSecondOrder)
     const double order = std::log2(errors[i - 1] / errors[i]);
     std::ostringstream message;
     message << "bending: L2 errors " << errors[i - 1] << " -> " << errors[i] << ", observed order " << order;
-    ibvalve::io::Logger::global().info(message.str());
+    ibvalve::base::Logger::global().info(message.str());
     EXPECT_GT(order, 1.8);
     EXPECT_LT(order, 2.3);
   }

@@ -12,8 +12,8 @@
 #include <petscsys.h>
 
 #include "fibers/rules.hpp"
-#include "io/errors.hpp"
-#include "io/logger.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::fibers;
@@ -92,7 +92,7 @@ TEST_P(Fibers, AnnularSectorWithFd2DataIsCircumferentialAndConverges)
     std::ostringstream message;
     message << "annular sector, " << mesh.num_elements() << " elements: max angle error " << worst
             << " degrees at quadrature points, " << worst_element << " per element";
-    io::Logger::global().info(message.str());
+    base::Logger::global().info(message.str());
     errors.push_back(worst);
   }
   EXPECT_LT(errors.back(), 2.0);

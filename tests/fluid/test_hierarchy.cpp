@@ -4,9 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include "base/errors.hpp"
 #include "fluid/hierarchy.hpp"
 #include "io/config.hpp"
-#include "io/errors.hpp"
 
 namespace ibvalve::fluid {
 namespace {

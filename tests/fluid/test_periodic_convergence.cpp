@@ -16,7 +16,7 @@ FieldErrors run_periodic(const Exact& exact, PetscInt n, double final_time, doub
   box.cells = {n, n, n};
   FluidSettings settings;
   settings.rho = 1.0;
-  settings.mu = exact.mu;
+  settings.mu = exact.rho * exact.nu;
   settings.solver = solver;
   settings.convection = scheme;
   NavierStokes fluid(PETSC_COMM_WORLD, box, BoundaryConditions::all_periodic(), settings);

@@ -28,7 +28,7 @@ inline std::unique_ptr<NavierStokes> abc_flow(MPI_Comm comm, PetscInt n)
   BoxGeometry box;
   box.cells = {n, n, n};
   FluidSettings settings;
-  settings.mu = abc.mu;
+  settings.mu = abc.rho * abc.nu;
   auto fluid = std::make_unique<NavierStokes>(comm, box, BoundaryConditions::all_periodic(), settings);
   fluid->set_initial_condition([abc](const Real3& x, double t) { return abc.velocity(x, t); },
                                [abc](const Real3& x, double t) { return abc.pressure(x, t); }, 0.0);

@@ -19,7 +19,7 @@
 
 #include "hemodynamics/metrics.hpp"
 #include "hemodynamics/timeseries.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 namespace hd = ibvalve::hemodynamics;
 using std::numbers::pi;

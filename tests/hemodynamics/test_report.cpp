@@ -13,7 +13,7 @@
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/text_template.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace hd = ibvalve::hemodynamics;

@@ -10,7 +10,7 @@
 
 #include "fe/mesh.hpp"
 #include "ibfe_cases.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;

@@ -11,7 +11,7 @@
 
 #include "fluid/grid.hpp"
 #include "ib/interaction.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using namespace ibvalve;
 using ib::Vec3;

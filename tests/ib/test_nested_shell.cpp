@@ -16,9 +16,9 @@
 #include "fluid/hierarchy.hpp"
 #include "fluid/nested_navier_stokes.hpp"
 #include "ib/eulerian_fluid.hpp"
-#include "ib/shapes.hpp"
+#include "fe/shell_mesh.hpp"
 #include "ibfe_cases.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;
@@ -101,7 +101,7 @@ std::vector<double> inflated_displacement(const fe::Mesh& mesh)
 // (the finest level's region in both runs, so both average over the same cells).
 ShellRun run_shell(MPI_Comm comm, ib::EulerianFluid& fluid, int steps, double dt, const TwoLevels& levels)
 {
-  const fe::Mesh mesh = ib::spherical_shell_mesh(center, R_i, R_o, 8, 3);
+  const fe::Mesh mesh = fe::spherical_shell_mesh(center, R_i, R_o, 8, 3);
   fe::SolidModel solid(mesh, one_part(mesh, neo_hookean(mu_solid, 10.0 * mu_solid)), 2, comm);
   ib::IbfeIntegrator ibfe(fluid, solid, {});
   ibfe.set_displacement(inflated_displacement(mesh));
@@ -248,7 +248,7 @@ TEST(NestedShell, ANodeLeavingTheFinestLevelStopsTheRun)
       },
       [](const fluid::Real3&, double) { return 0.0; }, 0.0);
   ib::NestedFluid fluid(navier_stokes);
-  const fe::Mesh mesh = ib::spherical_shell_mesh(center, R_i, R_o, 4, 1);
+  const fe::Mesh mesh = fe::spherical_shell_mesh(center, R_i, R_o, 4, 1);
   fe::SolidModel solid(mesh, one_part(mesh, neo_hookean(mu_solid, 10.0 * mu_solid)), 2, PETSC_COMM_WORLD);
   ib::IbfeIntegrator ibfe(fluid, solid, {});
   ibfe.step(dt); // inside, with room: runs

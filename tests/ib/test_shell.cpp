@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "ib/shapes.hpp"
+#include "fe/shell_mesh.hpp"
 #include "ibfe_cases.hpp"
 
 using namespace ibvalve;
@@ -22,7 +22,7 @@ ShellResult run_shell(int cells, int n, int layers, int steps, double dt, ib::Ke
   const double mu_solid = 100.0, R_i = 0.2, R_o = 0.3, a = 0.22 * 0.22 * 0.22 - R_i * R_i * R_i;
   const ib::Vec3 c(0.5, 0.5, 0.5);
   auto fluid = periodic_fluid(PETSC_COMM_WORLD, cells, 1.0, 0.1);
-  const fe::Mesh mesh = ib::spherical_shell_mesh(c, R_i, R_o, n, layers);
+  const fe::Mesh mesh = fe::spherical_shell_mesh(c, R_i, R_o, n, layers);
   fe::SolidModel solid(mesh, one_part(mesh, neo_hookean(mu_solid, 10.0 * mu_solid)), 2, PETSC_COMM_WORLD);
   ib::IbfeSettings settings;
   settings.kernel = kernel;

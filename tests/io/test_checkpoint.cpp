@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "io/checkpoint.hpp"
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::io {

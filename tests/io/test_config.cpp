@@ -8,8 +8,8 @@
 #include <mpi.h>
 
 #include "io/config.hpp"
-#include "io/errors.hpp"
-#include "io/units.hpp"
+#include "base/errors.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::io {
 namespace {

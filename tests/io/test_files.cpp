@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::io {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
 #include "io/xdmf.hpp"

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 #include "materials/biaxial.hpp"
 #include "materials/material.hpp"
 

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
+#include "base/errors.hpp"
 #include "materials/fitting.hpp"
 
 namespace ibvalve::materials {

@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 

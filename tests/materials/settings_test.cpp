@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
-#include "io/units.hpp"
+#include "base/errors.hpp"
+#include "base/units.hpp"
 #include "materials/settings.hpp"
 
 namespace ibvalve::materials {

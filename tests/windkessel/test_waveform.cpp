@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/errors.hpp"
-#include "io/units.hpp"
+#include "base/errors.hpp"
+#include "base/units.hpp"
 #include "windkessel/waveform.hpp"
 
 namespace wk = ibvalve::windkessel;

@@ -2,7 +2,7 @@
 // Adds the wall time of a scope to a running total (the parts of a time step that runs report).
 #include <mpi.h>
 
-namespace ibvalve::io {
+namespace ibvalve::base {
 
 class Stopwatch {
  public:
@@ -16,4 +16,4 @@ class Stopwatch {
   double start_;
 };
 
-} // namespace ibvalve::io
+} // namespace ibvalve::base

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "base/logger.hpp"
 #include "io/files.hpp"
-#include "io/logger.hpp"
 
-namespace ibvalve::io {
+namespace ibvalve::base {
 namespace {
 
 TEST(Logger, DurationsReadAsClockTimes)
@@ -104,7 +104,7 @@ TEST(Logger, MessagesGoToTheLogFile)
   log.close_file();
   if (rank == 0) {
     EXPECT_EQ(err, "warning: careful\nerror: bad thing\n");
-    const std::string text = read_text_file(path);
+    const std::string text = io::read_text_file(path);
     EXPECT_NE(text.find("first line"), std::string::npos);
     EXPECT_NE(text.find("error: bad thing"), std::string::npos);
     std::filesystem::remove(path);
@@ -112,4 +112,4 @@ TEST(Logger, MessagesGoToTheLogFile)
 }
 
 } // namespace
-} // namespace ibvalve::io
+} // namespace ibvalve::base

@@ -16,7 +16,7 @@
 
 #include <mpi.h>
 
-namespace ibvalve::io {
+namespace ibvalve::base {
 
 enum class LogLevel { quiet = 0, normal = 1, verbose = 2 };
 
@@ -93,4 +93,4 @@ class Logger {
 /// "1:02:03" or "4:05" for a duration in seconds.
 std::string format_duration(double seconds);
 
-} // namespace ibvalve::io
+} // namespace ibvalve::base

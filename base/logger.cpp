@@ -1,4 +1,4 @@
-#include "io/logger.hpp"
+#include "base/logger.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-namespace ibvalve::io {
+namespace ibvalve::base {
 
 namespace {
 
@@ -195,4 +195,4 @@ void Logger::finish_progress()
   }
 }
 
-} // namespace ibvalve::io
+} // namespace ibvalve::base

@@ -1,4 +1,4 @@
-#include "io/units.hpp"
+#include "base/units.hpp"
 
 #include <array>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "ib/shapes.hpp"
+#include "fe/shell_mesh.hpp"
 
 #include <array>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include <Eigen/Geometry>
 
-namespace ibvalve::ib {
+namespace ibvalve::fe {
 
 fe::Mesh spherical_shell_mesh(const fe::Vec3& center, double r_inner, double r_outer, int n, int layers)
 {
@@ -69,4 +69,4 @@ fe::Mesh spherical_shell_mesh(const fe::Vec3& center, double r_inner, double r_o
   return mesh;
 }
 
-} // namespace ibvalve::ib
+} // namespace ibvalve::fe

@@ -1,8 +1,8 @@
 #pragma once
-// Generated structure meshes for the IB verification cases and examples that fe/ does not provide.
+// A generated thick spherical shell: the structure of the IB verification cases and examples.
 #include "fe/mesh.hpp"
 
-namespace ibvalve::ib {
+namespace ibvalve::fe {
 
 /// A thick spherical shell r in [r_inner, r_outer] about `center` made of trilinear hexahedra: each
 /// face of a cube is split into n x n patches mapped to the sphere by the equiangular gnomonic map
@@ -10,4 +10,4 @@ namespace ibvalve::ib {
 /// Nodes on the patches' shared edges are merged. Groups: volume "body", surfaces "inner", "outer".
 fe::Mesh spherical_shell_mesh(const fe::Vec3& center, double r_inner, double r_outer, int n, int layers);
 
-} // namespace ibvalve::ib
+} // namespace ibvalve::fe

@@ -12,13 +12,13 @@ inline constexpr int exit_code_run_error = 3;
 
 /// Bad input from the user. The message is one line that names the file, the line and the key.
 class InputError : public std::runtime_error {
-public:
+ public:
   using std::runtime_error::runtime_error;
 };
 
 /// A run that cannot go on (NaN, solver divergence, a structure that left the grid).
 class RunError : public std::runtime_error {
-public:
+ public:
   using std::runtime_error::runtime_error;
 };
 

@@ -2,7 +2,7 @@
 // "Units".
 #include <gtest/gtest.h>
 
-#include "io/units.hpp"
+#include "base/units.hpp"
 
 namespace ibvalve::units {
 namespace {
