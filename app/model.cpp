@@ -87,13 +87,20 @@ void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc
       .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
 }
 
-void add_fluid_viscosity_key(io::Schema& s, double default_cP)
+void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP)
 {
-  s.add_real("fluid.viscosity", "dynamic viscosity")
+  keys.real("fluid.viscosity", "dynamic viscosity", mu)
       .unit("cP")
       .defaults(default_cP)
       .non_negative()
       .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
+}
+
+void add_fluid_viscosity_key(io::Schema& s, double default_cP)
+{
+  double unused = 0.0;
+  io::KeyBinder keys(s);
+  bind_fluid_viscosity(keys, unused, default_cP);
 }
 
 io::Schema case_schema(const Model& model)
