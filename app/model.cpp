@@ -71,13 +71,6 @@ io::Schema common_schema()
   return s;
 }
 
-void add_fluid_density_key(io::Schema& s, const std::string& doc)
-{
-  double unused = 0.0;
-  io::KeyBinder keys(s);
-  bind_fluid_density(keys, unused, doc);
-}
-
 void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc)
 {
   keys.real("fluid.density", doc, rho)
@@ -94,13 +87,6 @@ void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP)
       .defaults(default_cP)
       .non_negative()
       .typical(0.1, 1000.0, "water is 1 cP, blood 3.5 to 4 cP; 1000 times less is a value in Pa s");
-}
-
-void add_fluid_viscosity_key(io::Schema& s, double default_cP)
-{
-  double unused = 0.0;
-  io::KeyBinder keys(s);
-  bind_fluid_viscosity(keys, unused, default_cP);
 }
 
 io::Schema case_schema(const Model& model)

@@ -73,10 +73,6 @@ void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc
 /// fluid and ibfe models (the aortic valve's is blood's, with a narrower typical range).
 void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP);
 
-/// The same keys declared into a schema.
-void add_fluid_density_key(io::Schema& schema, const std::string& doc);
-void add_fluid_viscosity_key(io::Schema& schema, double default_cP);
-
 /// The keys every case has (model, name, time, output, log, petsc).
 io::Schema common_schema();
 /// common_schema() plus the model's own keys.
