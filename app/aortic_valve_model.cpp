@@ -81,6 +81,7 @@ struct AorticValveKeys {
   ib::KernelKind kernel = ib::default_kernel;
   double point_spacing = 0;
   int quadrature_degree = 2;
+  hemodynamics::ReportSettings report;
 };
 
 void bind(io::KeyBinder& keys, AorticValveKeys& k)
@@ -89,8 +90,8 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(std::int64_t{1})
       .at_least(1);
   keys.real("time.end",
-            "simulated end time; unset = time.cycles x the LV pressure's period; a run shorter than a cycle "
-            "is reported over its whole length",
+            "simulated end time; unset = " + keys.key_of(k.cycles) +
+                " x the LV pressure's period; a run shorter than a cycle is reported over its whole length",
             k.end)
       .unit("s")
       .positive();
@@ -284,7 +285,9 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
     // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
     // integrated on the full rule: selective reduced integration by default (docs/fe.md).
     add_volumetric_integration_key(s, VolumetricIntegration::reduced);
-    hemodynamics::add_report_schema(s, "report");
+  });
+  hemodynamics::bind_report(keys, k.report);
+  keys.section([](io::Schema& s) {
     io::add_checkpoint_schema(s);
     // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
     s.merge(fluid::nested_schema());
@@ -303,12 +306,11 @@ class AorticValveRun : public PreparedRun {
   explicit AorticValveRun(const io::Config& config)
       : config_(config), keys_(config_),
         lv_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
-        outlet_parameters_(windkessel::parameters_from_config(config, "windkessel")),
-        report_(hemodynamics::metric_settings_from_config(config, "report")),
-        report_templates_(hemodynamics::report_templates_from_config(config, "report"))
+        outlet_parameters_(windkessel::parameters_from_config(config, "windkessel"))
   {
     bind(keys_, k_);
     const AorticValveKeys& k = k_;
+    hemodynamics::check_report_templates(keys_, k.report);
     box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
     box_.periodic = {false, false, false};
     fluid_ = k.fluid;
@@ -364,8 +366,8 @@ class AorticValveRun : public PreparedRun {
     inlet_radius_ = k.inlet_radius > 0 ? k.inlet_radius : mid_wall;
     outlet_radius_ = k.outlet_radius > 0 ? k.outlet_radius : mid_wall;
     period_ = lv_.period();
-    if (std::abs(report_.period - period_) > 1e-9 * period_)
-      config.fail("report.period", "differs from the LV pressure table's period");
+    if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
+      keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
     read_end();
     fields_every_ = k.fields_interval > 0
@@ -376,9 +378,8 @@ class AorticValveRun : public PreparedRun {
     flow_plane_z_ = nadir - k.flow_plane_offset;
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
-    plots_ = config.boolean("report.plots");
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-    if (!config.integers("nested.ratios").empty()) read_levels(config);
+    if (nested_levels_given(config)) read_levels(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -499,7 +500,7 @@ class AorticValveRun : public PreparedRun {
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
         throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
-                       " s): " + e.what() + " (try a smaller time.step or a finer grid)");
+                       " s): " + e.what() + " (try a smaller " + keys_.key_of(k_.step) + " or a finer grid)");
       }
       outlet_flow = fluid->flux(outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
@@ -513,7 +514,7 @@ class AorticValveRun : public PreparedRun {
       smallest_area = std::min(smallest_area, area);
       if (!std::isfinite(q_valve) || !std::isfinite(p[2]))
         throw RunError("aortic-valve: the flow is not finite at t = " + std::to_string(t) +
-                       " s (try a smaller time.step)");
+                       " s (try a smaller " + keys_.key_of(k_.step) + ")");
       return std::vector<double>{t,
                                  q_valve / units::mL,
                                  outlet_flow / units::mL,
@@ -626,7 +627,7 @@ class AorticValveRun : public PreparedRun {
     memory_line_ = check_memory(
         config,
         {{fluid_memory(cells, FluidMemoryKind::nested, true,
-                       cells > 2.0 * grid_cells(box_) ? "nested.ratios" : keys_.key_of(k_.cells)),
+                       cells > 2.0 * grid_cells(box_) ? nested_ratios_key : keys_.key_of(k_.cells)),
           structure_memory_}},
         PETSC_COMM_WORLD);
   }
@@ -636,11 +637,11 @@ class AorticValveRun : public PreparedRun {
   void write_report(const RunContext& context, RunSummary& summary, long cycle, double length = 0.0) const
   {
     hemodynamics::ReportOptions options;
-    options.settings = report_;
+    options.settings = k_.report.metrics;
     if (cycle == 0) options.settings.period = length;
     options.python = python_executable;
-    options.plots = plots_;
-    options.templates = report_templates_;
+    options.plots = k_.report.plots;
+    options.templates = k_.report.templates;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
@@ -657,8 +658,6 @@ class AorticValveRun : public PreparedRun {
   AorticValveKeys k_;
   windkessel::PeriodicWaveform lv_;
   windkessel::WindkesselParameters outlet_parameters_;
-  hemodynamics::MetricSettings report_;
-  std::filesystem::path report_templates_;
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_;
   fe::Mesh mesh_;
@@ -675,7 +674,6 @@ class AorticValveRun : public PreparedRun {
   long steps_per_cycle_ = 1, steps_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   MemoryPart structure_memory_;
-  bool plots_ = true;
   io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
 };

@@ -21,17 +21,6 @@ fluid::BoxGeometry fluid_box(const io::KeyBinder& keys, const std::vector<std::i
   return box;
 }
 
-fluid::BoxGeometry read_fluid_box(const io::Config& config)
-{
-  io::KeyBinder keys(config);
-  std::vector<std::int64_t> cells;
-  std::vector<double> lower, upper;
-  keys.integers("fluid.cells", "", cells);
-  keys.reals("fluid.lower", "", lower);
-  keys.reals("fluid.upper", "", upper);
-  return fluid_box(keys, cells, lower, upper);
-}
-
 double grid_cells(const fluid::BoxGeometry& box)
 {
   return static_cast<double>(box.cells[0]) * static_cast<double>(box.cells[1]) *

@@ -13,8 +13,6 @@ namespace ibvalve::app {
 /// upper above lower; also refuses a grid whose unknowns PETSc's index type cannot count.
 fluid::BoxGeometry fluid_box(const io::KeyBinder& keys, const std::vector<std::int64_t>& cells,
                              const std::vector<double>& lower, const std::vector<double>& upper);
-/// The same for a model that reads fluid.cells, fluid.lower and fluid.upper.
-fluid::BoxGeometry read_fluid_box(const io::Config& config);
 
 /// The box's cells, in floating point (no product of counts can wrap).
 double grid_cells(const fluid::BoxGeometry& box);

@@ -34,91 +34,136 @@ namespace {
 using fluid::Real3;
 constexpr double two_pi = 2.0 * std::numbers::pi;
 
-void add_fluid_schema(io::Schema& s)
+/// One side's boundary.<side>.* keys.
+struct SideKeys {
+  enum class Type { periodic, wall, velocity, pressure } type = Type::periodic;
+  std::vector<double> velocity;
+  bool parabolic = false;
+  double pressure = 0, disk_radius = 0, ramp = 0;
+  std::vector<double> disk_center; // empty: the side's centre
+};
+
+enum class SolverChoice { automatic, fft, krylov };
+
+/// The model's own keys and where they go (io/key_binder.hpp); checkpoints are io/'s section.
+struct FluidKeys {
+  fluid::FluidSettings fluid;
+  std::vector<std::int64_t> cells;
+  std::vector<double> lower, upper;
+  SolverChoice solver = SolverChoice::automatic;
+  std::array<SideKeys, 6> sides;
+  std::string initial = "rest";
+  double amplitude = 1.0;
+  std::vector<double> mean_velocity;
+  double end = 0, step = 0;
+  std::int64_t fields_every = 0, series_every = 1;
+};
+
+void bind_side(io::KeyBinder& keys, int side, SideKeys& b)
 {
-  add_fluid_density_key(s, "fluid density");
-  add_fluid_viscosity_key(s, 1.0);
-  s.add_integer_list("fluid.cells", "grid cells in x, y, z")
+  const std::string p = "boundary." + fluid::side_name(side) + ".";
+  using Type = SideKeys::Type;
+  keys.choice(p + "type",
+              "periodic, wall (no slip), velocity (prescribed), pressure (normal traction -p, no tangential "
+              "flow)",
+              b.type,
+              {{"periodic", Type::periodic},
+               {"wall", Type::wall},
+               {"velocity", Type::velocity},
+               {"pressure", Type::pressure}})
+      .defaults(std::string("periodic"));
+  keys.reals(p + "velocity", "velocity type: the velocity vector (the mean for a parabolic profile)",
+             b.velocity)
+      .unit("cm/s")
+      .defaults(std::vector<double>{0, 0, 0})
+      .size(3);
+  keys.choice(p + "profile", "velocity type: uniform, or parabolic across the side (zero at its walls)",
+              b.parabolic, {{"uniform", false}, {"parabolic", true}})
+      .defaults(std::string("uniform"));
+  keys.real(p + "pressure", "pressure type: boundary pressure p_b (n.sigma.n = -p_b)", b.pressure)
+      .unit("mmHg")
+      .defaults(0.0);
+  keys.real(p + "disk_radius", "pressure type: apply the pressure inside this disk only (0: the whole side)",
+            b.disk_radius)
+      .unit("cm")
+      .defaults(0.0)
+      .non_negative();
+  keys.reals(p + "disk_center", "pressure type: centre of the disk (default: the side's centre)",
+             b.disk_center)
+      .unit("cm")
+      .size(3);
+  keys.real(p + "ramp", "boundary data grow linearly from 0 over this time (0: at once)", b.ramp)
+      .unit("s")
+      .defaults(0.0)
+      .non_negative();
+}
+
+void bind(io::KeyBinder& keys, FluidKeys& k)
+{
+  bind_fluid_density(keys, k.fluid.rho, "fluid density");
+  bind_fluid_viscosity(keys, k.fluid.mu, 1.0);
+  keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
       .required()
       .size(3)
       .at_most(max_grid_cells)
       .example(std::vector<std::int64_t>{16, 16, 16});
-  s.add_real_list("fluid.lower", "lower corner of the box")
+  keys.reals("fluid.lower", "lower corner of the box", k.lower)
       .unit("cm")
       .defaults(std::vector<double>{0, 0, 0})
       .size(3);
-  s.add_real_list("fluid.upper", "upper corner of the box")
+  keys.reals("fluid.upper", "upper corner of the box", k.upper)
       .unit("cm")
       .required()
       .size(3)
       .example(std::vector<double>{1.0, 1.0, 1.0});
-  s.add_string("fluid.solver",
-               "Stokes solver: fft (periodic boxes), krylov (any sides), auto (fft when periodic)")
-      .defaults(std::string("auto"))
-      .choices({"auto", "fft", "krylov"});
-  s.add_string("fluid.subsolver",
-               "krylov solver's preconditioner sub-solves: amg (hypre BoomerAMG V-cycles) or fft (FFTW "
-               "sine/cosine transforms: exact pressure Poisson, Helmholtz preconditioner)")
-      .defaults(std::string("fft"))
-      .choices({"amg", "fft"});
-  s.add_string("fluid.convection", "convective scheme")
-      .defaults(std::string("limited_upwind"))
-      .choices({"limited_upwind", "centered"});
-  s.add_real("fluid.rtol", "relative tolerance of the Krylov (FGMRES) Stokes solve")
+  keys.choice(
+          "fluid.solver", "Stokes solver: fft (periodic boxes), krylov (any sides), auto (fft when periodic)",
+          k.solver,
+          {{"auto", SolverChoice::automatic}, {"fft", SolverChoice::fft}, {"krylov", SolverChoice::krylov}})
+      .defaults(std::string("auto"));
+  keys.choice("fluid.subsolver",
+              "krylov solver's preconditioner sub-solves: amg (hypre BoomerAMG V-cycles) or fft (FFTW "
+              "sine/cosine transforms: exact pressure Poisson, Helmholtz preconditioner)",
+              k.fluid.subsolver, {{"amg", fluid::SubsolverKind::amg}, {"fft", fluid::SubsolverKind::fft}})
+      .defaults(std::string("fft"));
+  keys.choice("fluid.convection", "convective scheme", k.fluid.convection,
+              {{"limited_upwind", fluid::ConvectionScheme::limited_upwind},
+               {"centered", fluid::ConvectionScheme::centered}})
+      .defaults(std::string("limited_upwind"));
+  keys.real("fluid.rtol", "relative tolerance of the Krylov (FGMRES) Stokes solve", k.fluid.rtol)
       .defaults(1e-10)
       .positive();
-  s.add_integer("fluid.max_iterations", "most FGMRES iterations per step")
+  keys.integer("fluid.max_iterations", "most FGMRES iterations per step", k.fluid.max_iterations)
       .defaults(std::int64_t{200})
       .at_least(1)
       .at_most(max_solver_iterations);
-  for (int side = 0; side < 6; ++side) {
-    const std::string p = "boundary." + fluid::side_name(side) + ".";
-    s.add_string(
-         p + "type",
-         "periodic, wall (no slip), velocity (prescribed), pressure (normal traction -p, no tangential flow)")
-        .defaults(std::string("periodic"))
-        .choices({"periodic", "wall", "velocity", "pressure"});
-    s.add_real_list(p + "velocity", "velocity type: the velocity vector (the mean for a parabolic profile)")
-        .unit("cm/s")
-        .defaults(std::vector<double>{0, 0, 0})
-        .size(3);
-    s.add_string(p + "profile", "velocity type: uniform, or parabolic across the side (zero at its walls)")
-        .defaults(std::string("uniform"))
-        .choices({"uniform", "parabolic"});
-    s.add_real(p + "pressure", "pressure type: boundary pressure p_b (n.sigma.n = -p_b)")
-        .unit("mmHg")
-        .defaults(0.0);
-    s.add_real(p + "disk_radius",
-               "pressure type: apply the pressure inside this disk only (0: the whole side)")
-        .unit("cm")
-        .defaults(0.0)
-        .non_negative();
-    s.add_real_list(p + "disk_center", "pressure type: centre of the disk (default: the side's centre)")
-        .unit("cm")
-        .size(3);
-    s.add_real(p + "ramp", "boundary data grow linearly from 0 over this time (0: at once)")
-        .unit("s")
-        .defaults(0.0)
-        .non_negative();
-  }
-  s.add_string("initial.condition", "rest, taylor_green (x-y vortex, periodic x and y) or abc (periodic box)")
+  for (int side = 0; side < 6; ++side) bind_side(keys, side, k.sides[side]);
+  keys.string("initial.condition", "rest, taylor_green (x-y vortex, periodic x and y) or abc (periodic box)",
+              k.initial)
       .defaults(std::string("rest"))
       .choices({"rest", "taylor_green", "abc"});
-  s.add_real("initial.amplitude", "velocity amplitude of the vortex").unit("cm/s").defaults(1.0);
-  s.add_real_list("initial.mean_velocity", "uniform velocity carrying the vortex")
+  keys.real("initial.amplitude", "velocity amplitude of the vortex", k.amplitude).unit("cm/s").defaults(1.0);
+  keys.reals("initial.mean_velocity", "uniform velocity carrying the vortex", k.mean_velocity)
       .unit("cm/s")
       .defaults(std::vector<double>{0, 0, 0})
       .size(3);
-  s.add_real("time.end", "simulated time").unit("s").required().positive().example(0.01);
-  s.add_real("time.step", "time step").unit("s").required().positive().example(0.001);
-  s.add_integer("output.fields_every",
-                "write fields every this many steps (and the first and last; 0: those only)")
+  keys.real("time.end", "simulated time", k.end).unit("s").required().positive().example(0.01);
+  keys.real("time.step", "time step", k.step).unit("s").required().positive().example(0.001);
+  keys.integer("output.fields_every",
+               "write fields every this many steps (and the first and last; 0: those only)", k.fields_every)
       .defaults(std::int64_t{0})
       .at_least(0);
-  s.add_integer("output.timeseries_every", "write a timeseries.csv row every this many steps")
+  keys.integer("output.timeseries_every", "write a timeseries.csv row every this many steps", k.series_every)
       .defaults(std::int64_t{1})
       .at_least(1);
-  io::add_checkpoint_schema(s);
+  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+}
+
+void add_fluid_schema(io::Schema& s)
+{
+  FluidKeys unused;
+  io::KeyBinder keys(s);
+  bind(keys, unused);
 }
 
 /// The exact decaying vortices (Taylor–Green in x-y; ABC) carried by a uniform velocity.
@@ -157,62 +202,50 @@ struct ExactVortex {
 
 class FluidRun : public PreparedRun {
  public:
-  explicit FluidRun(const io::Config& config) : config_(config)
+  explicit FluidRun(const io::Config& config) : config_(config), keys_(config_)
   {
-    box_ = read_fluid_box(config);
-    settings_.rho = config.real("fluid.density");
-    settings_.mu = config.real("fluid.viscosity");
-    settings_.rtol = config.real("fluid.rtol");
-    settings_.max_iterations = static_cast<PetscInt>(config.integer("fluid.max_iterations"));
-    settings_.convection = config.string("fluid.convection") == "centered"
-                               ? fluid::ConvectionScheme::centered
-                               : fluid::ConvectionScheme::limited_upwind;
+    bind(keys_, k_);
+    const FluidKeys& k = k_;
+    box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
+    settings_ = k.fluid;
+    using Type = SideKeys::Type;
     for (int d = 0; d < 3; ++d) {
-      const std::string lo = "boundary." + fluid::side_name(fluid::side_index(d, 0)) + ".type";
-      const std::string hi = "boundary." + fluid::side_name(fluid::side_index(d, 1)) + ".type";
-      const bool lower_periodic = config.string(lo) == "periodic",
-                 upper_periodic = config.string(hi) == "periodic";
+      const SideKeys &lo = k.sides[fluid::side_index(d, 0)], &hi = k.sides[fluid::side_index(d, 1)];
+      const bool lower_periodic = lo.type == Type::periodic, upper_periodic = hi.type == Type::periodic;
       if (lower_periodic != upper_periodic)
-        config.fail(hi, "opposite sides must both be periodic or neither");
+        keys_.fail(hi.type, "opposite sides must both be periodic or neither");
       box_.periodic[d] = lower_periodic;
     }
     for (int side = 0; side < 6; ++side) read_side(side);
     const bool all_periodic = box_.periodic[0] && box_.periodic[1] && box_.periodic[2];
-    const std::string solver = config.string("fluid.solver");
-    if (solver == "fft" && !all_periodic) config.fail("fluid.solver", "fft needs every side periodic");
-    settings_.solver = (solver == "fft" || (solver == "auto" && all_periodic)) ? fluid::SolverKind::fft
-                                                                               : fluid::SolverKind::krylov;
-    settings_.subsolver =
-        config.string("fluid.subsolver") == "fft" ? fluid::SubsolverKind::fft : fluid::SubsolverKind::amg;
-    const std::string initial = config.string("initial.condition");
-    if (initial != "rest") {
-      exact_.kind = initial;
-      exact_.amplitude = config.real("initial.amplitude");
+    if (k.solver == SolverChoice::fft && !all_periodic) keys_.fail(k.solver, "fft needs every side periodic");
+    settings_.solver =
+        (k.solver == SolverChoice::fft || (k.solver == SolverChoice::automatic && all_periodic))
+            ? fluid::SolverKind::fft
+            : fluid::SolverKind::krylov;
+    if (k.initial != "rest") {
+      exact_.kind = k.initial;
+      exact_.amplitude = k.amplitude;
       exact_.nu = settings_.mu / settings_.rho;
       exact_.rho = settings_.rho;
       for (int d = 0; d < 3; ++d) {
         exact_.lower[d] = box_.lower[d];
         exact_.length[d] = box_.upper[d] - box_.lower[d];
-        exact_.mean[d] = config.reals("initial.mean_velocity")[d];
+        exact_.mean[d] = k.mean_velocity[d];
       }
-      const bool tg = initial == "taylor_green";
+      const bool tg = k.initial == "taylor_green";
       if (!box_.periodic[0] || !box_.periodic[1] || (!tg && !box_.periodic[2]))
-        config.fail("initial.condition",
-                    tg ? "taylor_green needs periodic x and y sides" : "abc needs a periodic box");
+        keys_.fail(k.initial, tg ? "taylor_green needs periodic x and y sides" : "abc needs a periodic box");
       if (std::abs(exact_.length[1] - exact_.length[0]) > 1e-12 * exact_.length[0] ||
           (!tg && std::abs(exact_.length[2] - exact_.length[0]) > 1e-12 * exact_.length[0]))
-        config.fail("fluid.upper", initial + " needs equal box lengths in its periodic directions");
+        keys_.fail(k.upper, k.initial + " needs equal box lengths in its periodic directions");
       if (tg && !box_.periodic[2] && exact_.mean[2] != 0.0)
-        config.fail("initial.mean_velocity", "must have no z part between z walls");
+        keys_.fail(k.mean_velocity, "must have no z part between z walls");
     }
-    end_ = config.real("time.end");
-    dt_ = config.real("time.step");
-    fields_every_ = config.integer("output.fields_every");
-    series_every_ = config.integer("output.timeseries_every");
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-    memory_line_ =
-        check_memory(config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, "fluid.cells")}},
-                     PETSC_COMM_WORLD);
+    memory_line_ = check_memory(
+        config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, keys_.key_of(k.cells))}},
+        PETSC_COMM_WORLD);
   }
 
   RunSummary run(const RunContext& context) override
@@ -232,7 +265,7 @@ class FluidRun : public PreparedRun {
                                    [this](const Real3& x, double t) { return exact_.pressure(x, t); }, 0.0);
     log.info("fluid: " + std::to_string(box_.cells[0]) + " x " + std::to_string(box_.cells[1]) + " x " +
              std::to_string(box_.cells[2]) + " cells, solver " + fluid->solver().name() + ", dt " +
-             std::to_string(dt_) + " s");
+             std::to_string(k_.step) + " s");
 
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};
@@ -258,17 +291,17 @@ class FluidRun : public PreparedRun {
 
     TimeLoop loop;
     loop.comm = context.comm;
-    loop.steps = std::max(1L, std::lround(end_ / dt_));
-    loop.dt = dt_;
+    loop.steps = std::max(1L, std::lround(k_.end / k_.step));
+    loop.dt = k_.step;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = columns;
     loop.units = column_units;
-    loop.record_every = series_every_;
-    loop.fields_every = fields_every_;
+    loop.record_every = k_.series_every;
+    loop.fields_every = k_.fields_every;
     loop.time = [&](std::int64_t) { return fluid->time(); };
     loop.advance = [&](std::int64_t) {
       try {
-        fluid->step(dt_);
+        fluid->step(k_.step);
       } catch (const std::runtime_error& e) {
         throw RunError(e.what());
       }
@@ -278,13 +311,14 @@ class FluidRun : public PreparedRun {
                        " s (time step too large?)");
       // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
       // above, the run is diverging: stop with the figure rather than run on to overflow.
-      const double courant = umax * dt_ / fluid->finest_spacing();
+      const double courant = umax * k_.step / fluid->finest_spacing();
       if (courant > 2.0) {
         char text[200];
         std::snprintf(text, sizeof text,
                       "fluid: Courant number %.2f at t = %.4g s (max |u| %.3g cm/s): the run is unstable; "
-                      "use a time.step below %.3g s",
-                      courant, fluid->time(), umax, 0.5 * fluid->finest_spacing() / umax);
+                      "use a %s below %.3g s",
+                      courant, fluid->time(), umax, keys_.key_of(k_.step).c_str(),
+                      0.5 * fluid->finest_spacing() / umax);
         throw RunError(text);
       }
     };
@@ -327,7 +361,7 @@ class FluidRun : public PreparedRun {
     loop.save = [&](io::Hdf5File& h5) { fluid->save(h5, "fluid"); };
     loop.restore = [&](const io::Hdf5File& h5) { fluid->restore(h5, "fluid"); };
     loop.before_save = [&] { save_fftw_plans(context); };
-    loop.figures = [&] { return fluid_step_figures(*fluid, dt_); };
+    loop.figures = [&] { return fluid_step_figures(*fluid, k_.step); };
     loop.finish = [&](RunSummary& summary, bool finished, std::size_t snapshots) {
       if (!finished) return;
       const fluid::StepStatistics& timing = fluid->statistics();
@@ -350,21 +384,20 @@ class FluidRun : public PreparedRun {
  private:
   void read_side(int side)
   {
-    const std::string p = "boundary." + fluid::side_name(side) + ".";
-    const std::string type = config_.string(p + "type");
+    const SideKeys& k = k_.sides[side];
     const int d = side / 2;
     fluid::BoundarySide& b = bc_.side(side);
-    const double ramp = config_.real(p + "ramp");
+    const double ramp = k.ramp;
     auto ramp_factor = [ramp](double t) { return ramp > 0.0 ? std::min(1.0, t / ramp) : 1.0; };
-    if (type == "periodic") {
+    using Type = SideKeys::Type;
+    if (k.type == Type::periodic) {
       b.kind = fluid::SideKind::periodic;
-    } else if (type == "wall") {
+    } else if (k.type == Type::wall) {
       b.kind = fluid::SideKind::velocity;
-    } else if (type == "velocity") {
+    } else if (k.type == Type::velocity) {
       b.kind = fluid::SideKind::velocity;
-      const auto v = config_.reals(p + "velocity");
-      const Real3 value{v[0], v[1], v[2]};
-      const bool parabolic = config_.string(p + "profile") == "parabolic";
+      const Real3 value{k.velocity[0], k.velocity[1], k.velocity[2]};
+      const bool parabolic = k.parabolic;
       const fluid::BoxGeometry box = box_;
       b.velocity = [=](const Real3& x, double t) {
         double shape = 1.0;
@@ -379,14 +412,11 @@ class FluidRun : public PreparedRun {
       };
     } else {
       b.kind = fluid::SideKind::traction;
-      const double pressure = config_.real(p + "pressure");
-      const double radius = config_.real(p + "disk_radius");
+      const double pressure = k.pressure;
+      const double radius = k.disk_radius;
       Real3 c{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
               0.5 * (box_.lower[2] + box_.upper[2])};
-      if (config_.has(p + "disk_center")) {
-        const auto given = config_.reals(p + "disk_center");
-        c = {given[0], given[1], given[2]};
-      }
+      if (!k.disk_center.empty()) c = {k.disk_center[0], k.disk_center[1], k.disk_center[2]};
       b.pressure = [=](const Real3& x, double t) {
         if (radius > 0.0) {
           double r2 = 0.0;
@@ -400,12 +430,12 @@ class FluidRun : public PreparedRun {
   }
 
   io::Config config_;
+  io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
+  FluidKeys k_;
   fluid::BoxGeometry box_;
   fluid::BoundaryConditions bc_;
   fluid::FluidSettings settings_;
   ExactVortex exact_;
-  double end_ = 0.0, dt_ = 0.0;
-  long fields_every_ = 0, series_every_ = 1;
   io::CheckpointSettings checkpoint_settings_;
 };
 

@@ -40,109 +40,50 @@ namespace ibvalve::app {
 
 namespace {
 
-void add_ibfe_schema(io::Schema& s)
-{
-  s.add_real("time.end", "simulated time").unit("s").defaults(0.05).positive();
-  s.add_real("time.step", "time step of the coupled scheme (see the stability estimate in the log)")
-      .unit("s")
-      .defaults(1e-3)
-      .positive();
-  s.add_integer("output.every", "write fields every this many steps (and the first and last)")
-      .defaults(std::int64_t{10})
-      .at_least(1);
-  add_fluid_density_key(s, "fluid density");
-  add_fluid_viscosity_key(s, 4.0);
-  s.add_integer_list("fluid.cells", "grid cells in x, y, z")
-      .size(3)
-      .at_most(max_grid_cells)
-      .defaults(std::vector<std::int64_t>{32, 32, 32});
-  s.add_real_list("fluid.lower", "lower corner of the box")
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{0, 0, 0});
-  s.add_real_list("fluid.upper", "upper corner of the box")
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{1, 1, 1});
-  s.add_string("fluid.boundary", "periodic box (FFT solver) or no-slip walls on every side (Krylov solver)")
-      .choices({"periodic", "walls"})
-      .defaults(std::string("periodic"));
+enum class Shape { file, box, spherical_shell };
 
-  s.add_string("structure.shape",
-               "where the mesh comes from: a Gmsh file, a generated box or spherical shell")
-      .choices({"file", "box", "spherical-shell"})
-      .defaults(std::string("box"));
-  s.add_string("structure.mesh", "Gmsh mesh (.msh) of hexahedra or tetrahedra, when shape = \"file\"")
-      .file(true);
-  s.add_real_list("structure.box.lower", "box shape: lower corner")
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{0.35, 0.4, 0.4});
-  s.add_real_list("structure.box.upper", "box shape: upper corner")
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{0.65, 0.6, 0.6});
-  s.add_integer_list("structure.box.cells", "box shape: hexahedra per direction")
-      .size(3)
-      .defaults(std::vector<std::int64_t>{6, 4, 4})
-      .at_least(1)
-      .at_most(max_mesh_cells);
-  s.add_real_list("structure.shell.center", "shell shape: centre")
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{0.5, 0.5, 0.5});
-  s.add_real("structure.shell.inner_radius", "shell shape: inner radius").unit("cm").defaults(0.2).positive();
-  s.add_real("structure.shell.outer_radius", "shell shape: outer radius").unit("cm").defaults(0.3).positive();
-  s.add_integer("structure.shell.patches", "shell shape: cells along each cube-face patch side")
-      .defaults(std::int64_t{8})
-      .at_least(1)
-      .at_most(max_mesh_cells);
-  s.add_integer("structure.shell.layers", "shell shape: cells through the thickness")
-      .defaults(std::int64_t{3})
-      .at_least(1)
-      .at_most(max_mesh_cells);
-  s.add_real_list("structure.initial.stretch",
-                  "initial stretch of the structure about its centroid (x, y, z)")
-      .size(3)
-      .defaults(std::vector<double>{1, 1, 1});
-  s.add_real(
-       "structure.initial.inflated_inner_radius",
-       "shell shape: start inflated isochorically (r^3 = R^3 + a) to this inner radius; 0 = not inflated")
-      .unit("cm")
-      .defaults(0.0)
-      .non_negative();
-  s.add_integer("structure.quadrature_degree", "Gauss rule degree of the force integrals")
-      .defaults(std::int64_t{2})
-      .at_least(1)
-      .at_most(max_quadrature_degree);
-  add_volumetric_integration_key(s, VolumetricIntegration::full);
-  s.merge(materials::material_schema("structure.material"));
-  s.add_real_list("structure.fiber_direction",
-                  "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none")
-      .size(3)
-      .defaults(std::vector<double>{0, 0, 0});
+/// The model's own keys and where they go (io/key_binder.hpp); the materials, the volumetric integration,
+/// checkpoints and nested levels are their folders' sections.
+struct IbfeKeys {
+  double end = 0, step = 0;
+  std::int64_t every = 10;
+  fluid::FluidSettings fluid;
+  std::vector<std::int64_t> cells;
+  std::vector<double> lower, upper;
+  bool periodic = true;
+  Shape shape = Shape::box;
+  std::filesystem::path mesh;
+  std::vector<double> box_lower, box_upper;
+  std::vector<std::int64_t> box_cells;
+  std::vector<double> shell_center;
+  double inner_radius = 0, outer_radius = 0;
+  std::int64_t patches = 8, layers = 3;
+  std::vector<double> stretch;
+  double inflated_inner_radius = 0;
+  int quadrature_degree = 2;
+  std::vector<double> fiber_direction;
+  std::vector<io::Config> parts, tethers;
+  ib::IbfeSettings ib;
+};
+
+/// The material of the whole mesh (without [[structure.part]]).
+constexpr const char* structure_material = "structure.material";
+
+/// One [[structure.part]]: a volume group, its material, its fiber direction.
+io::Schema part_schema()
+{
   io::Schema part;
   part.add_string("group", "a volume group of the mesh").required();
   part.add_real_list("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none")
       .size(3)
       .defaults(std::vector<double>{0, 0, 0});
   part.merge(materials::material_schema("material"));
-  s.add_table_list("structure.part", part,
-                   "body parts, each a volume group with its own material and fibers (instead of "
-                   "[structure.material] for the whole mesh); every element in exactly one part");
+  return part;
+}
 
-  s.add_string("ib.kernel", "regularized delta function")
-      .choices({"piecewise-linear", "ib-3", "ib-4", "ib-6", "bspline-3"})
-      .defaults(ib::kernel_name(ib::default_kernel));
-  s.add_string("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes")
-      .choices({"consistent", "lumped"})
-      .defaults(std::string("consistent"));
-  s.add_string("ib.force_projection", "L2 projection of the nodal forces to a force density")
-      .choices({"consistent", "lumped"})
-      .defaults(std::string("consistent"));
-  s.add_real("ib.point_spacing", "largest spacing of the coupling points, in grid cells")
-      .defaults(0.5)
-      .positive();
+/// One [[ib.tether]]: a group of nodes pulled back to its reference positions.
+io::Schema tether_schema()
+{
   io::Schema tether;
   tether.add_string("group", "a physical group of the mesh (surface, volume or points)").required();
   tether
@@ -152,98 +93,205 @@ void add_ibfe_schema(io::Schema& s)
   tether.add_real("damping", "dashpot coefficient, the same per unit velocity, CGS")
       .defaults(0.0)
       .non_negative();
-  s.add_table_list("ib.tether", tether, "tethers pulling groups of nodes back to their reference positions");
-  io::add_checkpoint_schema(s);
-  // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
-  s.merge(fluid::nested_schema());
+  return tether;
 }
 
-fe::MassKind mass_kind(const std::string& name)
+void bind(io::KeyBinder& keys, IbfeKeys& k)
 {
-  return name == "lumped" ? fe::MassKind::lumped : fe::MassKind::consistent;
+  keys.real("time.end", "simulated time", k.end).unit("s").defaults(0.05).positive();
+  keys.real("time.step", "time step of the coupled scheme (see the stability estimate in the log)", k.step)
+      .unit("s")
+      .defaults(1e-3)
+      .positive();
+  keys.integer("output.every", "write fields every this many steps (and the first and last)", k.every)
+      .defaults(std::int64_t{10})
+      .at_least(1);
+  bind_fluid_density(keys, k.fluid.rho, "fluid density");
+  bind_fluid_viscosity(keys, k.fluid.mu, 4.0);
+  keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
+      .size(3)
+      .at_most(max_grid_cells)
+      .defaults(std::vector<std::int64_t>{32, 32, 32});
+  keys.reals("fluid.lower", "lower corner of the box", k.lower)
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  keys.reals("fluid.upper", "upper corner of the box", k.upper)
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{1, 1, 1});
+  keys.choice("fluid.boundary", "periodic box (FFT solver) or no-slip walls on every side (Krylov solver)",
+              k.periodic, {{"periodic", true}, {"walls", false}})
+      .defaults(std::string("periodic"));
+
+  keys.choice("structure.shape", "where the mesh comes from: a Gmsh file, a generated box or spherical shell",
+              k.shape,
+              {{"file", Shape::file}, {"box", Shape::box}, {"spherical-shell", Shape::spherical_shell}})
+      .defaults(std::string("box"));
+  keys.path("structure.mesh", "Gmsh mesh (.msh) of hexahedra or tetrahedra, when shape = \"file\"", k.mesh);
+  keys.reals("structure.box.lower", "box shape: lower corner", k.box_lower)
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.35, 0.4, 0.4});
+  keys.reals("structure.box.upper", "box shape: upper corner", k.box_upper)
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.65, 0.6, 0.6});
+  keys.integers("structure.box.cells", "box shape: hexahedra per direction", k.box_cells)
+      .size(3)
+      .defaults(std::vector<std::int64_t>{6, 4, 4})
+      .at_least(1)
+      .at_most(max_mesh_cells);
+  keys.reals("structure.shell.center", "shell shape: centre", k.shell_center)
+      .unit("cm")
+      .size(3)
+      .defaults(std::vector<double>{0.5, 0.5, 0.5});
+  keys.real("structure.shell.inner_radius", "shell shape: inner radius", k.inner_radius)
+      .unit("cm")
+      .defaults(0.2)
+      .positive();
+  keys.real("structure.shell.outer_radius", "shell shape: outer radius", k.outer_radius)
+      .unit("cm")
+      .defaults(0.3)
+      .positive();
+  keys.integer("structure.shell.patches", "shell shape: cells along each cube-face patch side", k.patches)
+      .defaults(std::int64_t{8})
+      .at_least(1)
+      .at_most(max_mesh_cells);
+  keys.integer("structure.shell.layers", "shell shape: cells through the thickness", k.layers)
+      .defaults(std::int64_t{3})
+      .at_least(1)
+      .at_most(max_mesh_cells);
+  keys.reals("structure.initial.stretch", "initial stretch of the structure about its centroid (x, y, z)",
+             k.stretch)
+      .size(3)
+      .defaults(std::vector<double>{1, 1, 1});
+  keys.real(
+          "structure.initial.inflated_inner_radius",
+          "shell shape: start inflated isochorically (r^3 = R^3 + a) to this inner radius; 0 = not inflated",
+          k.inflated_inner_radius)
+      .unit("cm")
+      .defaults(0.0)
+      .non_negative();
+  keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
+      .defaults(std::int64_t{2})
+      .at_least(1)
+      .at_most(max_quadrature_degree);
+  keys.section([](io::Schema& s) {
+    add_volumetric_integration_key(s, VolumetricIntegration::full);
+    s.merge(materials::material_schema(structure_material));
+  });
+  keys.reals("structure.fiber_direction",
+             "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none",
+             k.fiber_direction)
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  keys.tables("structure.part", part_schema(),
+              "body parts, each a volume group with its own material and fibers (instead of "
+              "[structure.material] for the whole mesh); every element in exactly one part",
+              k.parts);
+
+  std::vector<std::pair<std::string, ib::KernelKind>> kernels;
+  for (const ib::KernelKind kind : ib::every_kernel()) kernels.emplace_back(ib::kernel_name(kind), kind);
+  keys.choice("ib.kernel", "regularized delta function", k.ib.kernel, kernels)
+      .defaults(ib::kernel_name(ib::default_kernel));
+  const std::vector<std::pair<std::string, fe::MassKind>> projections{
+      {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
+  keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",
+              k.ib.velocity_projection, projections)
+      .defaults(std::string("consistent"));
+  keys.choice("ib.force_projection", "L2 projection of the nodal forces to a force density",
+              k.ib.force_projection, projections)
+      .defaults(std::string("consistent"));
+  keys.real("ib.point_spacing", "largest spacing of the coupling points, in grid cells", k.ib.points.spacing)
+      .defaults(0.5)
+      .positive();
+  keys.tables("ib.tether", tether_schema(),
+              "tethers pulling groups of nodes back to their reference positions", k.tethers);
+  keys.section([](io::Schema& s) {
+    io::add_checkpoint_schema(s);
+    // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
+    s.merge(fluid::nested_schema());
+  });
+}
+
+void add_ibfe_schema(io::Schema& s)
+{
+  IbfeKeys unused;
+  io::KeyBinder keys(s);
+  bind(keys, unused);
 }
 
 class IbfeRun : public PreparedRun {
  public:
-  explicit IbfeRun(const io::Config& config) : config_(config)
+  explicit IbfeRun(const io::Config& config) : config_(config), keys_(config_)
   {
-    box_ = read_fluid_box(config);
-    for (int d = 0; d < 3; ++d) box_.periodic[d] = config.string("fluid.boundary") == "periodic";
-    fluid_settings_.rho = config.real("fluid.density");
-    fluid_settings_.mu = config.real("fluid.viscosity");
+    bind(keys_, k_);
+    const IbfeKeys& k = k_;
+    box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
+    for (int d = 0; d < 3; ++d) box_.periodic[d] = k.periodic;
+    fluid_settings_ = k.fluid;
     fluid_settings_.solver = box_.periodic[0] ? fluid::SolverKind::fft : fluid::SolverKind::krylov;
 
-    const std::string shape = config.string("structure.shape");
-    if (shape == "file") {
-      if (!config.has("structure.mesh")) config.fail("structure.shape", "\"file\" needs structure.mesh");
-      mesh_ = fe::read_msh(config.path("structure.mesh"));
-      check_size(config, static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
-                 "structure.mesh");
-    } else if (shape == "box") {
-      const auto lo = config.reals("structure.box.lower"), hi = config.reals("structure.box.upper");
-      const auto n = config.integers("structure.box.cells");
+    if (k.shape == Shape::file) {
+      if (k.mesh.empty()) keys_.fail(k.shape, "\"file\" needs " + keys_.key_of(k.mesh));
+      mesh_ = fe::read_msh(k.mesh);
+      check_size(static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
+                 keys_.key_of(k.mesh));
+    } else if (k.shape == Shape::box) {
+      const auto &lo = k.box_lower, &hi = k.box_upper;
+      const auto& n = k.box_cells;
       for (int d = 0; d < 3; ++d) {
-        if (!(hi[d] > lo[d])) config.fail("structure.box.upper", "must lie above structure.box.lower");
-        if (n[d] < 1) config.fail("structure.box.cells", "must be at least 1");
+        if (!(hi[d] > lo[d])) keys_.fail(k.box_upper, "must lie above " + keys_.key_of(k.box_lower));
+        if (n[d] < 1) keys_.fail(k.box_cells, "must be at least 1");
       }
       double nodes = 1.0, elements = 1.0;
       for (int d = 0; d < 3; ++d) {
         nodes *= static_cast<double>(n[d]) + 1.0;
         elements *= static_cast<double>(n[d]);
       }
-      check_size(config, nodes, elements, "structure.box.cells");
+      check_size(nodes, elements, keys_.key_of(k.box_cells));
       mesh_ = fe::box_mesh(fe::CellShape::hexahedron, fe::Vec3(lo[0], lo[1], lo[2]),
                            fe::Vec3(hi[0], hi[1], hi[2]),
                            {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])});
     } else {
-      const auto c = config.reals("structure.shell.center");
-      const double ri = config.real("structure.shell.inner_radius"),
-                   ro = config.real("structure.shell.outer_radius");
-      if (!(ro > ri)) config.fail("structure.shell.outer_radius", "must exceed structure.shell.inner_radius");
+      const auto& c = k.shell_center;
+      const double ri = k.inner_radius, ro = k.outer_radius;
+      if (!(ro > ri)) keys_.fail(k.outer_radius, "must exceed " + keys_.key_of(k.inner_radius));
       center_ = fe::Vec3(c[0], c[1], c[2]);
       inner_radius_ = ri;
       // Six cube faces of patches x patches cells, `layers` of them through the thickness.
-      const double patches = static_cast<double>(config.integer("structure.shell.patches")),
-                   layers = static_cast<double>(config.integer("structure.shell.layers"));
-      check_size(config, 6.0 * patches * patches * (layers + 1.0), 6.0 * patches * patches * layers,
-                 "structure.shell.patches");
-      mesh_ = fe::spherical_shell_mesh(center_, ri, ro,
-                                       static_cast<int>(config.integer("structure.shell.patches")),
-                                       static_cast<int>(config.integer("structure.shell.layers")));
+      const double patches = static_cast<double>(k.patches), layers = static_cast<double>(k.layers);
+      check_size(6.0 * patches * patches * (layers + 1.0), 6.0 * patches * patches * layers,
+                 keys_.key_of(k.patches));
+      mesh_ =
+          fe::spherical_shell_mesh(center_, ri, ro, static_cast<int>(k.patches), static_cast<int>(k.layers));
     }
-    inflated_ = config.real("structure.initial.inflated_inner_radius");
-    if (inflated_ > 0.0 && shape != "spherical-shell")
-      config.fail("structure.initial.inflated_inner_radius", "applies to the spherical-shell shape only");
+    inflated_ = k.inflated_inner_radius;
+    if (inflated_ > 0.0 && k.shape != Shape::spherical_shell)
+      keys_.fail(k.inflated_inner_radius, "applies to the spherical-shell shape only");
     if (inflated_ > 0.0 && inflated_ < inner_radius_)
-      config.fail("structure.initial.inflated_inner_radius",
-                  "must not be below structure.shell.inner_radius");
+      keys_.fail(k.inflated_inner_radius, "must not be below " + keys_.key_of(k.inner_radius));
     read_parts(config);
 
-    settings_.kernel = *ib::find_kernel(config.string("ib.kernel"));
-    settings_.velocity_projection = mass_kind(config.string("ib.velocity_projection"));
-    settings_.force_projection = mass_kind(config.string("ib.force_projection"));
-    settings_.points.spacing = config.real("ib.point_spacing");
-    if (config.has("ib.tether"))
-      for (const io::Config& t : config.tables("ib.tether")) {
-        const std::string group = t.string("group");
-        if (!mesh_.has_group(group)) t.fail("group", "the mesh has no physical group '" + group + "'");
-        settings_.tethers.push_back({group, t.real("stiffness"), t.real("damping")});
-      }
+    settings_ = k.ib;
+    for (const io::Config& t : k.tethers) {
+      const std::string group = t.string("group");
+      if (!mesh_.has_group(group)) t.fail("group", "the mesh has no physical group '" + group + "'");
+      settings_.tethers.push_back({group, t.real("stiffness"), t.real("damping")});
+    }
 
-    initial_ = initial_displacement(config);
+    initial_ = initial_displacement();
     for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
       for (int d = 0; d < 3; ++d) {
         const double x = mesh_.nodes()[n][d] + initial_[3 * n + d];
         if (!box_.periodic[d] && !(x > box_.lower[d] && x < box_.upper[d]))
-          config.fail(shape == "box"    ? "structure.box.upper"
-                      : shape == "file" ? "structure.mesh"
-                                        : "structure.shell.center",
+          config.fail(k.shape == Shape::box    ? keys_.key_of(k.box_upper)
+                      : k.shape == Shape::file ? keys_.key_of(k.mesh)
+                                               : keys_.key_of(k.shell_center),
                       "the structure must lie inside the walled box");
       }
-    if (!config.integers("nested.ratios").empty()) read_levels(config);
-    end_ = config.real("time.end");
-    dt_ = config.real("time.step");
-    every_ = config.integer("output.every");
+    if (nested_levels_given(config)) read_levels(config);
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
@@ -261,8 +309,7 @@ class IbfeRun : public PreparedRun {
           return fluid::Real3{0.0, 0.0, 0.0};
         },
         nullptr, 0.0);
-    fe::SolidModel solid(mesh_, parts_, static_cast<int>(config_.integer("structure.quadrature_degree")),
-                         context.comm);
+    fe::SolidModel solid(mesh_, parts_, k_.quadrature_degree, context.comm);
     solid.set_fibers(fibers_);
     ib::IbfeIntegrator ibfe(*fluid, solid, settings_);
     ibfe.set_displacement(initial_);
@@ -279,14 +326,14 @@ class IbfeRun : public PreparedRun {
     const double V0 = mesh_.volume();
     TimeLoop loop;
     loop.comm = context.comm;
-    loop.steps = std::max(1L, std::lround(end_ / dt_));
-    loop.dt = dt_;
+    loop.steps = std::max(1L, std::lround(k_.end / k_.step));
+    loop.dt = k_.step;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
-    loop.fields_every = every_;
+    loop.fields_every = k_.every;
     loop.time = [&](std::int64_t) { return ibfe.time(); };
-    loop.advance = [&](std::int64_t) { ibfe.step(dt_); };
+    loop.advance = [&](std::int64_t) { ibfe.step(k_.step); };
     loop.row = [&](std::int64_t) {
       double speed = 0.0, displacement = 0.0;
       for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
@@ -311,7 +358,7 @@ class IbfeRun : public PreparedRun {
       ibfe.restore(h5, "ibfe");
     };
     loop.before_save = [&] { save_fftw_plans(context); };
-    loop.figures = [&] { return ibfe_step_figures(*fluid, ibfe, dt_); };
+    loop.figures = [&] { return ibfe_step_figures(*fluid, ibfe, k_.step); };
     loop.finish = [&](RunSummary& summary, bool, std::size_t snapshots) {
       for (std::string& line :
            ibfe_summary_lines(ibfe, V0, context.run_directory, snapshots, "; " + fluid_summary(*fluid)))
@@ -323,15 +370,15 @@ class IbfeRun : public PreparedRun {
  private:
   // The structure's and the one grid's size, checked before the mesh is built (a box of 2^32 cells a side
   // must not be allocated to find out): indices, then memory. Nested levels add theirs in read_levels.
-  void check_size(const io::Config& config, double nodes, double elements, const std::string& key)
+  void check_size(double nodes, double elements, const std::string& key)
   {
-    check_index_count(config, key, 3.0 * nodes, "structure unknowns");
+    check_index_count(config_, key, 3.0 * nodes, "structure unknowns");
     structure_memory_ = structure_memory(nodes, elements, key);
-    memory_line_ =
-        check_memory(config,
-                     {{fluid_memory(grid_cells(box_), memory_kind(fluid_settings_), true, "fluid.cells"),
-                       structure_memory_}},
-                     PETSC_COMM_WORLD);
+    memory_line_ = check_memory(
+        config_,
+        {{fluid_memory(grid_cells(box_), memory_kind(fluid_settings_), true, keys_.key_of(k_.cells)),
+          structure_memory_}},
+        PETSC_COMM_WORLD);
   }
 
   // Nested grid levels (docs/nested.md, "IB on the finest level"): walls only, the finest level one box
@@ -339,28 +386,26 @@ class IbfeRun : public PreparedRun {
   void read_levels(const io::Config& config)
   {
     if (box_.periodic[0])
-      config.fail(
-          "nested.ratios",
-          "nested grid levels need fluid.boundary = \"walls\" (the composite solver has no periodic box)");
+      config.fail(nested_ratios_key, "nested grid levels need " + keys_.key_of(k_.periodic) +
+                                         " = \"walls\" (the composite solver has no periodic box)");
     std::vector<fe::Vec3> positions(mesh_.num_nodes());
     for (std::size_t n = 0; n < positions.size(); ++n)
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        read_structure_levels(config, box_, positions, settings_.kernel, "structure.shape"));
+        read_structure_levels(config, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
     const double cells = composite_cells(*hierarchy_);
-    memory_line_ =
-        check_memory(config,
-                     {{fluid_memory(cells, FluidMemoryKind::nested, true,
-                                    cells > 2.0 * grid_cells(box_) ? "nested.ratios" : "fluid.cells"),
-                       structure_memory_}},
-                     PETSC_COMM_WORLD);
+    memory_line_ = check_memory(
+        config,
+        {{fluid_memory(cells, FluidMemoryKind::nested, true,
+                       cells > 2.0 * grid_cells(box_) ? nested_ratios_key : keys_.key_of(k_.cells)),
+          structure_memory_}},
+        PETSC_COMM_WORLD);
     // Centred convection on nested levels: second order on smooth flows (docs/nested.md).
     fluid_settings_.convection = fluid::ConvectionScheme::centered;
   }
 
-  static materials::FiberFrame fiber_frame(const io::Config& config, const std::string& key)
+  static materials::FiberFrame fiber_frame(const std::vector<double>& f)
   {
-    const auto f = config.reals(key);
     materials::FiberFrame frame;
     const materials::Vec3 f0(f[0], f[1], f[2]);
     if (f0.norm() > 0.0) frame.f0 = f0.normalized();
@@ -371,24 +416,24 @@ class IbfeRun : public PreparedRun {
   // mesh with [structure.material].
   void read_parts(const io::Config& config)
   {
-    fibers_.assign(mesh_.num_elements(), fiber_frame(config, "structure.fiber_direction"));
+    fibers_.assign(mesh_.num_elements(), fiber_frame(k_.fiber_direction));
     const VolumetricIntegration integration = read_volumetric_integration(config);
-    if (!config.has("structure.part")) {
+    if (k_.parts.empty()) {
       std::vector<int> all(mesh_.num_elements());
       for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
       parts_.push_back(material_part("structure", std::move(all),
-                                     materials::read_material(config, "structure.material").build(),
+                                     materials::read_material(config, structure_material).build(),
                                      integration));
       return;
     }
     std::vector<int> owner(mesh_.num_elements(), -1);
-    for (const io::Config& p : config.tables("structure.part")) {
+    for (const io::Config& p : k_.parts) {
       const std::string group = p.string("group");
       if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
         p.fail("group", "the mesh has no volume group '" + group + "'");
       fe::BodyPart part = material_part(group, mesh_.group(group).elements,
                                         materials::read_material(p, "material").build(), integration);
-      const materials::FiberFrame frame = fiber_frame(p, "fiber_direction");
+      const materials::FiberFrame frame = fiber_frame(p.reals("fiber_direction"));
       for (int e : part.elements) {
         if (owner[e] >= 0) p.fail("group", "element " + std::to_string(e) + " is already in another part");
         owner[e] = static_cast<int>(parts_.size());
@@ -397,18 +442,18 @@ class IbfeRun : public PreparedRun {
       parts_.push_back(std::move(part));
     }
     if (std::find(owner.begin(), owner.end(), -1) != owner.end())
-      config.fail("structure.part", "some elements of the mesh are in no part");
+      keys_.fail(k_.parts, "some elements of the mesh are in no part");
   }
 
-  std::vector<double> initial_displacement(const io::Config& config) const
+  std::vector<double> initial_displacement() const
   {
     std::vector<double> u(3 * mesh_.num_nodes(), 0.0);
     fe::Vec3 centroid = fe::Vec3::Zero();
     for (const fe::Vec3& X : mesh_.nodes()) centroid += X;
     centroid /= static_cast<double>(mesh_.num_nodes());
-    const auto stretch = config.reals("structure.initial.stretch");
+    const auto& stretch = k_.stretch;
     for (int d = 0; d < 3; ++d)
-      if (!(stretch[d] > 0.0)) config.fail("structure.initial.stretch", "stretches must be positive");
+      if (!(stretch[d] > 0.0)) keys_.fail(k_.stretch, "stretches must be positive");
     const double a = inflated_ > 0.0 ? std::pow(inflated_, 3) - std::pow(inner_radius_, 3) : 0.0;
     for (std::size_t n = 0; n < mesh_.num_nodes(); ++n) {
       fe::Vec3 x = mesh_.nodes()[n];
@@ -423,6 +468,8 @@ class IbfeRun : public PreparedRun {
   }
 
   io::Config config_;
+  io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
+  IbfeKeys k_;
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_settings_;
   fe::Mesh mesh_;
@@ -431,8 +478,7 @@ class IbfeRun : public PreparedRun {
   ib::IbfeSettings settings_;
   std::vector<double> initial_;
   fe::Vec3 center_ = fe::Vec3::Zero();
-  double inner_radius_ = 0.0, inflated_ = 0.0, end_ = 0.0, dt_ = 0.0;
-  long every_ = 1;
+  double inner_radius_ = 0.0, inflated_ = 0.0;
   io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
   MemoryPart structure_memory_;

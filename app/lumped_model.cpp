@@ -36,87 +36,105 @@ namespace {
 using windkessel::LumpedSystem;
 using windkessel::ValveParameters;
 
-void add_lumped_schema(io::Schema& s)
+/// The model's own keys and where they go (io/key_binder.hpp); the LV pressure table, the Windkessel and
+/// checkpoints are their folders' sections, [report] is bound by hemodynamics/.
+struct LumpedKeys {
+  std::int64_t cycles = 4, every = 1;
+  double step = 0, annulus_radius = 0;
+  double opening_rate = 0, closing_rate = 0; // 1/(mmHg s) as written
+  ValveParameters valve;                     // the rest of the valve, and the blood's density
+  hemodynamics::ReportSettings report;
+};
+
+void bind(io::KeyBinder& keys, LumpedKeys& k)
 {
-  s.add_integer("time.cycles", "cardiac cycles to run (the report analyses the last)")
+  keys.integer("time.cycles", "cardiac cycles to run (the report analyses the last)", k.cycles)
       .defaults(std::int64_t{4})
       .at_least(1)
       .at_most(1000);
-  s.add_real("time.step", "time step (rounded so a cycle holds a whole number of steps)")
+  keys.real("time.step", "time step (rounded so a cycle holds a whole number of steps)", k.step)
       .unit("s")
       .defaults(1.0e-4)
       .positive()
       .at_most(0.01);
-  s.add_integer("output.every", "write a time-series row every this many steps")
+  keys.integer("output.every", "write a time-series row every this many steps", k.every)
       .defaults(std::int64_t{1})
       .at_least(1);
-  windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure driving the valve, in mmHg");
-  windkessel::add_schema(s, "windkessel");
-  s.add_real("valve.annulus_radius", "radius of the annulus (A_ann = pi r^2)")
+  keys.section([](io::Schema& s) {
+    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure driving the valve, in mmHg");
+    windkessel::add_schema(s, "windkessel");
+  });
+  ValveParameters& v = k.valve;
+  keys.real("valve.annulus_radius", "radius of the annulus (A_ann = pi r^2)", k.annulus_radius)
       .unit("cm")
       .defaults(1.3)
       .positive()
       .typical(0.5, 3.0, "an aortic annulus is about 1.2 cm; 10 times more is a value in mm");
-  s.add_real("valve.max_area_fraction", "M_st: largest effective area / A_ann")
+  keys.real("valve.max_area_fraction", "M_st: largest effective area / A_ann", v.max_area_fraction)
       .defaults(0.6)
       .above(0.0)
       .at_most(1.0);
-  s.add_real("valve.min_area_fraction", "M_rg: effective area when closed / A_ann (leakage)")
+  keys.real("valve.min_area_fraction", "M_rg: effective area when closed / A_ann (leakage)",
+            v.min_area_fraction)
       .defaults(0.002)
       .above(0.0)
       .below(1.0);
-  s.add_real("valve.effective_length", "l_eff: length of the inertance L = rho l_eff / A")
+  keys.real("valve.effective_length", "l_eff: length of the inertance L = rho l_eff / A", v.effective_length)
       .unit("cm")
       .defaults(1.0)
       .positive();
-  s.add_real("valve.opening_rate", "K_vo in 1/(mmHg s): dzeta/dt = (1 - zeta) K_vo (dp - dp_open)")
+  keys.real("valve.opening_rate", "K_vo in 1/(mmHg s): dzeta/dt = (1 - zeta) K_vo (dp - dp_open)",
+            k.opening_rate)
       .defaults(16.0)
       .positive();
-  s.add_real("valve.closing_rate", "K_vc in 1/(mmHg s): dzeta/dt = zeta K_vc (dp - dp_close)")
+  keys.real("valve.closing_rate", "K_vc in 1/(mmHg s): dzeta/dt = zeta K_vc (dp - dp_close)", k.closing_rate)
       .defaults(16.0)
       .positive();
-  s.add_real("valve.opening_pressure", "dp_open: pressure difference above which the valve opens")
+  keys.real("valve.opening_pressure", "dp_open: pressure difference above which the valve opens",
+            v.opening_pressure)
       .unit("mmHg")
       .defaults(0.0);
-  s.add_real("valve.closing_pressure", "dp_close: pressure difference below which the valve closes")
+  keys.real("valve.closing_pressure", "dp_close: pressure difference below which the valve closes",
+            v.closing_pressure)
       .unit("mmHg")
       .defaults(0.0);
-  add_fluid_density_key(s, "blood density");
-  hemodynamics::add_report_schema(s, "report");
-  io::add_checkpoint_schema(s);
+  bind_fluid_density(keys, v.density, "blood density");
+  hemodynamics::bind_report(keys, k.report);
+  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+}
+
+void add_lumped_schema(io::Schema& s)
+{
+  LumpedKeys unused;
+  io::KeyBinder keys(s);
+  bind(keys, unused);
 }
 
 class LumpedRun : public PreparedRun {
  public:
   explicit LumpedRun(const io::Config& config)
-      : lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
-        outlet_(windkessel::parameters_from_config(config, "windkessel")),
-        settings_(hemodynamics::metric_settings_from_config(config, "report")),
-        templates_(hemodynamics::report_templates_from_config(config, "report"))
+      : config_(config), keys_(config_),
+        lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
+        outlet_(windkessel::parameters_from_config(config, "windkessel"))
   {
-    const double radius = config.real("valve.annulus_radius");
-    valve_.annulus_area = std::numbers::pi * radius * radius;
-    valve_.max_area_fraction = config.real("valve.max_area_fraction");
-    valve_.min_area_fraction = config.real("valve.min_area_fraction");
+    bind(keys_, k_);
+    const LumpedKeys& k = k_;
+    hemodynamics::check_report_templates(keys_, k.report);
+    valve_ = k.valve;
+    valve_.annulus_area = std::numbers::pi * k.annulus_radius * k.annulus_radius;
     if (valve_.min_area_fraction >= valve_.max_area_fraction)
-      config.fail("valve.min_area_fraction", "must be below valve.max_area_fraction");
-    valve_.effective_length = config.real("valve.effective_length");
-    valve_.opening_rate = config.real("valve.opening_rate") / units::mmHg;
-    valve_.closing_rate = config.real("valve.closing_rate") / units::mmHg;
-    valve_.opening_pressure = config.real("valve.opening_pressure");
-    valve_.closing_pressure = config.real("valve.closing_pressure");
+      keys_.fail(k.valve.min_area_fraction, "must be below " + keys_.key_of(k.valve.max_area_fraction));
+    valve_.opening_rate = k.opening_rate / units::mmHg;
+    valve_.closing_rate = k.closing_rate / units::mmHg;
     if (valve_.closing_pressure > valve_.opening_pressure)
-      config.fail("valve.closing_pressure", "must not exceed valve.opening_pressure");
-    valve_.density = config.real("fluid.density");
+      keys_.fail(k.valve.closing_pressure, "must not exceed " + keys_.key_of(k.valve.opening_pressure));
     period_ = lv_pressure_.period();
-    if (std::abs(settings_.period - period_) > 1e-9 * period_)
-      config.fail("report.period", "is " + std::to_string(settings_.period) +
-                                       " s but the LV pressure table's period is " + std::to_string(period_) +
-                                       " s");
-    cycles_ = config.integer("time.cycles");
-    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / config.real("time.step")));
-    every_ = config.integer("output.every");
-    plots_ = config.boolean("report.plots");
+    const double report_period = k.report.metrics.period;
+    if (std::abs(report_period - period_) > 1e-9 * period_)
+      keys_.fail(k.report.metrics.period, "is " + std::to_string(report_period) +
+                                              " s but the LV pressure table's period is " +
+                                              std::to_string(period_) + " s");
+    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
@@ -165,18 +183,18 @@ class LumpedRun : public PreparedRun {
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
-    log.info("lumped valve + Windkessel: " + std::to_string(cycles_) + " cycle(s) of " +
+    log.info("lumped valve + Windkessel: " + std::to_string(k_.cycles) + " cycle(s) of " +
              std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
     TimeLoop loop;
     loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
-    loop.steps = cycles_ * steps_per_cycle_;
+    loop.steps = k_.cycles * steps_per_cycle_;
     loop.dt = dt;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = hemodynamics::standard_columns();
     loop.columns.push_back("valve_state");
     loop.units = hemodynamics::standard_units();
     loop.units.push_back("1");
-    loop.record_every = every_;
+    loop.record_every = k_.every;
     // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
     // millisecond of this model) every 1000 steps.
     loop.progress_every = 1000;
@@ -187,7 +205,7 @@ class LumpedRun : public PreparedRun {
       y = system.step(t, y, dt);
       if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
         throw RunError("lumped model: the state is not finite at t = " + std::to_string(t + dt) +
-                       " s (try a smaller time.step)");
+                       " s (try a smaller " + keys_.key_of(k_.step) + ")");
     };
     loop.row = [&](std::int64_t n) {
       const double t = static_cast<double>(n) * dt;
@@ -221,10 +239,10 @@ class LumpedRun : public PreparedRun {
   void write_report(const std::filesystem::path& directory, RunSummary& summary) const
   {
     hemodynamics::ReportOptions options;
-    options.settings = settings_;
+    options.settings = k_.report.metrics;
     options.python = python_executable;
-    options.plots = plots_;
-    options.templates = templates_;
+    options.plots = k_.report.plots;
+    options.templates = k_.report.templates;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
     const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
     const auto& m = doc.at("metrics");
@@ -241,14 +259,14 @@ class LumpedRun : public PreparedRun {
     summary.lines.push_back("report: " + files.html.string());
   }
 
+  io::Config config_;
+  io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
+  LumpedKeys k_;
   windkessel::PeriodicWaveform lv_pressure_;
   windkessel::ThreeElementWindkessel outlet_;
-  hemodynamics::MetricSettings settings_;
-  std::filesystem::path templates_;
-  ValveParameters valve_;
+  ValveParameters valve_; // in CGS
   double period_ = 0.8;
-  long cycles_ = 1, steps_per_cycle_ = 1, every_ = 1;
-  bool plots_ = true;
+  long steps_per_cycle_ = 1;
   io::CheckpointSettings checkpoint_settings_;
 };
 

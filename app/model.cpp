@@ -71,13 +71,6 @@ io::Schema common_schema()
   return s;
 }
 
-void add_fluid_density_key(io::Schema& s, const std::string& doc)
-{
-  double unused = 0.0;
-  io::KeyBinder keys(s);
-  bind_fluid_density(keys, unused, doc);
-}
-
 void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc)
 {
   keys.real("fluid.density", doc, rho)
@@ -87,9 +80,9 @@ void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc
       .typical(0.5, 2.0, "blood is 1.06 g/mL, water 1; 1000 times more is a value in kg/m^3");
 }
 
-void add_fluid_viscosity_key(io::Schema& s, double default_cP)
+void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP)
 {
-  s.add_real("fluid.viscosity", "dynamic viscosity")
+  keys.real("fluid.viscosity", "dynamic viscosity", mu)
       .unit("cP")
       .defaults(default_cP)
       .non_negative()

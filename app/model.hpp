@@ -66,14 +66,12 @@ struct Model {
 const std::vector<Model>& models();
 const Model* find_model(const std::string& name);
 
-/// fluid.density (g/mL, with the typical range that catches a value in kg/m^3), as every model that has
-/// a fluid declares it; `doc` says which fluid.
-void add_fluid_density_key(io::Schema& schema, const std::string& doc);
-/// The same key bound to `rho` (io/key_binder.hpp).
+/// fluid.density (g/mL, with the typical range that catches a value in kg/m^3) bound to `rho`
+/// (io/key_binder.hpp), as every model that has a fluid declares it; `doc` says which fluid.
 void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc);
-/// fluid.viscosity (cP) of a general fluid, water to syrup, defaulting to `default_cP`: the fluid and
-/// ibfe models (the aortic valve's is blood's, with a narrower typical range).
-void add_fluid_viscosity_key(io::Schema& schema, double default_cP);
+/// fluid.viscosity (cP) of a general fluid, water to syrup, defaulting to `default_cP`, bound to `mu`: the
+/// fluid and ibfe models (the aortic valve's is blood's, with a narrower typical range).
+void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP);
 
 /// The keys every case has (model, name, time, output, log, petsc).
 io::Schema common_schema();

@@ -71,8 +71,9 @@ int report(const ReportCommandOptions& options)
     hemodynamics::ReportOptions report_options;
     // The run's own settings (its config.toml's [report] table: the period of its cycle, the density)
     // unless given here; a given period is checked against the run's cycle.
-    report_options.settings = hemodynamics::metric_settings_from_run(options.run_directory);
-    report_options.run_period = hemodynamics::recorded_period(options.run_directory);
+    const hemodynamics::RecordedReport recorded = hemodynamics::recorded_report(options.run_directory);
+    report_options.settings = recorded.report.metrics;
+    report_options.run_period = recorded.period;
     if (options.period) report_options.settings.period = *options.period;
     report_options.period_given = options.period.has_value();
     if (options.cycle) report_options.settings.cycle = *options.cycle;
@@ -80,8 +81,7 @@ int report(const ReportCommandOptions& options)
       report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
     report_options.python = options.python;
     report_options.plots = !options.no_plots;
-    report_options.templates =
-        options.templates ? *options.templates : hemodynamics::recorded_templates(options.run_directory);
+    report_options.templates = options.templates ? *options.templates : recorded.report.templates;
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
     base::Logger::global().info("metrics: " + files.json.string());
     base::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +

@@ -6,6 +6,11 @@
 
 namespace ibvalve::app {
 
+bool nested_levels_given(const io::Config& config)
+{
+  return !config.integers(nested_ratios_key).empty();
+}
+
 double composite_cells(const fluid::GridHierarchy& hierarchy)
 {
   double cells = 1.0;

@@ -65,133 +65,96 @@ ReportTemplates load_templates(const fs::path& folder)
 // ---------------------------------------------------------------------------------------------
 // Settings
 
-void add_report_schema(io::Schema& schema, const std::string& prefix)
+void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& prefix)
 {
   const std::string p = prefix + ".";
-  schema.add_real(p + "period", "cardiac cycle of the metrics (must match the driving waveform)")
+  MetricSettings& m = r.metrics;
+  keys.real(p + "period", "cardiac cycle of the metrics (must match the driving waveform)", m.period)
       .unit("s")
       .defaults(0.8)
       .positive();
-  schema.add_integer(p + "cycle", "cycle to analyse, 0 = first; -1 = the last full cycle")
+  keys.integer(p + "cycle", "cycle to analyse, 0 = first; -1 = the last full cycle", m.cycle)
       .defaults(std::int64_t{-1})
       .at_least(-1);
-  schema.add_real(p + "forward_threshold", "forward ejection is valve flow above this")
+  keys.real(p + "forward_threshold", "forward ejection is valve flow above this", m.forward_threshold)
       .unit("mL/s")
       .defaults(0.0);
-  schema.add_string(p + "closure_rule", "how the closure instant is found (docs/hemodynamics.md)")
-      .defaults(std::string("flow"))
-      .choices({"flow", "area", "auto"});
-  schema
-      .add_real(p + "closure_flow_fraction",
-                "rule 'flow': closed once Q is back to this fraction of the peak backflow")
+  std::vector<std::pair<std::string, ClosureRule>> rules;
+  for (const ClosureRule rule : {ClosureRule::flow, ClosureRule::area, ClosureRule::automatic})
+    rules.emplace_back(closure_rule_name(rule), rule);
+  keys.choice(p + "closure_rule", "how the closure instant is found (docs/hemodynamics.md)", m.closure_rule,
+              rules)
+      .defaults(std::string("flow"));
+  keys.real(p + "closure_flow_fraction",
+            "rule 'flow': closed once Q is back to this fraction of the peak backflow",
+            m.closure_flow_fraction)
       .defaults(0.1)
       .above(0.0)
       .below(1.0);
-  schema.add_real(p + "open_area_fraction", "normalised orifice area counted as fully open")
+  keys.real(p + "open_area_fraction", "normalised orifice area counted as fully open", m.open_area_fraction)
       .defaults(0.9)
       .above(0.0)
       .below(1.0);
-  schema.add_real(p + "closed_area_fraction", "normalised orifice area counted as closed")
+  keys.real(p + "closed_area_fraction", "normalised orifice area counted as closed", m.closed_area_fraction)
       .defaults(0.05)
       .above(0.0)
       .below(1.0);
-  schema.add_real(p + "density", "blood density for the EOA formula").unit("g/mL").defaults(1.0).positive();
-  schema.add_boolean(p + "plots", "draw the report's plots (matplotlib)").defaults(true);
-  schema
-      .add_string(p + "templates", "folder of report.html.tpl and/or report.md.tpl laid out in place of the "
-                                   "built-in ones (`ibvalve report --write-templates DIR` copies those)")
-      .file(false);
+  keys.real(p + "density", "blood density for the EOA formula", m.density)
+      .unit("g/mL")
+      .defaults(1.0)
+      .positive();
+  keys.boolean(p + "plots", "draw the report's plots (matplotlib)", r.plots).defaults(true);
+  keys.path(p + "templates",
+            "folder of report.html.tpl and/or report.md.tpl laid out in place of the built-in ones (`ibvalve "
+            "report --write-templates DIR` copies those)",
+            r.templates, false);
+  if (keys.reading() && m.closed_area_fraction >= m.open_area_fraction)
+    keys.fail(m.closed_area_fraction, "must be below " + keys.key_of(m.open_area_fraction));
 }
 
-MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix)
+void add_report_schema(io::Schema& schema, const std::string& prefix)
 {
-  const std::string p = prefix + ".";
-  MetricSettings s;
-  s.period = config.real(p + "period");
-  s.cycle = static_cast<int>(config.integer(p + "cycle"));
-  s.forward_threshold = config.real(p + "forward_threshold");
-  s.closure_rule = closure_rule_from_name(config.string(p + "closure_rule"));
-  s.closure_flow_fraction = config.real(p + "closure_flow_fraction");
-  s.open_area_fraction = config.real(p + "open_area_fraction");
-  s.closed_area_fraction = config.real(p + "closed_area_fraction");
-  s.density = config.real(p + "density");
-  if (s.closed_area_fraction >= s.open_area_fraction)
-    config.fail(p + "closed_area_fraction", "must be below report.open_area_fraction");
-  return s;
+  ReportSettings unused;
+  io::KeyBinder keys(schema);
+  bind_report(keys, unused, prefix);
+}
+
+void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r)
+{
+  if (r.templates.empty()) return;
+  if (!fs::is_directory(r.templates)) keys.fail(r.templates, "no such folder '" + r.templates.string() + "'");
+  load_templates(r.templates); // a template that does not parse is refused now, not after the run
+}
+
+RecordedReport recorded_report(const fs::path& run_directory)
+{
+  RecordedReport recorded;
+  const fs::path file = run_directory / "config.toml";
+  if (!fs::exists(file)) return recorded;
+  toml::table root = io::parse_toml_file(file);
+  // The density of the fluid the run simulated, unless its [report] table gives one.
+  const toml::node* fluid_density = root.at_path("fluid.density").node();
+  const bool density_given = root.at_path("report.density").node() != nullptr,
+             period_given = root.at_path("report.period").node() != nullptr;
+  if (toml::table* report = root["report"].as_table()) {
+    // The [report] table alone (moved, so that messages keep its lines), checked by the [report] schema.
+    toml::table table;
+    table.insert("report", std::move(*report));
+    io::Schema schema;
+    add_report_schema(schema);
+    const io::Config config = io::Config::validate(std::move(table), file, schema);
+    io::KeyBinder keys(config);
+    bind_report(keys, recorded.report);
+    if (period_given) recorded.period = recorded.report.metrics.period;
+  }
+  if (!density_given && fluid_density && fluid_density->is_number())
+    recorded.report.metrics.density = *fluid_density->value<double>();
+  return recorded;
 }
 
 MetricSettings metric_settings_from_run(const fs::path& run_directory)
 {
-  MetricSettings s;
-  const fs::path file = run_directory / "config.toml";
-  if (!fs::exists(file)) return s;
-  const toml::table root = io::parse_toml_file(file);
-  // The density of the fluid the run simulated, unless its [report] table gives one.
-  if (const toml::node* n = root.at_path("fluid.density").node(); n && n->is_number())
-    s.density = *n->value<double>();
-  const toml::table* report = root["report"].as_table();
-  if (!report) return s;
-  auto real = [&](const char* key, double& into) {
-    if (const toml::node* n = report->get(key)) {
-      if (!n->is_number())
-        throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) + ": report." + key +
-                         ": expected a number");
-      into = *n->value<double>();
-    }
-  };
-  real("period", s.period);
-  real("forward_threshold", s.forward_threshold);
-  real("closure_flow_fraction", s.closure_flow_fraction);
-  real("open_area_fraction", s.open_area_fraction);
-  real("closed_area_fraction", s.closed_area_fraction);
-  real("density", s.density);
-  if (const toml::node* n = report->get("cycle"); n && n->is_integer())
-    s.cycle = static_cast<int>(*n->value<std::int64_t>());
-  if (const toml::node* n = report->get("closure_rule"); n && n->is_string()) {
-    try {
-      s.closure_rule = closure_rule_from_name(*n->value<std::string>());
-    } catch (const std::invalid_argument& error) {
-      throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) +
-                       ": report.closure_rule: " + error.what());
-    }
-  }
-  return s;
-}
-
-fs::path report_templates_from_config(const io::Config& config, const std::string& prefix)
-{
-  const std::string key = prefix + ".templates";
-  if (!config.has(key)) return {};
-  const fs::path folder = config.path(key);
-  if (!fs::is_directory(folder)) config.fail(key, "no such folder '" + folder.string() + "'");
-  load_templates(folder); // a template that does not parse is refused now, not after the run
-  return folder;
-}
-
-std::optional<double> recorded_period(const fs::path& run_directory)
-{
-  const fs::path file = run_directory / "config.toml";
-  if (!fs::exists(file)) return std::nullopt;
-  const toml::table root = io::parse_toml_file(file);
-  const toml::table* report = root["report"].as_table();
-  if (!report) return std::nullopt;
-  const toml::node* n = report->get("period");
-  if (!n || !n->is_number()) return std::nullopt;
-  return *n->value<double>();
-}
-
-fs::path recorded_templates(const fs::path& run_directory)
-{
-  const fs::path file = run_directory / "config.toml";
-  if (!fs::exists(file)) return {};
-  const toml::table root = io::parse_toml_file(file);
-  const toml::node* n = root.at_path("report.templates").node();
-  if (!n) return {};
-  if (!n->is_string())
-    throw InputError(file.string() + ":" + std::to_string(n->source().begin.line) +
-                     ": report.templates: expected a string");
-  const fs::path folder(*n->value<std::string>());
-  return folder.is_relative() ? run_directory / folder : folder;
+  return recorded_report(run_directory).report.metrics;
 }
 
 // ---------------------------------------------------------------------------------------------

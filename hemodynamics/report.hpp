@@ -13,28 +13,43 @@
 
 #include "hemodynamics/metrics.hpp"
 #include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::hemodynamics {
 
 /// JSON as metrics.json holds it: members keep the order they were written in.
 using Json = nlohmann::ordered_json;
 
-/// The [report] keys (period, cycle, thresholds, closure rule, density, plots) under `prefix`.
+/// What the [report] table sets: the metric settings, whether to draw the plots, the templates folder.
+struct ReportSettings {
+  MetricSettings metrics;
+  bool plots = true;
+  std::filesystem::path templates; // empty = the built-in templates
+};
+
+/// The [report] keys (period, cycle, thresholds, closure rule, density, plots, templates) under `prefix`,
+/// bound to `r` (io/key_binder.hpp): declared into a schema, or read from a case (then the checks a
+/// schema cannot express, closed below open area, are made).
+void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& prefix = "report");
+/// The same keys declared into `schema`.
 void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
-MetricSettings metric_settings_from_config(const io::Config& config, const std::string& prefix = "report");
-/// The settings stored in a run folder's resolved config.toml ([report] table; the density, when that
-/// table has none, from fluid.density), defaults for keys it lacks (or when there is no config.toml). A
-/// key of the wrong type is an InputError.
+/// A case's report.templates, when given, must be a folder whose templates parse: refused before the run
+/// rather than after it.
+void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r);
+
+/// The [report] table a run folder's resolved config.toml records.
+struct RecordedReport {
+  ReportSettings report;
+  /// report.period as the run recorded it (its cycle), if it records one.
+  std::optional<double> period;
+};
+/// The settings of a run folder's config.toml, its [report] table validated against the [report] schema
+/// (the density, when that table has none, from fluid.density), defaults for keys it lacks (or when there
+/// is no config.toml or no [report] table). A key of the wrong type or value is an InputError naming the
+/// file; report.templates relative to the run folder.
+RecordedReport recorded_report(const std::filesystem::path& run_directory);
+/// recorded_report(run_directory).report.metrics.
 MetricSettings metric_settings_from_run(const std::filesystem::path& run_directory);
-
-/// The folder of the report's templates (report.templates under `prefix`), empty when not given.
-std::filesystem::path report_templates_from_config(const io::Config& config,
-                                                   const std::string& prefix = "report");
-
-/// The cycle length a run folder records (report.period of its config.toml), if it records one.
-std::optional<double> recorded_period(const std::filesystem::path& run_directory);
-/// The templates folder a run folder records (report.templates of its config.toml), empty if none.
-std::filesystem::path recorded_templates(const std::filesystem::path& run_directory);
 
 struct ReportOptions {
   MetricSettings settings;
@@ -42,7 +57,7 @@ struct ReportOptions {
   bool plots = true;
   /// The settings' period was given on the command line (--period): messages name the option.
   bool period_given = false;
-  /// The run's own cycle (recorded_period), which a given period is checked against.
+  /// The run's own cycle (RecordedReport::period), which a given period is checked against.
   std::optional<double> run_period;
   /// A folder holding report.html.tpl and/or report.md.tpl, used instead of the built-in ones; empty =
   /// the built-in ones.

@@ -127,4 +127,15 @@ KeyBuilder KeyBinder::strings(std::string_view key, std::string doc, std::vector
   return schema_->add_string_list(full(key), std::move(doc));
 }
 
+KeyBuilder KeyBinder::tables(std::string_view key, const Schema& element, std::string doc,
+                             std::vector<Config>& target)
+{
+  bound(key, &target);
+  if (reading()) {
+    if (config_->has(full(key))) target = config_->tables(full(key));
+    return scratch();
+  }
+  return schema_->add_table_list(full(key), element, std::move(doc));
+}
+
 } // namespace ibvalve::io

@@ -60,6 +60,10 @@ class KeyBinder {
   KeyBuilder reals(std::string_view key, std::string doc, std::vector<double>& target);
   KeyBuilder integers(std::string_view key, std::string doc, std::vector<std::int64_t>& target);
   KeyBuilder strings(std::string_view key, std::string doc, std::vector<std::string>& target);
+  /// An array of tables ([[key]]), each element checked against `element` and read by the caller from
+  /// its Config; unset leaves the target empty.
+  KeyBuilder tables(std::string_view key, const Schema& element, std::string doc,
+                    std::vector<Config>& target);
 
   /// The key bound to `target` (a field this binder bound), for messages about it.
   template <class T>
