@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 
 #include <mpi.h>
 
@@ -18,21 +19,21 @@
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
 #include "app/time_loop.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
+#include "fluid/exact_vortex.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/output.hpp"
 #include "fluid/queries.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "base/logger.hpp"
 
 namespace ibvalve::app {
 
 namespace {
 
 using fluid::Real3;
-constexpr double two_pi = 2.0 * std::numbers::pi;
 
 /// One side's boundary.<side>.* keys.
 struct SideKeys {
@@ -166,40 +167,6 @@ void add_fluid_schema(io::Schema& s)
   bind(keys, unused);
 }
 
-/// The exact decaying vortices (Taylor–Green in x-y; ABC) carried by a uniform velocity.
-struct ExactVortex {
-  std::string kind; // "taylor_green" or "abc"
-  Real3 lower{}, length{}, mean{};
-  double amplitude = 1.0, nu = 0.0, rho = 1.0;
-
-  double phase(const Real3& x, double t, int d) const
-  {
-    return two_pi * (x[d] - lower[d] - mean[d] * t) / length[d];
-  }
-  Real3 velocity(const Real3& x, double t) const
-  {
-    const double X = phase(x, t, 0), Y = phase(x, t, 1), Z = phase(x, t, 2);
-    if (kind == "taylor_green") {
-      const double k = two_pi / length[0], e = amplitude * std::exp(-2.0 * k * k * nu * t);
-      return {mean[0] - std::cos(X) * std::sin(Y) * e, mean[1] + std::sin(X) * std::cos(Y) * e, mean[2]};
-    }
-    const double k = two_pi / length[0], e = amplitude * std::exp(-k * k * nu * t);
-    return {mean[0] + e * (std::cos(Y) + std::sin(Z)), mean[1] + e * (std::sin(X) + std::cos(Z)),
-            mean[2] + e * (std::cos(X) + std::sin(Y))};
-  }
-  double pressure(const Real3& x, double t) const
-  {
-    const double X = phase(x, t, 0), Y = phase(x, t, 1), Z = phase(x, t, 2);
-    const double k = two_pi / length[0];
-    if (kind == "taylor_green") {
-      const double e = amplitude * amplitude * std::exp(-4.0 * k * k * nu * t);
-      return -0.25 * rho * (std::cos(2.0 * X) + std::cos(2.0 * Y)) * e;
-    }
-    const double e = amplitude * amplitude * std::exp(-2.0 * k * k * nu * t);
-    return -rho * e * (std::cos(Y) * std::sin(Z) + std::sin(X) * std::cos(Z) + std::cos(X) * std::sin(Y));
-  }
-};
-
 class FluidRun : public PreparedRun {
  public:
   explicit FluidRun(const io::Config& config) : config_(config), keys_(config_)
@@ -224,22 +191,24 @@ class FluidRun : public PreparedRun {
             ? fluid::SolverKind::fft
             : fluid::SolverKind::krylov;
     if (k.initial != "rest") {
-      exact_.kind = k.initial;
-      exact_.amplitude = k.amplitude;
-      exact_.nu = settings_.mu / settings_.rho;
-      exact_.rho = settings_.rho;
+      exact_.emplace();
+      exact_->kind = k.initial == "taylor_green" ? fluid::ExactVortex::Kind::taylor_green
+                                                 : fluid::ExactVortex::Kind::abc;
+      exact_->amplitude = k.amplitude;
+      exact_->nu = settings_.mu / settings_.rho;
+      exact_->rho = settings_.rho;
       for (int d = 0; d < 3; ++d) {
-        exact_.lower[d] = box_.lower[d];
-        exact_.length[d] = box_.upper[d] - box_.lower[d];
-        exact_.mean[d] = k.mean_velocity[d];
+        exact_->lower[d] = box_.lower[d];
+        exact_->length[d] = box_.upper[d] - box_.lower[d];
+        exact_->mean[d] = k.mean_velocity[d];
       }
       const bool tg = k.initial == "taylor_green";
       if (!box_.periodic[0] || !box_.periodic[1] || (!tg && !box_.periodic[2]))
         keys_.fail(k.initial, tg ? "taylor_green needs periodic x and y sides" : "abc needs a periodic box");
-      if (std::abs(exact_.length[1] - exact_.length[0]) > 1e-12 * exact_.length[0] ||
-          (!tg && std::abs(exact_.length[2] - exact_.length[0]) > 1e-12 * exact_.length[0]))
+      if (std::abs(exact_->length[1] - exact_->length[0]) > 1e-12 * exact_->length[0] ||
+          (!tg && std::abs(exact_->length[2] - exact_->length[0]) > 1e-12 * exact_->length[0]))
         keys_.fail(k.upper, k.initial + " needs equal box lengths in its periodic directions");
-      if (tg && !box_.periodic[2] && exact_.mean[2] != 0.0)
+      if (tg && !box_.periodic[2] && exact_->mean[2] != 0.0)
         keys_.fail(k.mean_velocity, "must have no z part between z walls");
     }
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
@@ -258,11 +227,11 @@ class FluidRun : public PreparedRun {
     } catch (const std::invalid_argument& e) {
       throw InputError(config_.file().string() + ": fluid: " + e.what());
     }
-    if (exact_.kind.empty())
+    if (!exact_)
       fluid->set_initial_condition([](const Real3&, double) { return Real3{0, 0, 0}; }, nullptr, 0.0);
     else
-      fluid->set_initial_condition([this](const Real3& x, double t) { return exact_.velocity(x, t); },
-                                   [this](const Real3& x, double t) { return exact_.pressure(x, t); }, 0.0);
+      fluid->set_initial_condition([this](const Real3& x, double t) { return exact_->velocity(x, t); },
+                                   [this](const Real3& x, double t) { return exact_->pressure(x, t); }, 0.0);
     log.info("fluid: " + std::to_string(box_.cells[0]) + " x " + std::to_string(box_.cells[1]) + " x " +
              std::to_string(box_.cells[2]) + " cells, solver " + fluid->solver().name() + ", dt " +
              std::to_string(k_.step) + " s");
@@ -280,7 +249,7 @@ class FluidRun : public PreparedRun {
       }
     columns.push_back("p_center");
     column_units.push_back("dyn/cm^2");
-    if (!exact_.kind.empty()) {
+    if (exact_) {
       columns.push_back("u_error_max");
       columns.push_back("p_error_max");
       column_units.insert(column_units.end(), {"cm/s", "dyn/cm^2"});
@@ -338,10 +307,10 @@ class FluidRun : public PreparedRun {
         row.push_back(upper ? flux : -flux);
       }
       row.push_back(fluid::pressure_at(*fluid, center));
-      if (!exact_.kind.empty()) {
+      if (exact_) {
         const auto e = fluid::field_errors(
-            *fluid, [this](const Real3& x, double t) { return exact_.velocity(x, t); },
-            [this](const Real3& x, double t) { return exact_.pressure(x, t); }, bc_.any_traction() == false);
+            *fluid, [this](const Real3& x, double t) { return exact_->velocity(x, t); },
+            [this](const Real3& x, double t) { return exact_->pressure(x, t); }, bc_.any_traction() == false);
         row.push_back(e.velocity_max);
         row.push_back(e.pressure_max);
       }
@@ -435,7 +404,7 @@ class FluidRun : public PreparedRun {
   fluid::BoxGeometry box_;
   fluid::BoundaryConditions bc_;
   fluid::FluidSettings settings_;
-  ExactVortex exact_;
+  std::optional<fluid::ExactVortex> exact_; // the initial condition's exact solution, if it has one
   io::CheckpointSettings checkpoint_settings_;
 };
 

@@ -78,6 +78,11 @@ class KeyBinder {
   {
     config().fail(key_of(target), message);
   }
+  /// A temporary is no bound field (a key_of(...) result, say): refused at compile time, not at run time.
+  template <class T>
+  const std::string& key_of(const T&& target) const = delete;
+  template <class T>
+  void fail(const T&& target, std::string_view message) const = delete;
 
   template <std::integral T>
   KeyBuilder integer(std::string_view key, std::string doc, T& target)
