@@ -30,6 +30,9 @@
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
 #include "app/version.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
+#include "base/units.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
@@ -44,11 +47,8 @@
 #include "ib/ibfe.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
 #include "io/key_binder.hpp"
-#include "base/logger.hpp"
-#include "base/units.hpp"
 #include "materials/settings.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
@@ -294,13 +294,6 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   });
 }
 
-void add_aortic_valve_schema(io::Schema& s)
-{
-  AorticValveKeys unused;
-  io::KeyBinder keys(s);
-  bind(keys, unused);
-}
-
 class AorticValveRun : public PreparedRun {
  public:
   explicit AorticValveRun(const io::Config& config)
@@ -379,7 +372,7 @@ class AorticValveRun : public PreparedRun {
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-    if (nested_levels_given(config)) read_levels(config);
+    if (has_nested_levels(config)) read_levels(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -685,7 +678,8 @@ Model aortic_valve_model()
   return Model{"aortic-valve",
                "the tri-leaflet valve in its tube (IB/FE): LV pressure in, Windkessel out, fibers FD1/FD2, "
                "report each cycle",
-               add_aortic_valve_schema, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+               add_bound_schema<AorticValveKeys>,
+               [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
                  return std::make_unique<AorticValveRun>(config);
                }};
 }

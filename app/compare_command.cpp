@@ -7,9 +7,9 @@
 #include <petscsys.h>
 
 #include "app/commands.hpp"
+#include "base/logger.hpp"
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
-#include "base/logger.hpp"
 
 namespace ibvalve::app {
 

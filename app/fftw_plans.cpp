@@ -5,11 +5,11 @@
 
 #include <mpi.h>
 
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "fluid/fft_stokes.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "base/logger.hpp"
 
 namespace ibvalve::app {
 

@@ -10,12 +10,12 @@
 #include <petscsys.h>
 
 #include "app/commands.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh_output.hpp"
 #include "fibers/rules.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
-#include "base/logger.hpp"
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {

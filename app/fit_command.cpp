@@ -8,10 +8,12 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "app/commands.hpp"
 #include "base/errors.hpp"
-#include "io/files.hpp"
 #include "base/logger.hpp"
+#include "io/files.hpp"
 #include "materials/fitting.hpp"
 
 namespace ibvalve::app {
@@ -29,13 +31,10 @@ struct FitCommandOptions {
 
 std::string cell(double value, int width)
 {
-  char buffer[64];
   const double magnitude = std::abs(value);
   if (magnitude != 0.0 && (magnitude < 1e-3 || magnitude >= 1e6))
-    std::snprintf(buffer, sizeof buffer, "%*.4e", width, value);
-  else
-    std::snprintf(buffer, sizeof buffer, "%*.5g", width, value);
-  return buffer;
+    return fmt::format("{:>{}.4e}", value, width);
+  return fmt::format("{:>{}.5g}", value, width);
 }
 
 std::string padded(const std::string& text, std::size_t width)

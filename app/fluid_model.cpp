@@ -13,6 +13,8 @@
 
 #include <mpi.h>
 
+#include <fmt/format.h>
+
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
@@ -160,13 +162,6 @@ void bind(io::KeyBinder& keys, FluidKeys& k)
   keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
 }
 
-void add_fluid_schema(io::Schema& s)
-{
-  FluidKeys unused;
-  io::KeyBinder keys(s);
-  bind(keys, unused);
-}
-
 class FluidRun : public PreparedRun {
  public:
   explicit FluidRun(const io::Config& config) : config_(config), keys_(config_)
@@ -282,12 +277,10 @@ class FluidRun : public PreparedRun {
       // above, the run is diverging: stop with the figure rather than run on to overflow.
       const double courant = umax * k_.step / fluid->finest_spacing();
       if (courant > 2.0) {
-        char text[200];
-        std::snprintf(text, sizeof text,
-                      "fluid: Courant number %.2f at t = %.4g s (max |u| %.3g cm/s): the run is unstable; "
-                      "use a %s below %.3g s",
-                      courant, fluid->time(), umax, keys_.key_of(k_.step).c_str(),
-                      0.5 * fluid->finest_spacing() / umax);
+        const std::string text = fmt::format(
+            "fluid: Courant number {:.2f} at t = {:.4g} s (max |u| {:.3g} cm/s): the run is unstable; "
+            "use a {} below {:.3g} s",
+            courant, fluid->time(), umax, keys_.key_of(k_.step), 0.5 * fluid->finest_spacing() / umax);
         throw RunError(text);
       }
     };
@@ -317,8 +310,7 @@ class FluidRun : public PreparedRun {
       return row;
     };
     loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t step) {
-      char name[64];
-      std::snprintf(name, sizeof name, "fields/fluid_%06lld.h5", static_cast<long long>(step));
+      const std::string name = fmt::format("fields/fluid_{:06}.h5", step);
       io::Hdf5File h5(context.comm, context.run_directory / name, io::Hdf5File::Mode::create);
       h5.write_attribute("time", fluid->time());
       h5.write_attribute("pressure_time", fluid->pressure_time());
@@ -335,17 +327,15 @@ class FluidRun : public PreparedRun {
       if (!finished) return;
       const fluid::StepStatistics& timing = fluid->statistics();
       const long taken = std::max<long>(1, static_cast<long>(timing.steps));
-      char line[256];
-      std::snprintf(line, sizeof line,
-                    "fluid: %ld steps, %.4f s per step (convection %.4f, viscous %.4f, pressure %.4f, halo "
-                    "%.4f), %.1f solver iterations per step",
-                    taken, timing.total / taken, timing.convection / taken, timing.viscous / taken,
-                    timing.pressure / taken, timing.halo / taken,
-                    static_cast<double>(timing.solver_iterations) / taken);
-      summary.lines.push_back(line);
-      std::snprintf(line, sizeof line, "fluid: max |div u| %.2e at the end; %zu field files, timeseries.csv",
-                    last_divergence, snapshots);
-      summary.lines.push_back(line);
+      const double n = static_cast<double>(taken);
+      summary.lines.push_back(
+          fmt::format("fluid: {} steps, {:.4f} s per step (convection {:.4f}, viscous {:.4f}, "
+                      "pressure {:.4f}, halo {:.4f}), {:.1f} solver iterations per step",
+                      taken, timing.total / n, timing.convection / n, timing.viscous / n, timing.pressure / n,
+                      timing.halo / n, static_cast<double>(timing.solver_iterations) / n));
+      summary.lines.push_back(
+          fmt::format("fluid: max |div u| {:.2e} at the end; {} field files, timeseries.csv", last_divergence,
+                      snapshots));
     };
     return run_time_loop(context, loop);
   }
@@ -413,7 +403,7 @@ class FluidRun : public PreparedRun {
 Model fluid_model()
 {
   return {"fluid", "incompressible Navier-Stokes in a box (no structure): Taylor-Green, ABC, ducts, channels",
-          add_fluid_schema, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+          add_bound_schema<FluidKeys>, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
             return std::make_unique<FluidRun>(config);
           }};
 }

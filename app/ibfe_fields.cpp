@@ -6,6 +6,8 @@
 #include <sstream>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "fe/element.hpp"
 #include "io/collective.hpp"
 #include "io/petsc_check.hpp"
@@ -23,9 +25,7 @@ const std::string geometry_description =
 
 std::string fields_file_name(long step)
 {
-  char name[64];
-  std::snprintf(name, sizeof name, "fields/step_%06ld.h5", step);
-  return name;
+  return fmt::format("fields/step_{:06}.h5", step);
 }
 
 std::vector<std::int64_t> structure_part_ids(const fe::SolidModel& solid)

@@ -20,19 +20,19 @@
 #include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
+#include "fe/shell_mesh.hpp"
 #include "fe/solid.hpp"
 #include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
-#include "fe/shell_mesh.hpp"
 #include "io/checkpoint.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
-#include "base/logger.hpp"
 #include "io/xdmf.hpp"
 #include "materials/settings.hpp"
 
@@ -215,13 +215,6 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
   });
 }
 
-void add_ibfe_schema(io::Schema& s)
-{
-  IbfeKeys unused;
-  io::KeyBinder keys(s);
-  bind(keys, unused);
-}
-
 class IbfeRun : public PreparedRun {
  public:
   explicit IbfeRun(const io::Config& config) : config_(config), keys_(config_)
@@ -291,7 +284,7 @@ class IbfeRun : public PreparedRun {
                                                : keys_.key_of(k.shell_center),
                       "the structure must lie inside the walled box");
       }
-    if (nested_levels_given(config)) read_levels(config);
+    if (has_nested_levels(config)) read_levels(config);
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
 
@@ -490,7 +483,8 @@ Model ibfe_model()
 {
   return {"ibfe",
           "an elastic structure (FE mesh) immersed in fluid on a staggered grid, coupled by the IB/FE method",
-          add_ibfe_schema, [](const io::Config& config) { return std::make_unique<IbfeRun>(config); }};
+          add_bound_schema<IbfeKeys>,
+          [](const io::Config& config) { return std::make_unique<IbfeRun>(config); }};
 }
 
 } // namespace ibvalve::app

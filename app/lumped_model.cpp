@@ -17,14 +17,14 @@
 #include "app/stop_signal.hpp"
 #include "app/time_loop.hpp"
 #include "app/version.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
+#include "base/units.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "base/logger.hpp"
-#include "base/units.hpp"
 #include "windkessel/lumped_valve.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
@@ -101,13 +101,6 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
   bind_fluid_density(keys, v.density, "blood density");
   hemodynamics::bind_report(keys, k.report);
   keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
-}
-
-void add_lumped_schema(io::Schema& s)
-{
-  LumpedKeys unused;
-  io::KeyBinder keys(s);
-  bind(keys, unused);
 }
 
 class LumpedRun : public PreparedRun {
@@ -277,7 +270,7 @@ Model lumped_model()
   return Model{"lumped",
                "0-D valve (Mynard et al. 2012) between the LV pressure table and a three-element Windkessel; "
                "writes timeseries.csv and the report in about a second",
-               add_lumped_schema, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+               add_bound_schema<LumpedKeys>, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
                  return std::make_unique<LumpedRun>(config);
                }};
 }

@@ -6,10 +6,10 @@
 #include <mpi.h>
 
 #include "app/commands.hpp"
-#include "fe/gmsh_io.hpp"
-#include "fe/valve_mesh.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "fe/gmsh_io.hpp"
+#include "fe/valve_mesh.hpp"
 
 namespace ibvalve::app {
 

@@ -55,6 +55,16 @@ class PreparedRun {
   std::string memory_line_;
 };
 
+/// A model's add_schema when its keys are one bound section: `bind(io::KeyBinder&, Keys&)` (found by
+/// argument-dependent lookup beside Keys) run against the schema.
+template <class Keys>
+void add_bound_schema(io::Schema& schema)
+{
+  Keys unused;
+  io::KeyBinder keys(schema);
+  bind(keys, unused);
+}
+
 struct Model {
   std::string name;
   std::string description;

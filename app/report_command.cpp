@@ -11,9 +11,9 @@
 
 #include "app/commands.hpp"
 #include "app/version.hpp"
-#include "hemodynamics/report.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "hemodynamics/report.hpp"
 
 namespace ibvalve::app {
 
@@ -85,7 +85,7 @@ int report(const ReportCommandOptions& options)
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
     base::Logger::global().info("metrics: " + files.json.string());
     base::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
-                              std::to_string(files.plots.size()) + " plots)");
+                                std::to_string(files.plots.size()) + " plots)");
   });
   return 0;
 }

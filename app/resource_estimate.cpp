@@ -6,6 +6,8 @@
 #include <petscsys.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include "base/errors.hpp"
 
 namespace ibvalve::app {
@@ -29,12 +31,8 @@ constexpr double gib = 1024.0 * 1024.0 * 1024.0;
 std::string gib_text(double bytes)
 {
   const double g = bytes / gib;
-  char text[32];
-  if (g < 1.0)
-    std::snprintf(text, sizeof text, "%.0f MiB", g * 1024.0);
-  else
-    std::snprintf(text, sizeof text, g >= 100 ? "%.0f GiB" : "%.1f GiB", g);
-  return text;
+  if (g < 1.0) return fmt::format("{:.0f} MiB", g * 1024.0);
+  return g >= 100 ? fmt::format("{:.0f} GiB", g) : fmt::format("{:.1f} GiB", g);
 }
 
 /// Physical memory of the machines the ranks run on: each machine's first rank adds its own.
@@ -83,10 +81,8 @@ void check_index_count(const io::Config& config, std::string_view key, double co
   const double most = static_cast<double>(
       std::min<long long>(std::numeric_limits<PetscInt>::max(), std::numeric_limits<int>::max()));
   if (count > most) {
-    char text[160];
-    std::snprintf(text, sizeof text, "%.3g %s is more than the %.3g that %d-bit indices hold", count,
-                  std::string(what).c_str(), most, static_cast<int>(8 * sizeof(PetscInt)));
-    config.fail(key, text);
+    config.fail(key, fmt::format("{:.3g} {} is more than the {:.3g} that {}-bit indices hold", count, what,
+                                 most, 8 * sizeof(PetscInt)));
   }
 }
 

@@ -13,11 +13,11 @@
 #include "app/model.hpp"
 #include "app/stop_signal.hpp"
 #include "app/version.hpp"
+#include "base/errors.hpp"
+#include "base/logger.hpp"
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
-#include "base/logger.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::app {
@@ -238,8 +238,9 @@ void warn_unused_petsc_options()
   for (PetscInt i = 0; i < count; ++i) list += std::string(list.empty() ? "" : " ") + "-" + names[i];
   PETSC_CHECK(PetscOptionsLeftRestore(nullptr, &count, &names, &values));
   if (!list.empty())
-    base::Logger::global().warn("PETSc options not used: " + list +
-                              " (check the name and the solver prefix: `ibvalve --help` lists the prefixes)");
+    base::Logger::global().warn(
+        "PETSc options not used: " + list +
+        " (check the name and the solver prefix: `ibvalve --help` lists the prefixes)");
 }
 
 } // namespace

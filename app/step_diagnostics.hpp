@@ -9,8 +9,8 @@
 
 #include <mpi.h>
 
-#include "io/files.hpp"
 #include "base/logger.hpp"
+#include "io/files.hpp"
 
 #include "fluid/flow_solver.hpp"
 

@@ -6,7 +6,7 @@
 
 namespace ibvalve::app {
 
-bool nested_levels_given(const io::Config& config)
+bool has_nested_levels(const io::Config& config)
 {
   return !config.integers(nested_ratios_key).empty();
 }

@@ -15,7 +15,7 @@ namespace ibvalve::app {
 /// The key of fluid::nested_schema() that asks for nested levels, for messages about them.
 inline constexpr const char* nested_ratios_key = "nested.ratios";
 /// True when the case asks for nested levels (a non-empty nested.ratios).
-bool nested_levels_given(const io::Config& config);
+bool has_nested_levels(const io::Config& config);
 
 /// The cells of every level of `hierarchy`, in floating point (for the memory estimate).
 double composite_cells(const fluid::GridHierarchy& hierarchy);

@@ -20,9 +20,9 @@
 #include <petscsys.h>
 
 #include "app/commands.hpp"
-#include "io/config.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "io/config.hpp"
 
 namespace ibvalve::app {
 

@@ -4,10 +4,10 @@
 #include <optional>
 
 #include "app/stop_signal.hpp"
-#include "io/collective.hpp"
 #include "base/errors.hpp"
-#include "io/files.hpp"
 #include "base/logger.hpp"
+#include "io/collective.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::app {
 
@@ -35,7 +35,7 @@ io::CheckpointHeader restart(const io::Checkpoints& checkpoints, const RunContex
     io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
   });
   base::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
-                            ", t = " + std::to_string(header.time) + " s)");
+                              ", t = " + std::to_string(header.time) + " s)");
   return header;
 }
 

@@ -8,6 +8,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 namespace ibvalve::base {
 
 namespace {
@@ -129,12 +131,7 @@ std::string format_duration(double seconds)
   if (!std::isfinite(seconds) || seconds < 0) return "--:--";
   const long total = std::lround(seconds);
   const long h = total / 3600, m = (total / 60) % 60, s = total % 60;
-  char buffer[32];
-  if (h > 0)
-    std::snprintf(buffer, sizeof buffer, "%ld:%02ld:%02ld", h, m, s);
-  else
-    std::snprintf(buffer, sizeof buffer, "%ld:%02ld", m, s);
-  return buffer;
+  return h > 0 ? fmt::format("{}:{:02}:{:02}", h, m, s) : fmt::format("{}:{:02}", m, s);
 }
 
 double eta_seconds(long step, long first_step, long last_step, double seconds)

@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include <fmt/format.h>
+
 #include "io/hdf5.hpp"
 
 namespace ibvalve::fe {
@@ -53,9 +55,7 @@ MeshOutput::MeshOutput(MPI_Comm comm, const Mesh& mesh, std::filesystem::path di
 
 void MeshOutput::write(double time, const std::vector<MeshField>& fields)
 {
-  char suffix[32];
-  std::snprintf(suffix, sizeof suffix, "_%06d.h5", step_++);
-  const std::filesystem::path h5 = directory_ / (name_ + suffix);
+  const std::filesystem::path h5 = directory_ / fmt::format("{}_{:06}.h5", name_, step_++);
   series_.add_step(time, {write_mesh_fields(comm_, mesh_, h5, directory_, name_, fields)});
 }
 

@@ -5,8 +5,8 @@
 #include <numeric>
 #include <sstream>
 
-#include "hemodynamics/report.hpp"
 #include "base/errors.hpp"
+#include "hemodynamics/report.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::hemodynamics {

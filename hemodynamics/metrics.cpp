@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "base/units.hpp"
 
 namespace ibvalve::hemodynamics {
@@ -70,9 +72,7 @@ std::vector<double> combine(const std::vector<double>& a, const std::vector<doub
 
 std::string seconds(double t)
 {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4f s", t);
-  return buffer;
+  return fmt::format("{:.4f} s", t);
 }
 
 } // namespace

@@ -13,10 +13,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "hemodynamics/text_template.hpp"
+#include <fmt/format.h>
+
 #include "base/errors.hpp"
-#include "io/files.hpp"
 #include "base/logger.hpp"
+#include "hemodynamics/text_template.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -198,9 +200,7 @@ std::string html_escape(std::string_view text)
 std::string format_value(double value)
 {
   if (!std::isfinite(value)) return "missing";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.4g", value);
-  return buffer;
+  return fmt::format("{:.4g}", value);
 }
 
 std::string exact_value(double value)

@@ -8,10 +8,12 @@
 #include <stdexcept>
 #include <vector>
 
-#include "io/collective.hpp"
+#include <fmt/format.h>
+
 #include "base/errors.hpp"
-#include "io/files.hpp"
 #include "base/logger.hpp"
+#include "io/collective.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::io {
 
@@ -71,9 +73,7 @@ const std::vector<std::string> unhashed_attributes{"checksum", "complete"};
 
 std::string hex(std::uint64_t value)
 {
-  char text[17];
-  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
-  return text;
+  return fmt::format("{:016x}", value);
 }
 
 bool restart_may_change_key(const std::string& key)
@@ -240,7 +240,8 @@ std::optional<std::filesystem::path> Checkpoints::latest() const
         return;
       }
       if (verdict == Verdict::foreign) throw InputError(file.string() + ": " + why);
-      base::Logger::global().warn("skipping checkpoint " + file.string() + ": " + why + "; trying the one before");
+      base::Logger::global().warn("skipping checkpoint " + file.string() + ": " + why +
+                                  "; trying the one before");
     }
   });
   int length = static_cast<int>(chosen.size());
