@@ -7,8 +7,8 @@
 
 #include <petscksp.h>
 
-#include "fe/nodal_system.hpp"
 #include "base/errors.hpp"
+#include "fe/nodal_system.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::fibers {

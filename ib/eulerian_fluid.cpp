@@ -4,9 +4,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/errors.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/nested_navier_stokes.hpp"
-#include "base/errors.hpp"
 #include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {

@@ -9,11 +9,11 @@
 #include <Eigen/Eigenvalues>
 #include <mpi.h>
 
-#include "fe/loads.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
-#include "io/petsc_check.hpp"
 #include "base/stopwatch.hpp"
+#include "fe/loads.hpp"
+#include "io/petsc_check.hpp"
 
 namespace ibvalve::ib {
 
@@ -87,10 +87,10 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
 
   const StabilityEstimate s = stability_estimate();
   base::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
-                            std::to_string(points_.size()) +
-                            " coupling points at the start; stable time step estimate " + format(s.dt) +
-                            " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
-                            format(s.length) + " cm)");
+                              std::to_string(points_.size()) +
+                              " coupling points at the start; stable time step estimate " + format(s.dt) +
+                              " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
+                              format(s.length) + " cm)");
 }
 
 std::string describe_time_step(double dt, const StabilityEstimate& s)
@@ -148,9 +148,9 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
   if (capped > 0 && !warned_capped_) {
     warned_capped_ = true;
     base::Logger::global().warn("ib: " + std::to_string(capped) + " elements are stretched so far that " +
-                              std::to_string(settings_.points.max_points) +
-                              " coupling points per direction leave gaps wider than ib.point_spacing grid "
-                              "cells; the fluid may leak through them (shown once)");
+                                std::to_string(settings_.points.max_points) +
+                                " coupling points per direction leave gaps wider than ib.point_spacing grid "
+                                "cells; the fluid may leak through them (shown once)");
   }
   interaction_.prepare(points_.positions(), prepared_);
 }

@@ -9,9 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "base/logger.hpp"
 #include "io/collective.hpp"
 #include "io/files.hpp"
-#include "base/logger.hpp"
 
 namespace ibvalve::io {
 

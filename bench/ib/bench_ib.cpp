@@ -12,11 +12,11 @@
 
 #include <petscsys.h>
 
+#include "base/logger.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "ib/ibfe.hpp"
-#include "base/logger.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 

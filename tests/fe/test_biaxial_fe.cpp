@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "fe/solid.hpp"
 #include "base/logger.hpp"
+#include "fe/solid.hpp"
 #include "materials/biaxial.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "base/errors.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/loads.hpp"
 #include "fe/mesh.hpp"
-#include "base/errors.hpp"
 
 using namespace ibvalve::fe;
 

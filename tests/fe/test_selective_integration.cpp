@@ -40,8 +40,8 @@
 
 #include <petscksp.h>
 
-#include "fe/solid.hpp"
 #include "base/logger.hpp"
+#include "fe/solid.hpp"
 #include "io/petsc_check.hpp"
 #include "tests/fe/neo_hookean_fixture.hpp"
 

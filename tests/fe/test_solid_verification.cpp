@@ -11,10 +11,10 @@
 
 #include <gtest/gtest.h>
 
-#include "fe/loads.hpp"
-#include "fe/quasi_static.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "fe/loads.hpp"
+#include "fe/quasi_static.hpp"
 #include "tests/fe/neo_hookean_fixture.hpp"
 
 using namespace ibvalve::fe;

@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 #include <petscsys.h>
 
-#include "fibers/rules.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "fibers/rules.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::fibers;

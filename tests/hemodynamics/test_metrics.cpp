@@ -17,9 +17,9 @@
 
 #include <gtest/gtest.h>
 
+#include "base/errors.hpp"
 #include "hemodynamics/metrics.hpp"
 #include "hemodynamics/timeseries.hpp"
-#include "base/errors.hpp"
 
 namespace hd = ibvalve::hemodynamics;
 using std::numbers::pi;

@@ -10,10 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include "base/errors.hpp"
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/text_template.hpp"
-#include "base/errors.hpp"
 #include "io/files.hpp"
 
 namespace hd = ibvalve::hemodynamics;

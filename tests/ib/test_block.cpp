@@ -8,9 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "base/errors.hpp"
 #include "fe/mesh.hpp"
 #include "ibfe_cases.hpp"
-#include "base/errors.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "base/errors.hpp"
 #include "fluid/grid.hpp"
 #include "ib/interaction.hpp"
-#include "base/errors.hpp"
 
 using namespace ibvalve;
 using ib::Vec3;

@@ -13,12 +13,12 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "base/errors.hpp"
+#include "fe/shell_mesh.hpp"
 #include "fluid/hierarchy.hpp"
 #include "fluid/nested_navier_stokes.hpp"
 #include "ib/eulerian_fluid.hpp"
-#include "fe/shell_mesh.hpp"
 #include "ibfe_cases.hpp"
-#include "base/errors.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;

@@ -10,8 +10,8 @@
 #include <mpi.h>
 #include <unistd.h>
 
-#include "io/checkpoint.hpp"
 #include "base/errors.hpp"
+#include "io/checkpoint.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::io {

@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
-#include "io/config.hpp"
 #include "base/errors.hpp"
 #include "base/units.hpp"
+#include "io/config.hpp"
 
 namespace ibvalve::io {
 namespace {
