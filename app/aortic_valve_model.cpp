@@ -486,7 +486,7 @@ class AorticValveRun : public PreparedRun {
     loop.units = hemodynamics::standard_units();
     loop.record_every = k_.every;
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
-    loop.time = [&](std::int64_t) { return ibfe.time(); };
+    set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
     loop.advance = [&](std::int64_t n) {
       try {
         ibfe.step(dt);
@@ -518,21 +518,16 @@ class AorticValveRun : public PreparedRun {
                                  p[3] / units::mmHg,
                                  area};
     };
-    loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t n) {
-      write_ibfe_fields(context.comm, context.run_directory, series, mesh_, *fluid, ibfe,
-                        static_cast<long>(n));
-    };
-    // Checkpoints (docs/runs.md): the fluid, the structure, the Windkessel and the lagged outlet
-    // pressure and flow, and the orifice-area range of the summary.
-    loop.save = [&](io::Hdf5File& h5) {
-      fluid->save(h5, "fluid");
-      ibfe.save(h5, "ibfe");
+    // Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the Windkessel and the
+    // lagged outlet pressure and flow, and the orifice-area range of the summary.
+    loop.save = [&, save_coupled = loop.save](io::Hdf5File& h5) {
+      save_coupled(h5);
       const windkessel::WindkesselState& w = outlet.state();
       const std::vector<double> saved{w.time,      w.reservoir_pressure, w.flow,       outlet_pressure,
                                       outlet_flow, largest_area,         smallest_area};
       h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
     };
-    loop.restore = [&](const io::Hdf5File& h5) {
+    loop.restore = [&, restore_coupled = loop.restore](const io::Hdf5File& h5) {
       const std::vector<double> saved = h5.read("aortic_valve/outlet");
       if (saved.size() != 7)
         throw InputError(h5.path().string() + ": aortic_valve/outlet has the wrong size");
@@ -541,11 +536,8 @@ class AorticValveRun : public PreparedRun {
       outlet_flow = saved[4];
       largest_area = saved[5];
       smallest_area = saved[6];
-      fluid->restore(h5, "fluid");
-      ibfe.restore(h5, "ibfe");
+      restore_coupled(h5);
     };
-    loop.before_save = [&] { save_fftw_plans(context); };
-    loop.figures = [&] { return ibfe_step_figures(*fluid, ibfe, dt); };
     loop.after_step = [&](std::int64_t n, RunSummary& summary) {
       if (n % steps_per_cycle_ == 0) {
         log.finish_progress();

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "app/fftw_plans.hpp"
 #include "fe/element.hpp"
 #include "io/collective.hpp"
 #include "io/petsc_check.hpp"
@@ -126,6 +127,30 @@ StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeInte
   f.solver.push_back(
       {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
   return f;
+}
+
+void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& mesh, fluid::FlowSolver& fluid,
+                    ib::IbfeIntegrator& ibfe, double dt)
+{
+  const RunContext* run = &context;
+  const fe::Mesh* structure = &mesh;
+  fluid::FlowSolver* flow = &fluid;
+  ib::IbfeIntegrator* coupled = &ibfe;
+  loop.time = [coupled](std::int64_t) { return coupled->time(); };
+  loop.write_fields = [=](io::XdmfTimeSeries& series, std::int64_t step) {
+    write_ibfe_fields(run->comm, run->run_directory, series, *structure, *flow, *coupled,
+                      static_cast<long>(step));
+  };
+  loop.save = [=](io::Hdf5File& h5) {
+    flow->save(h5, "fluid");
+    coupled->save(h5, "ibfe");
+  };
+  loop.restore = [=](const io::Hdf5File& h5) {
+    flow->restore(h5, "fluid");
+    coupled->restore(h5, "ibfe");
+  };
+  loop.before_save = [run] { save_fftw_plans(*run); };
+  loop.figures = [=] { return ibfe_step_figures(*flow, *coupled, dt); };
 }
 
 std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,

@@ -12,6 +12,7 @@
 #include <mpi.h>
 
 #include "app/step_diagnostics.hpp"
+#include "app/time_loop.hpp"
 #include "fe/mesh.hpp"
 #include "fluid/flow_solver.hpp"
 #include "ib/ibfe.hpp"
@@ -45,6 +46,13 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
 /// The figures of a coupled step: the fluid's (fluid_step_figures) and the structure's projection
 /// iterations (0 for the default direct solves). Collective.
 StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt);
+
+/// The hooks every IB/FE run gives the time loop (app/time_loop.hpp): the time, the field snapshots, a
+/// checkpoint of the fluid (`fluid/`, first: restoring it refills what the structure reads) and the
+/// structure (`ibfe/`), the FFTW plans beside each checkpoint, and the step's figures. A model with more
+/// state wraps save and restore. `context`, `mesh`, `fluid` and `ibfe` must outlive the loop's run.
+void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& mesh, fluid::FlowSolver& fluid,
+                    ib::IbfeIntegrator& ibfe, double dt);
 
 /// The closing lines of an IB/FE run's summary: time per coupled step and its parts (then `after_parts`,
 /// e.g. solver iterations), the structure's volume change from `initial_volume`, and where the fields

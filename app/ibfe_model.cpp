@@ -325,7 +325,7 @@ class IbfeRun : public PreparedRun {
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
     loop.fields_every = k_.every;
-    loop.time = [&](std::int64_t) { return ibfe.time(); };
+    set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, k_.step);
     loop.advance = [&](std::int64_t) { ibfe.step(k_.step); };
     loop.row = [&](std::int64_t) {
       double speed = 0.0, displacement = 0.0;
@@ -337,21 +337,6 @@ class IbfeRun : public PreparedRun {
       return std::vector<double>{ibfe.time(), volume,       volume / V0 - 1.0,
                                  speed,       displacement, fluid->kinetic_energy()};
     };
-    loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t step) {
-      write_ibfe_fields(context.comm, context.run_directory, series, mesh_, *fluid, ibfe,
-                        static_cast<long>(step));
-    };
-    // A checkpoint holds the fluid's state and the structure's (docs/runs.md); the fluid comes first.
-    loop.save = [&](io::Hdf5File& h5) {
-      fluid->save(h5, "fluid");
-      ibfe.save(h5, "ibfe");
-    };
-    loop.restore = [&](const io::Hdf5File& h5) {
-      fluid->restore(h5, "fluid");
-      ibfe.restore(h5, "ibfe");
-    };
-    loop.before_save = [&] { save_fftw_plans(context); };
-    loop.figures = [&] { return ibfe_step_figures(*fluid, ibfe, k_.step); };
     loop.finish = [&](RunSummary& summary, bool, std::size_t snapshots) {
       for (std::string& line :
            ibfe_summary_lines(ibfe, V0, context.run_directory, snapshots, "; " + fluid_summary(*fluid)))
