@@ -54,8 +54,10 @@ void add_fibers_command(CLI::App& app, CommandAction& action);
 void add_report_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve compare RUN_DIR...` (hemodynamics/compare.hpp).
 void add_compare_command(CLI::App& app, CommandAction& action);
-/// What `ibvalve compare RUNS... -o OUTPUT` does (also the last step of `ibvalve study`).
-int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output);
+/// What `ibvalve compare RUNS... -o OUTPUT [--templates DIR]` does (also the last step of `ibvalve
+/// study`); an empty `templates` = the built-in comparison templates.
+int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output,
+                 const std::filesystem::path& templates = {});
 /// Runs `work` on rank 0 of `comm` only and rethrows its InputError/RunError/other error on every rank.
 void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work);
 

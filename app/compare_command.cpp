@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include <fmt/format.h>
 #include <petscsys.h>
 
 #include "app/commands.hpp"
@@ -18,13 +19,15 @@ namespace {
 struct CompareOptions {
   std::vector<std::filesystem::path> runs;
   std::filesystem::path output = "comparison";
+  std::filesystem::path templates; // empty = the built-in templates
 };
 
 } // namespace
 
-int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output)
+int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output,
+                 const std::filesystem::path& templates)
 {
-  const CompareOptions options{runs, output};
+  const CompareOptions options{runs, output, templates};
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     std::vector<hemodynamics::CaseResult> cases;
     for (const auto& run : options.runs) cases.push_back(hemodynamics::load_case(run));
@@ -37,12 +40,12 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
                       std::filesystem::absolute(c.run_directory).lexically_normal().filename().string() + ")";
           i = j = cases.size();
         }
-    const auto files = hemodynamics::write_comparison(cases, options.output);
+    const auto files = hemodynamics::write_comparison(cases, options.output, options.templates);
     const auto ranking = hemodynamics::rank_cases(cases);
     auto& log = base::Logger::global();
     for (const auto& row : ranking.rows)
-      log.info("rank " + std::to_string(row.rank) + ": " + row.name + " (total " +
-               hemodynamics::format_value(row.total) + ")");
+      log.info(
+          fmt::format("rank {}: {} (total {})", row.rank, row.name, hemodynamics::format_value(row.total)));
     for (const auto& left : ranking.left_out) log.info("left out of the ranking: " + left);
     log.info("comparison: " + files.html.string() + ", " + files.markdown.string() + ", " +
              files.metrics_csv.string() + ", " + files.ranking_csv.string());
@@ -58,8 +61,13 @@ void add_compare_command(CLI::App& app, CommandAction& action)
   sub->add_option("runs", options->runs, "run folders")->required();
   sub->add_option("-o,--output", options->output,
                   "folder for comparison.{md,html}, metrics.csv, ranking.csv");
+  sub->add_option("--templates", options->templates,
+                  "folder of comparison.html.tpl and/or comparison.md.tpl to lay the pages out with "
+                  "(`ibvalve report --write-templates DIR` writes the built-in ones)");
   sub->callback([options, &action] {
-    action = [options](const PetscArguments&) { return compare_runs(options->runs, options->output); };
+    action = [options](const PetscArguments&) {
+      return compare_runs(options->runs, options->output, options->templates);
+    };
   });
 }
 

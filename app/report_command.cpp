@@ -1,7 +1,7 @@
 // `ibvalve report RUN_DIR`: metrics.json, report.md and report.html (with matplotlib plots) for a run
 // folder's timeseries.csv. Metric settings (and the templates folder) come from the run's config.toml
 // ([report] table) unless given on the command line. `ibvalve report --write-templates DIR` copies the
-// built-in templates out for restyling.
+// built-in templates (the report's and the comparison's) out for restyling.
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -114,8 +114,9 @@ void add_report_command(CLI::App& app, CommandAction& action)
                   "folder of report.html.tpl and/or report.md.tpl to lay the report out with (default: "
                   "report.templates of the run, else the built-in ones)");
   sub->add_option("--write-templates", options->write_templates,
-                  "write the built-in report.html.tpl and report.md.tpl into this folder (to restyle "
-                  "them) instead of a report")
+                  "write the built-in templates of the report and of `ibvalve compare` "
+                  "(report.{html,md}.tpl, comparison.{html,md}.tpl) into this folder, to restyle them, "
+                  "instead of a report")
       ->excludes(run);
   sub->callback([options, run, &action] {
     if (!options->write_templates && run->count() == 0) throw CLI::RequiredError("run");

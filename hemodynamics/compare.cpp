@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "base/errors.hpp"
 #include "hemodynamics/report.hpp"
@@ -96,6 +98,14 @@ std::string metric_text(const CaseResult& c, const std::string& key, const char*
   return v && v->is_string() ? v->get<std::string>() : "";
 }
 
+/// The text `field` of metric `key` in the first case that has it, else empty.
+std::string first_text(std::span<const CaseResult> cases, const std::string& key, const char* field)
+{
+  for (const auto& c : cases)
+    if (auto s = metric_text(c, key, field); !s.empty()) return s;
+  return {};
+}
+
 /// Every metric key, in the order of first appearance over the cases.
 std::vector<std::string> all_keys(std::span<const CaseResult> cases)
 {
@@ -174,128 +184,112 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   return r;
 }
 
-ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::path& output_directory)
+namespace {
+
+/// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
+kainjow::mustache::data comparison_values(std::span<const CaseResult> cases, const Ranking& ranking)
 {
+  using kainjow::mustache::data;
+  data values;
+  values.set("count", fmt::format("{}", cases.size()));
+  data case_rows{data::type::list};
+  for (const auto& c : cases) case_rows.push_back(data("name", c.name));
+  values.set("cases", case_rows);
+
+  data metric_rows{data::type::list};
+  for (const auto& key : all_keys(cases)) {
+    data row;
+    const std::string symbol = first_text(cases, key, "symbol");
+    row.set("key", key);
+    row.set("symbol", symbol);
+    row.set("label", symbol.empty() ? key : fmt::format("{} (`{}`)", symbol, key));
+    row.set("unit", first_text(cases, key, "unit"));
+    data cells{data::type::list};
+    for (const auto& c : cases) {
+      const auto v = metric_value(c, key);
+      data cell;
+      cell.set("value", shown(v));
+      cell.set("exact", v ? exact_value(*v) : std::string("null"));
+      cell.set("missing", !v.has_value());
+      cells.push_back(cell);
+    }
+    row.set("values", cells);
+    metric_rows.push_back(row);
+  }
+  values.set("metrics", metric_rows);
+
+  const auto used = std::count(ranking.used.begin(), ranking.used.end(), true);
+  values.set("left_out_note", ranking.left_out.empty()
+                                  ? std::string("all 12 criteria are ranked")
+                                  : fmt::format("{} of 12 criteria ranked; left out as missing: {}", used,
+                                                fmt::join(ranking.left_out, "; ")));
+  data criterion_rows{data::type::list};
+  for (const auto& criterion : ranking_criteria()) {
+    data row;
+    row.set("key", criterion.key);
+    row.set("label", criterion.label);
+    row.set("higher_is_better", criterion.higher_is_better);
+    criterion_rows.push_back(row);
+  }
+  values.set("criteria", criterion_rows);
+  data ranking_rows{data::type::list};
+  for (const auto& r : ranking.rows) {
+    data row;
+    row.set("name", r.name);
+    data scores{data::type::list};
+    for (const auto& score : r.scores) {
+      data cell;
+      cell.set("value", shown(score));
+      cell.set("missing", !score.has_value());
+      scores.push_back(cell);
+    }
+    row.set("scores", scores);
+    row.set("total", format_value(r.total));
+    row.set("rank", fmt::format("{}", r.rank));
+    ranking_rows.push_back(row);
+  }
+  values.set("ranking", ranking_rows);
+  return values;
+}
+
+} // namespace
+
+ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::path& output_directory,
+                                 const fs::path& templates_folder)
+{
+  // The templates first: a user's template that does not parse stops the comparison before it writes.
+  const PageTemplates templates = load_page_templates("comparison", templates_folder, "--templates");
   const auto keys = all_keys(cases);
   const auto& criteria = ranking_criteria();
   const Ranking ranking = rank_cases(cases);
-  auto unit_of = [&](const std::string& key) {
-    for (const auto& c : cases)
-      if (auto u = metric_text(c, key, "unit"); !u.empty()) return u;
-    return std::string();
-  };
-  auto symbol_of = [&](const std::string& key) {
-    for (const auto& c : cases)
-      if (auto s = metric_text(c, key, "symbol"); !s.empty()) return s;
-    return std::string();
-  };
-  const std::size_t used_count =
-      static_cast<std::size_t>(std::count(ranking.used.begin(), ranking.used.end(), true));
-  const std::string left_out_text =
-      ranking.left_out.empty() ? std::string("all 12 criteria are ranked")
-                               : std::to_string(used_count) + " of 12 criteria ranked; left out as missing: ";
 
-  // --- CSV
-  std::ostringstream metrics_csv, ranking_csv;
-  metrics_csv << "metric,symbol,unit";
-  for (const auto& c : cases) metrics_csv << "," << csv_field(c.name);
-  metrics_csv << "\n";
+  std::string metrics_csv = "metric,symbol,unit";
+  for (const auto& c : cases) metrics_csv += "," + csv_field(c.name);
+  metrics_csv += "\n";
   for (const auto& key : keys) {
-    metrics_csv << key << "," << csv_field(symbol_of(key)) << "," << csv_field(unit_of(key));
-    for (const auto& c : cases) metrics_csv << "," << full(metric_value(c, key));
-    metrics_csv << "\n";
+    metrics_csv += fmt::format("{},{},{}", key, csv_field(first_text(cases, key, "symbol")),
+                               csv_field(first_text(cases, key, "unit")));
+    for (const auto& c : cases) metrics_csv += "," + full(metric_value(c, key));
+    metrics_csv += "\n";
   }
-  ranking_csv << "case";
-  for (const auto& criterion : criteria) ranking_csv << "," << criterion.key;
-  ranking_csv << ",total,rank\n";
+  std::string ranking_csv = "case";
+  for (const auto& criterion : criteria) ranking_csv += "," + criterion.key;
+  ranking_csv += ",total,rank\n";
   for (const auto& row : ranking.rows) {
-    ranking_csv << csv_field(row.name);
-    for (const auto& s : row.scores) ranking_csv << "," << (s ? exact_value(*s) : "missing");
-    ranking_csv << "," << exact_value(row.total) << "," << row.rank << "\n";
+    ranking_csv += csv_field(row.name);
+    for (const auto& s : row.scores) ranking_csv += "," + (s ? exact_value(*s) : std::string("missing"));
+    ranking_csv += fmt::format(",{},{}\n", exact_value(row.total), row.rank);
   }
 
-  // --- Markdown
-  std::ostringstream md;
-  md << "# ibvalve comparison of " << cases.size()
-     << " case(s)\n\n## Metrics per case (Table 7 style)\n\n| metric | unit |";
-  for (const auto& c : cases) md << " " << c.name << " |";
-  md << "\n|---|---|";
-  for (std::size_t i = 0; i < cases.size(); ++i) md << "---|";
-  md << "\n";
-  for (const auto& key : keys) {
-    md << "| " << (symbol_of(key).empty() ? key : symbol_of(key) + " (`" + key + "`)") << " | "
-       << unit_of(key) << " |";
-    for (const auto& c : cases) md << " " << shown(metric_value(c, key)) << " |";
-    md << "\n";
-  }
-  md << "\n## Ranking (Table 8 style)\n\nEach criterion: best case 1, worst 0, linear in between; total = "
-        "sum; "
-        "rank by total. "
-     << left_out_text;
-  for (std::size_t i = 0; i < ranking.left_out.size(); ++i) md << (i ? "; " : "") << ranking.left_out[i];
-  md << ".\n\n| case |";
-  for (std::size_t k = 0; k < criteria.size(); ++k)
-    md << " " << criteria[k].label << (criteria[k].higher_is_better ? " (higher better)" : " (lower better)")
-       << " |";
-  md << " total | rank |\n|---|";
-  for (std::size_t k = 0; k < criteria.size() + 2; ++k) md << "---|";
-  md << "\n";
-  for (const auto& row : ranking.rows) {
-    md << "| " << row.name << " |";
-    for (const auto& s : row.scores) md << " " << (s ? format_value(*s) : std::string("missing")) << " |";
-    md << " " << format_value(row.total) << " | " << row.rank << " |\n";
-  }
-
-  // --- HTML
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>ibvalve "
-       "comparison</title>\n"
-       "<style>body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin:1em 0}"
-       "td,th{border:1px solid #bbb;padding:3px 8px}td.value{text-align:right}.missing{color:#999}</style>\n"
-       "</head>\n<body>\n<h1>ibvalve comparison of "
-    << cases.size()
-    << " case(s)</h1>\n<h2>Metrics per case (Table 7 style)</h2>\n<table "
-       "id=\"metrics\">\n<tr><th>metric</th><th>unit</th>";
-  for (const auto& c : cases) h << "<th>" << html_escape(c.name) << "</th>";
-  h << "</tr>\n";
-  for (const auto& key : keys) {
-    h << "<tr data-key=\"" << html_escape(key) << "\"><td>" << html_escape(symbol_of(key)) << " (<code>"
-      << html_escape(key) << "</code>)</td><td>" << html_escape(unit_of(key)) << "</td>";
-    for (const auto& c : cases) {
-      const auto v = metric_value(c, key);
-      h << "<td class=\"value" << (v ? "" : " missing") << "\" data-value=\""
-        << (v ? exact_value(*v) : "null") << "\">" << shown(v) << "</td>";
-    }
-    h << "</tr>\n";
-  }
-  h << "</table>\n<h2>Ranking (Table 8 style)</h2>\n<p>Each criterion: best case 1, worst 0, linear in "
-       "between; "
-       "total = sum; rank by total. "
-    << html_escape(left_out_text);
-  for (std::size_t i = 0; i < ranking.left_out.size(); ++i)
-    h << (i ? "; " : "") << html_escape(ranking.left_out[i]);
-  h << ".</p>\n<table id=\"ranking\">\n<tr><th>case</th>";
-  for (const auto& criterion : criteria)
-    h << "<th>" << html_escape(criterion.label) << (criterion.higher_is_better ? " &uarr;" : " &darr;")
-      << "</th>";
-  h << "<th>total</th><th>rank</th></tr>\n";
-  for (const auto& row : ranking.rows) {
-    h << "<tr><td>" << html_escape(row.name) << "</td>";
-    for (const auto& s : row.scores)
-      h << "<td class=\"value" << (s ? "" : " missing") << "\">"
-        << (s ? format_value(*s) : std::string("missing")) << "</td>";
-    h << "<td class=\"value\">" << format_value(row.total) << "</td><td class=\"value\">" << row.rank
-      << "</td></tr>\n";
-  }
-  h << "</table>\n</body>\n</html>\n";
-
+  const kainjow::mustache::data values = comparison_values(cases, ranking);
+  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   fs::create_directories(output_directory);
   ComparisonFiles files{output_directory / "comparison.md", output_directory / "metrics.csv",
                         output_directory / "ranking.csv", output_directory / "comparison.html"};
-  io::write_file_atomically(files.markdown, md.str());
-  io::write_file_atomically(files.metrics_csv, metrics_csv.str());
-  io::write_file_atomically(files.ranking_csv, ranking_csv.str());
-  io::write_file_atomically(files.html, h.str());
+  io::write_file_atomically(files.markdown, markdown);
+  io::write_file_atomically(files.metrics_csv, metrics_csv);
+  io::write_file_atomically(files.ranking_csv, ranking_csv);
+  io::write_file_atomically(files.html, html);
   return files;
 }
 

@@ -51,8 +51,12 @@ Ranking rank_cases(std::span<const CaseResult> cases);
 struct ComparisonFiles {
   std::filesystem::path markdown, metrics_csv, ranking_csv, html;
 };
-/// Writes comparison.md, comparison.html, metrics.csv and ranking.csv into `output_directory`.
+/// Writes comparison.md, comparison.html (laid out by the comparison templates: the built-in ones, or
+/// those of `templates_folder`, see page_templates.hpp), metrics.csv and ranking.csv into
+/// `output_directory`. A templates folder that is missing or holds a template that does not parse is an
+/// InputError raised before anything is written.
 ComparisonFiles write_comparison(std::span<const CaseResult> cases,
-                                 const std::filesystem::path& output_directory);
+                                 const std::filesystem::path& output_directory,
+                                 const std::filesystem::path& templates_folder = {});
 
 } // namespace ibvalve::hemodynamics

@@ -25,46 +25,6 @@ namespace ibvalve::hemodynamics {
 namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------------------------------------
-// Templates
-
-namespace {
-
-constexpr const char* html_template_name = "report.html.tpl";
-constexpr const char* markdown_template_name = "report.md.tpl";
-
-struct ReportTemplates {
-  TextTemplate html, markdown;
-};
-
-/// The templates of `folder` (either file may be missing: the built-in one then serves), or the built-in
-/// ones when `folder` is empty. InputError for a folder that is missing or holds neither file, and for a
-/// template that does not parse.
-ReportTemplates load_templates(const fs::path& folder)
-{
-  auto builtin = [](const char* name) {
-    for (const TemplateFile& t : builtin_report_templates())
-      if (std::string_view(t.name) == name) return t.text;
-    throw std::logic_error(std::string("no built-in template ") + name);
-  };
-  auto load = [&](const char* name, TextTemplate::Escaping escaping) {
-    const fs::path file = folder / name;
-    if (folder.empty() || !fs::exists(file))
-      return TextTemplate(builtin(name), std::string("built-in ") + name, escaping);
-    return TextTemplate(io::read_text_file(file), file.string(), escaping);
-  };
-  if (!folder.empty()) {
-    if (!fs::is_directory(folder)) throw InputError(folder.string() + ": report.templates: no such folder");
-    if (!fs::exists(folder / html_template_name) && !fs::exists(folder / markdown_template_name))
-      throw InputError(folder.string() + ": report.templates: holds neither " + html_template_name + " nor " +
-                       markdown_template_name);
-  }
-  return {load(html_template_name, TextTemplate::Escaping::html),
-          load(markdown_template_name, TextTemplate::Escaping::none)};
-}
-
-} // namespace
-
-// ---------------------------------------------------------------------------------------------
 // Settings
 
 void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& prefix)
@@ -125,7 +85,8 @@ void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r)
 {
   if (r.templates.empty()) return;
   if (!fs::is_directory(r.templates)) keys.fail(r.templates, "no such folder '" + r.templates.string() + "'");
-  load_templates(r.templates); // a template that does not parse is refused now, not after the run
+  load_page_templates("report", r.templates,
+                      "report.templates"); // a template that does not parse is refused now, not after the run
 }
 
 RecordedReport recorded_report(const fs::path& run_directory)
@@ -190,11 +151,6 @@ std::string base64(std::string_view data)
     out += '=';
   }
   return out;
-}
-
-std::string html_escape(std::string_view text)
-{
-  return io::xml_escaped(text);
 }
 
 std::string format_value(double value)
@@ -414,7 +370,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   if (!fs::exists(series_file))
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
-  const ReportTemplates templates = load_templates(options.templates);
+  const PageTemplates templates = load_page_templates("report", options.templates, "report.templates");
   // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
   const double period = options.settings.period;
   const std::string period_name =
@@ -489,20 +445,6 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   io::write_file_atomically(files.markdown, markdown);
   io::write_file_atomically(files.html, html);
   if (!plot_problem.empty()) throw RunError(plot_problem);
-  return files;
-}
-
-std::vector<fs::path> write_builtin_templates(const fs::path& folder)
-{
-  std::vector<fs::path> files;
-  for (const TemplateFile& t : builtin_report_templates()) {
-    files.push_back(folder / t.name);
-    if (fs::exists(files.back()))
-      throw InputError(files.back().string() + ": exists (nothing was overwritten)");
-  }
-  fs::create_directories(folder);
-  for (std::size_t i = 0; i < files.size(); ++i)
-    io::write_file_atomically(files[i], builtin_report_templates()[i].text);
   return files;
 }
 

@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include "hemodynamics/metrics.hpp"
+#include "hemodynamics/page_templates.hpp"
 #include "io/config.hpp"
 #include "io/key_binder.hpp"
 
@@ -89,21 +90,8 @@ ReportFiles write_report(const std::filesystem::path& run_directory, const Repor
 /// The embedded plotting script (hemodynamics/plot_report.py).
 const char* plot_report_script();
 
-/// A built-in template: its file name (report.html.tpl, report.md.tpl) and text
-/// (hemodynamics/templates/, embedded at build time).
-struct TemplateFile {
-  const char* name;
-  const char* text;
-};
-std::span<const TemplateFile> builtin_report_templates();
-/// Writes the built-in templates into `folder` (created if needed) for a user to restyle; an existing
-/// file there is an InputError (nothing is overwritten). Returns the files written.
-std::vector<std::filesystem::path> write_builtin_templates(const std::filesystem::path& folder);
-
 /// Base64 of binary data (RFC 4648), for images embedded in HTML.
 std::string base64(std::string_view data);
-/// Text made safe inside HTML.
-std::string html_escape(std::string_view text);
 /// A value for tables: 4 significant digits (or "missing").
 std::string format_value(double value);
 /// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or

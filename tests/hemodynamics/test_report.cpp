@@ -161,7 +161,7 @@ TEST(Report, AUsersTemplateLaysOutTheReportAndTheBuiltInOneServesForTheOtherFile
   write_run(run, 300.0);
   const auto templates = scratch("user_template_files");
   const auto written = hd::write_builtin_templates(templates);
-  ASSERT_EQ(written.size(), 2u);
+  ASSERT_EQ(written.size(), 4u); // the report's and the comparison's
   EXPECT_THROW(hd::write_builtin_templates(templates), ibvalve::InputError); // nothing is overwritten
   std::string html = ibvalve::io::read_text_file(templates / "report.html.tpl");
   html.replace(html.find("<h2>Metrics</h2>"), 16, "<h2>MARKER {{run}}</h2>");
@@ -252,6 +252,38 @@ TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
   EXPECT_NE(ibvalve::io::read_text_file(files.ranking_csv).find("b,missing,missing"), std::string::npos);
   EXPECT_TRUE(fs::exists(files.html));
   fs::remove_all(out);
+}
+
+TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
+{
+  hd::CaseResult one;
+  one.name = "one";
+  one.metrics = hd::Json{{"forward_volume", hd::Json{{"value", 70.0}, {"unit", "mL"}, {"symbol", "V_F"}}}};
+  const std::vector<hd::CaseResult> cases{one};
+  const auto templates = scratch("compare_templates");
+  hd::write_builtin_templates(templates);
+  ibvalve::io::write_file_atomically(
+      templates / "comparison.md.tpl",
+      "MARKER {{count}}{{#metrics}} {{key}}={{#values}}{{value}}{{/values}}{{/metrics}}\n");
+  fs::remove(templates / "comparison.html.tpl");
+  const auto out = scratch("compare_user");
+  const auto files = hd::write_comparison(cases, out, templates);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_EQ(md.rfind("MARKER 1 forward_volume=70", 0), 0u) << md;
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<table id=\"ranking\">"), std::string::npos);
+  fs::remove_all(out);
+
+  ibvalve::io::write_file_atomically(templates / "comparison.md.tpl", "{{#metrics}}\n");
+  try {
+    hd::write_comparison(cases, out, templates);
+    ADD_FAILURE() << "a broken template was accepted";
+  } catch (const ibvalve::InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("comparison.md.tpl:1:"), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_THROW(hd::write_comparison(cases, out, templates / "missing"), ibvalve::InputError);
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(templates);
 }
 
 TEST(Report, SettingsComeFromTheRunsConfig)

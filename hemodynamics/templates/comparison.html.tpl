@@ -1,0 +1,37 @@
+{{! The HTML page of `ibvalve compare` (Mustache: https://mustache.github.io/mustache.5.html).
+    A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
+    those of comparison.md.tpl:
+      count, cases (name), metrics (key, symbol, label, unit, values (value, exact, missing)),
+      left_out_note, criteria (key, label, higher_is_better), ranking (name, scores (value, missing),
+      total, rank).
+    docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
+<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>ibvalve comparison</title>
+<style>
+body{font-family:sans-serif;margin:2em}table{border-collapse:collapse;margin:1em 0}
+td,th{border:1px solid #bbb;padding:3px 8px}td.value{text-align:right;font-variant-numeric:tabular-nums}
+.missing{color:#999}
+</style>
+</head>
+<body>
+<h1>ibvalve comparison of {{count}} case(s)</h1>
+<h2>Metrics per case (Table 7 style)</h2>
+<table id="metrics">
+<tr><th>metric</th><th>unit</th>{{#cases}}<th>{{name}}</th>{{/cases}}</tr>
+{{#metrics}}
+<tr data-key="{{key}}"><td>{{symbol}} (<code>{{key}}</code>)</td><td>{{unit}}</td>{{#values}}<td class="value{{#missing}} missing{{/missing}}" data-value="{{exact}}">{{value}}</td>{{/values}}</tr>
+{{/metrics}}
+</table>
+<h2>Ranking (Table 8 style)</h2>
+<p>Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.</p>
+<table id="ranking">
+<tr><th>case</th>{{#criteria}}<th>{{label}} {{#higher_is_better}}&uarr;{{/higher_is_better}}{{^higher_is_better}}&darr;{{/higher_is_better}}</th>{{/criteria}}<th>total</th><th>rank</th></tr>
+{{#ranking}}
+<tr><td>{{name}}</td>{{#scores}}<td class="value{{#missing}} missing{{/missing}}">{{value}}</td>{{/scores}}<td class="value">{{total}}</td><td class="value">{{rank}}</td></tr>
+{{/ranking}}
+</table>
+</body>
+</html>

@@ -1,0 +1,32 @@
+{{! The Markdown page of `ibvalve compare` (Mustache: https://mustache.github.io/mustache.5.html).
+    Values are inserted as they are (no escaping). What a template can use:
+      count                     the number of cases
+      cases                     list: name
+      metrics                   list, one per metric of any case: key, symbol, label ("symbol (`key`)",
+                                or the key when there is no symbol), unit, values (list, one per case:
+                                value (4 significant digits, or "missing"), exact (every digit, or
+                                "null"), missing (true when the case has no value))
+      left_out_note             how many of the 12 criteria are ranked, and which are left out and why
+      criteria                  list, the study's 12: key, label, higher_is_better
+      ranking                   list, one per case: name, scores (list, one per ranked criterion: value,
+                                missing), total, rank
+    docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
+# ibvalve comparison of {{count}} case(s)
+
+## Metrics per case (Table 7 style)
+
+| metric | unit |{{#cases}} {{name}} |{{/cases}}
+|---|---|{{#cases}}---|{{/cases}}
+{{#metrics}}
+| {{label}} | {{unit}} |{{#values}} {{value}} |{{/values}}
+{{/metrics}}
+
+## Ranking (Table 8 style)
+
+Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.
+
+| case |{{#criteria}} {{label}} ({{#higher_is_better}}higher{{/higher_is_better}}{{^higher_is_better}}lower{{/higher_is_better}} better) |{{/criteria}} total | rank |
+|---|{{#criteria}}---|{{/criteria}}---|---|
+{{#ranking}}
+| {{name}} |{{#scores}} {{value}} |{{/scores}} {{total}} | {{rank}} |
+{{/ranking}}
