@@ -15,6 +15,7 @@
 // R_c = 0.033 mmHg s/mL it changes P_Ao by R_c dQ, well below 0.1 mmHg.
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <numbers>
 #include <sstream>
 
@@ -437,14 +438,13 @@ class AorticValveRun : public PreparedRun {
     ib::IbfeIntegrator ibfe(*fluid, solid, ib_);
     windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
     const ib::StabilityEstimate stability = ibfe.stability_estimate();
-    log.info("aortic valve: " + std::to_string(mesh_.num_elements()) + " elements (" +
-             std::to_string(leaflet_elements.size()) + " in the leaflets), " +
-             std::to_string(mesh_.num_nodes()) + " nodes; " + fluid->describe() + "; dt " +
-             hemodynamics::format_value(dt) + " s (the stability estimate " +
-             hemodynamics::format_value(stability.dt) + " s), " + std::to_string(steps_) +
-             " steps to t = " + hemodynamics::format_value(static_cast<double>(steps_) * dt) +
-             " s; leaflets " + leaflet_material_.describe() + "; fibers " +
-             std::string(k_.rule == fibers::FiberRule::FD1 ? "FD1" : "FD2"));
+    log.info(fmt::format("aortic valve: {} elements ({} in the leaflets), {} nodes; {}; dt {} s (the "
+                         "stability estimate {} s), {} steps to t = {} s; leaflets {}; fibers {}",
+                         mesh_.num_elements(), leaflet_elements.size(), mesh_.num_nodes(), fluid->describe(),
+                         hemodynamics::format_value(dt), hemodynamics::format_value(stability.dt), steps_,
+                         hemodynamics::format_value(static_cast<double>(steps_) * dt),
+                         leaflet_material_.describe(),
+                         std::string(k_.rule == fibers::FiberRule::FD1 ? "FD1" : "FD2")));
 
     // Probes from the geometry: the pressures half a level-0 cell inside the inlet and outlet sides,
     // the outlet flux half a cell inside the outlet side.
@@ -492,8 +492,9 @@ class AorticValveRun : public PreparedRun {
         ibfe.step(dt);
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
-        throw RunError("aortic-valve: step " + std::to_string(n) + " (t = " + std::to_string(ibfe.time()) +
-                       " s): " + e.what() + " (try a smaller " + keys_.key_of(k_.step) + " or a finer grid)");
+        throw RunError(
+            fmt::format("aortic-valve: step {} (t = {:g} s): {} (try a smaller {} or a finer grid)", n,
+                        ibfe.time(), e.what(), keys_.key_of(k_.step)));
       }
       outlet_flow = fluid->flux(outlet_plane);
       outlet_pressure = outlet.advance(dt, outlet_flow);
@@ -506,8 +507,8 @@ class AorticValveRun : public PreparedRun {
       largest_area = std::max(largest_area, area);
       smallest_area = std::min(smallest_area, area);
       if (!std::isfinite(q_valve) || !std::isfinite(p[2]))
-        throw RunError("aortic-valve: the flow is not finite at t = " + std::to_string(t) +
-                       " s (try a smaller " + keys_.key_of(k_.step) + ")");
+        throw RunError(fmt::format("aortic-valve: the flow is not finite at t = {:g} s (try a smaller {})", t,
+                                   keys_.key_of(k_.step)));
       return std::vector<double>{t,
                                  q_valve / units::mL,
                                  outlet_flow / units::mL,
@@ -546,10 +547,10 @@ class AorticValveRun : public PreparedRun {
         log.finish_progress();
         write_report(context, summary, 0, static_cast<double>(steps_) * dt);
       } else if (n == steps_) {
-        summary.lines.push_back("the last " +
-                                hemodynamics::format_value(static_cast<double>(n % steps_per_cycle_) * dt) +
-                                " s after cycle " + std::to_string(n / steps_per_cycle_) +
-                                " are not a whole cycle: no report of them");
+        summary.lines.push_back(
+            fmt::format("the last {} s after cycle {} are not a whole cycle: no report of them",
+                        hemodynamics::format_value(static_cast<double>(n % steps_per_cycle_) * dt),
+                        n / steps_per_cycle_));
       }
     };
     loop.finish = [&](RunSummary& summary, bool, std::size_t) {
@@ -567,7 +568,7 @@ class AorticValveRun : public PreparedRun {
   }
 
  private:
-  static std::string leaflet(int k) { return "leaflet" + std::to_string(k); }
+  static std::string leaflet(int k) { return fmt::format("leaflet{}", k); }
 
   // The run's last step: time.end when given (it wins over time.cycles), else whole cycles. A run
   // shorter than a cycle gets its report over its whole length, which needs rows enough for one.
@@ -582,11 +583,12 @@ class AorticValveRun : public PreparedRun {
     const long rows = steps_ / every + (steps_ % every != 0 ? 1 : 0) + 1;
     constexpr long report_rows = 11; // hemodynamics::write_report: a window of at least 10 intervals
     if (rows < report_rows)
-      keys_.fail(k_.end, "a run shorter than a cycle (" + hemodynamics::format_value(period_) +
-                             " s) is reported over its whole length, which holds " + std::to_string(rows) +
-                             " time-series rows (" + keys_.key_of(k_.every) + " = " + std::to_string(every) +
-                             " steps); the report needs " + std::to_string(report_rows) + ": a smaller " +
-                             keys_.key_of(k_.every) + " or a longer " + keys_.key_of(k_.end));
+      keys_.fail(
+          k_.end,
+          fmt::format("a run shorter than a cycle ({} s) is reported over its whole length, which holds {} "
+                      "time-series rows ({} = {} steps); the report needs {}: a smaller {} or a longer {}",
+                      hemodynamics::format_value(period_), rows, keys_.key_of(k_.every), every, report_rows,
+                      keys_.key_of(k_.every), keys_.key_of(k_.end)));
   }
 
   // The structure's and the one grid's size, checked before the mesh is built: indices, then memory.
@@ -630,7 +632,7 @@ class AorticValveRun : public PreparedRun {
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
-      summary.lines.push_back((cycle > 0 ? "cycle " + std::to_string(cycle) + " report: "
+      summary.lines.push_back((cycle > 0 ? fmt::format("cycle {} report: ", cycle)
                                          : "report of the run's " + hemodynamics::format_value(length) +
                                                " s (shorter than a " + hemodynamics::format_value(period_) +
                                                " s cycle: its metrics are of that window): ") +

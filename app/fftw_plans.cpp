@@ -1,6 +1,7 @@
 #include "app/fftw_plans.hpp"
 
 #include <filesystem>
+#include <fmt/format.h>
 #include <string>
 
 #include <mpi.h>
@@ -22,8 +23,7 @@ std::filesystem::path wisdom_file(const RunContext& context)
   int rank = 0, size = 1;
   MPI_Comm_rank(context.comm, &rank);
   MPI_Comm_size(context.comm, &size);
-  return context.run_directory / "fftw_wisdom" /
-         ("rank" + std::to_string(rank) + "of" + std::to_string(size) + ".txt");
+  return context.run_directory / "fftw_wisdom" / (fmt::format("rank{}of{}.txt", rank, size));
 }
 
 } // namespace

@@ -2,6 +2,7 @@
 // (fibers/rules.hpp) written as OUT/fibers.xdmf + OUT/fibers.h5 (ParaView: the Laplace potential,
 // the Dirichlet sets and the fiber per element) and OUT/element_fibers.txt, the file a run reads back.
 #include <filesystem>
+#include <fmt/format.h>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -85,11 +86,10 @@ int run_fibers(const FibersCommandOptions& options)
     if (spec.axis_direction.norm() == 0) throw InputError("command line: --axis: the direction is zero");
   }
 
-  log.info(
-      "fibers: " + options.mesh.string() + ": " + std::to_string(mesh.num_elements()) + " " +
-      mesh.type().name() + " elements, " + std::to_string(mesh.num_nodes()) + " nodes; rule " + options.rule +
-      " on " +
-      (leaflets.empty() ? std::string("the whole mesh") : std::to_string(leaflets.size()) + " leaflet(s)"));
+  log.info(fmt::format(
+      "fibers: {}: {} {} elements, {} nodes; rule {} on {}", options.mesh.string(), mesh.num_elements(),
+      mesh.type().name(), mesh.num_nodes(), options.rule,
+      (leaflets.empty() ? std::string("the whole mesh") : fmt::format("{} leaflet(s)", leaflets.size()))));
   const fibers::FiberField field = fibers::compute_fibers(mesh, rule, specs, PETSC_COMM_WORLD);
 
   io::on_root(PETSC_COMM_WORLD, [&] {
@@ -114,9 +114,9 @@ int run_fibers(const FibersCommandOptions& options)
                                               options.output, "fibers", fields)});
   fibers::write_element_fibers(options.output / "element_fibers.txt", field.element_directions,
                                PETSC_COMM_WORLD);
-  log.info("fibers: " + std::to_string(with_fibers) + " of " + std::to_string(mesh.num_elements()) +
-           " elements have a fiber; wrote " + (options.output / "fibers.xdmf").string() + " and " +
-           (options.output / "element_fibers.txt").string());
+  log.info(fmt::format("fibers: {} of {} elements have a fiber; wrote {} and {}", with_fibers,
+                       mesh.num_elements(), (options.output / "fibers.xdmf").string(),
+                       (options.output / "element_fibers.txt").string()));
   return 0;
 }
 

@@ -92,8 +92,8 @@ int fit(const FitCommandOptions& options)
       row += padded(cell(result.parameters[i], 0), 14);
       sum[i] += result.parameters[i];
     }
-    row += padded(cell(result.quality.mae, 0), 12) + padded(cell(result.quality.r_squared, 0), 10) +
-           std::to_string(sample.points.size());
+    row += fmt::format("{}{}{}", padded(cell(result.quality.mae, 0), 12),
+                       padded(cell(result.quality.r_squared, 0), 10), sample.points.size());
     if (!result.converged) row += "  (stopped at the iteration limit)";
     log.info(row);
     sum[info.parameters.size()] += result.quality.mae;

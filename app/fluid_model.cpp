@@ -227,9 +227,8 @@ class FluidRun : public PreparedRun {
     else
       fluid->set_initial_condition([this](const Real3& x, double t) { return exact_->velocity(x, t); },
                                    [this](const Real3& x, double t) { return exact_->pressure(x, t); }, 0.0);
-    log.info("fluid: " + std::to_string(box_.cells[0]) + " x " + std::to_string(box_.cells[1]) + " x " +
-             std::to_string(box_.cells[2]) + " cells, solver " + fluid->solver().name() + ", dt " +
-             std::to_string(k_.step) + " s");
+    log.info(fmt::format("fluid: {} x {} x {} cells, solver {}, dt {:g} s", box_.cells[0], box_.cells[1],
+                         box_.cells[2], fluid->solver().name(), k_.step));
 
     std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
                                      "enstrophy", "max_divergence", "solver_iterations"};
@@ -271,8 +270,8 @@ class FluidRun : public PreparedRun {
       }
       const double umax = fluid->max_velocity();
       if (!std::isfinite(umax))
-        throw RunError("fluid: the velocity is not finite at t = " + std::to_string(fluid->time()) +
-                       " s (time step too large?)");
+        throw RunError(fmt::format("fluid: the velocity is not finite at t = {:g} s (time step too large?)",
+                                   fluid->time()));
       // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
       // above, the run is diverging: stop with the figure rather than run on to overflow.
       const double courant = umax * k_.step / fluid->finest_spacing();

@@ -43,7 +43,7 @@ std::string structure_part_table(const fe::SolidModel& solid)
   std::string table;
   const auto& parts = solid.parts();
   for (std::size_t p = 0; p < parts.size(); ++p)
-    table += (p ? ", " : "") + std::to_string(p + 1) + " = " + parts[p].name;
+    table += fmt::format("{}{} = {}", (p ? ", " : ""), p + 1, parts[p].name);
   return table;
 }
 
@@ -164,9 +164,9 @@ std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, doub
          << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
          << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")" << after_parts;
   return {timing.str(),
-          "structure volume change " + std::to_string(100.0 * (ibfe.volume() / initial_volume - 1.0)) + " %",
-          "fields: " + (directory / "fields.xdmf").string() + " (" + std::to_string(outputs) +
-              " outputs), time series: " + (directory / "timeseries.csv").string()};
+          fmt::format("structure volume change {:g} %", 100.0 * (ibfe.volume() / initial_volume - 1.0)),
+          fmt::format("fields: {} ({} outputs), time series: {}", (directory / "fields.xdmf").string(),
+                      outputs, (directory / "timeseries.csv").string())};
 }
 
 } // namespace ibvalve::app

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
 #include <memory>
 
 #include <mpi.h>
@@ -306,15 +307,15 @@ class IbfeRun : public PreparedRun {
     solid.set_fibers(fibers_);
     ib::IbfeIntegrator ibfe(*fluid, solid, settings_);
     ibfe.set_displacement(initial_);
-    log.info("fluid: " + fluid->describe() + "; the structure on a grid of spacing " +
-             std::to_string(ibfe.fluid().grid().h(0)) + " cm");
-    log.info("structure: " + std::to_string(mesh_.num_elements()) + " elements, " +
-             std::to_string(mesh_.num_nodes()) + " nodes, volume " + std::to_string(mesh_.volume()) +
-             " cm^3");
+    log.info(fmt::format("fluid: {}; the structure on a grid of spacing {:g} cm", fluid->describe(),
+                         ibfe.fluid().grid().h(0)));
+    log.info(fmt::format("structure: {} elements, {} nodes, volume {:g} cm^3", mesh_.num_elements(),
+                         mesh_.num_nodes(), mesh_.volume()));
     for (const fe::BodyPart& p : parts_)
-      log.info("  part " + p.name + ": " + std::to_string(p.elements.size()) + " elements, " +
-               (p.laws.empty() ? p.centre_laws : p.laws).front()->name() +
-               (p.centre_laws.empty() ? "" : " + " + p.centre_laws.front()->name() + " penalty (reduced)"));
+      log.info(fmt::format(
+          "  part {}: {} elements, {}{}", p.name, p.elements.size(),
+          (p.laws.empty() ? p.centre_laws : p.laws).front()->name(),
+          (p.centre_laws.empty() ? "" : " + " + p.centre_laws.front()->name() + " penalty (reduced)")));
 
     const double V0 = mesh_.volume();
     TimeLoop loop;
@@ -413,7 +414,7 @@ class IbfeRun : public PreparedRun {
                                         materials::read_material(p, "material").build(), integration);
       const materials::FiberFrame frame = fiber_frame(p.reals("fiber_direction"));
       for (int e : part.elements) {
-        if (owner[e] >= 0) p.fail("group", "element " + std::to_string(e) + " is already in another part");
+        if (owner[e] >= 0) p.fail("group", fmt::format("element {} is already in another part", e));
         owner[e] = static_cast<int>(parts_.size());
         fibers_[e] = frame;
       }

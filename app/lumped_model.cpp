@@ -6,6 +6,7 @@
 // windkessel/lumped_valve.hpp; this file holds the case-file keys, the run's time loop and its output.
 #include <array>
 #include <cmath>
+#include <fmt/format.h>
 #include <functional>
 #include <numbers>
 #include <sstream>
@@ -124,9 +125,8 @@ class LumpedRun : public PreparedRun {
     period_ = lv_pressure_.period();
     const double report_period = k.report.metrics.period;
     if (std::abs(report_period - period_) > 1e-9 * period_)
-      keys_.fail(k.report.metrics.period, "is " + std::to_string(report_period) +
-                                              " s but the LV pressure table's period is " +
-                                              std::to_string(period_) + " s");
+      keys_.fail(k.report.metrics.period,
+                 fmt::format("is {} s but the LV pressure table's period is {} s", report_period, period_));
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
@@ -176,8 +176,8 @@ class LumpedRun : public PreparedRun {
     const double dt = period_ / static_cast<double>(steps_per_cycle_);
     LumpedSystem system{lv_pressure_, outlet_, valve_};
     LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
-    log.info("lumped valve + Windkessel: " + std::to_string(k_.cycles) + " cycle(s) of " +
-             std::to_string(period_) + " s, dt = " + std::to_string(dt) + " s");
+    log.info(
+        fmt::format("lumped valve + Windkessel: {} cycle(s) of {:g} s, dt = {:g} s", k_.cycles, period_, dt));
     TimeLoop loop;
     loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
     loop.steps = k_.cycles * steps_per_cycle_;
@@ -197,8 +197,8 @@ class LumpedRun : public PreparedRun {
       const double t = static_cast<double>(n - 1) * dt;
       y = system.step(t, y, dt);
       if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
-        throw RunError("lumped model: the state is not finite at t = " + std::to_string(t + dt) +
-                       " s (try a smaller " + keys_.key_of(k_.step) + ")");
+        throw RunError(fmt::format("lumped model: the state is not finite at t = {:g} s (try a smaller {})",
+                                   t + dt, keys_.key_of(k_.step)));
     };
     loop.row = [&](std::int64_t n) {
       const double t = static_cast<double>(n) * dt;

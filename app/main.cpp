@@ -2,6 +2,7 @@
 // failures to exit codes: 2 for bad input (one line naming file, line and key), 3 for a run that
 // went wrong (its output so far is kept).
 #include <cstring>
+#include <fmt/format.h>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -51,10 +52,9 @@ int main(int argc, char** argv)
                "Case-file keys: ibvalve keys [MODEL] (--format toml for a case skeleton).\n" +
                    app::petsc_options_help(),
                "ibvalve"};
-  cli.set_version_flag("--version", std::string("ibvalve ") + version_string + " (PETSc " +
-                                        std::to_string(PETSC_VERSION_MAJOR) + "." +
-                                        std::to_string(PETSC_VERSION_MINOR) + "." +
-                                        std::to_string(PETSC_VERSION_SUBMINOR) + ")");
+  cli.set_version_flag("--version",
+                       fmt::format("ibvalve {} (PETSc {}.{}.{})", version_string, PETSC_VERSION_MAJOR,
+                                   PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR));
   cli.require_subcommand(1);
   app::CommandAction action;
   app::add_run_command(cli, action);

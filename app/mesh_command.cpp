@@ -1,6 +1,7 @@
 // `ibvalve mesh aortic-valve [options] -o valve.msh`: the idealized tri-leaflet valve in its tube
 // (fe/valve_mesh.hpp), written as a Gmsh file with physical groups, plus an XDMF/HDF5 copy ParaView opens.
 #include <filesystem>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #include <mpi.h>
@@ -31,8 +32,8 @@ int write_valve_mesh(const fe::ValveMeshParameters& parameters, const std::files
     fe::write_msh(mesh, output);
   }
   auto& log = base::Logger::global();
-  log.info("wrote " + output.string() + ": " + std::to_string(mesh.num_elements()) + " hexahedra, " +
-           std::to_string(mesh.num_nodes()) + " nodes");
+  log.info(fmt::format("wrote {}: {} hexahedra, {} nodes", output.string(), mesh.num_elements(),
+                       mesh.num_nodes()));
   std::string groups;
   for (const auto& g : mesh.groups()) groups += (groups.empty() ? "" : ", ") + g.name;
   log.info("physical groups: " + groups);

@@ -3,6 +3,7 @@
 // ([report] table) unless given on the command line. `ibvalve report --write-templates DIR` copies the
 // built-in templates (the report's and the comparison's) out for restyling.
 #include <filesystem>
+#include <fmt/format.h>
 #include <memory>
 #include <optional>
 
@@ -84,8 +85,8 @@ int report(const ReportCommandOptions& options)
     report_options.templates = options.templates ? *options.templates : recorded.report.templates;
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
     base::Logger::global().info("metrics: " + files.json.string());
-    base::Logger::global().info("report:  " + files.html.string() + " (and report.md, " +
-                                std::to_string(files.plots.size()) + " plots)");
+    base::Logger::global().info(
+        fmt::format("report:  {} (and report.md, {} plots)", files.html.string(), files.plots.size()));
   });
   return 0;
 }

@@ -106,8 +106,8 @@ std::string check_memory(const io::Config& config, const MemoryEstimate& estimat
     config.fail(largest->key,
                 "the case needs about " + gib_text(need) + " (" + parts + "); " + limit_text +
                     (chosen > 0.0 ? " (raise it to override)" : " (set run.max_memory to override)"));
-  return "memory: about " + gib_text(need) + " estimated (" + parts + ", " + std::to_string(ranks) +
-         (ranks == 1 ? " rank" : " ranks") + "); " + limit_text;
+  return fmt::format("memory: about {} estimated ({}, {}{}); {}", gib_text(need), parts, ranks,
+                     (ranks == 1 ? " rank" : " ranks"), limit_text);
 }
 
 void add_memory_schema(io::Schema& schema)

@@ -3,6 +3,7 @@
 #include <array>
 #include <cctype>
 #include <filesystem>
+#include <fmt/format.h>
 #include <sstream>
 #include <string_view>
 #include <vector>
@@ -58,7 +59,7 @@ const io::KeySpec* case_key(const toml::table& table, std::string_view key)
 std::string where(const toml::source_region& source, const std::filesystem::path& file)
 {
   const std::string name = source.path && !source.path->empty() ? *source.path : file.string();
-  return source.begin.line > 0 ? name + ":" + std::to_string(source.begin.line) : name;
+  return source.begin.line > 0 ? fmt::format("{}:{}", name, source.begin.line) : name;
 }
 
 /// The case's model, read before any other key: which keys are valid depends on it, so a missing,
@@ -252,8 +253,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   if (options.restart.empty() && options.case_file.empty())
     throw InputError("command line: a case file is required (or --restart RUN_DIR)");
   if (options.stop_after_steps < 0)
-    throw InputError("command line: --stop-after-steps " + std::to_string(options.stop_after_steps) +
-                     ": must be at least 0 (0, like leaving it out, runs to the end)");
+    throw InputError(fmt::format(
+        "command line: --stop-after-steps {}: must be at least 0 (0, like leaving it out, runs to the end)",
+        options.stop_after_steps));
   // A restart reads the case as the run folder recorded it (every default written out).
   if (!options.restart.empty()) {
     if (!std::filesystem::is_regular_file(options.restart / "config.toml"))
@@ -309,9 +311,9 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     });
   }
   log.open_file(directory / "log.txt");
-  log.info(std::string("ibvalve ") + version_string + ": " + model.name +
-           (options.restart.empty() ? " run of " : " restart of ") + options.case_file.string() + " on " +
-           std::to_string(size) + (size == 1 ? " rank" : " ranks"));
+  log.info(fmt::format("ibvalve {}: {}{}{} on {}{}", version_string, model.name,
+                       (options.restart.empty() ? " run of " : " restart of "), options.case_file.string(),
+                       size, (size == 1 ? " rank" : " ranks")));
   log.info("run folder: " + directory.string());
   if (!prepared->memory_line().empty()) log.info(prepared->memory_line());
 

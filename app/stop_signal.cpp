@@ -1,6 +1,7 @@
 #include "app/stop_signal.hpp"
 
 #include <csignal>
+#include <fmt/format.h>
 
 #include <signal.h>
 
@@ -45,7 +46,7 @@ std::string signal_name(int signal)
 {
   if (signal == SIGINT) return "SIGINT";
   if (signal == SIGTERM) return "SIGTERM";
-  return "signal " + std::to_string(signal);
+  return fmt::format("signal {}", signal);
 }
 
 } // namespace ibvalve::app

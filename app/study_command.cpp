@@ -12,6 +12,7 @@
 //   set = ["structure.material.preset=\"zhu2021-W1\""]   # this case's overrides (after the common ones)
 //   file = "other.toml"              # optional: a different case file for this case
 #include <filesystem>
+#include <fmt/format.h>
 #include <iostream>
 #include <memory>
 #include <set>
@@ -131,8 +132,7 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
   std::vector<std::filesystem::path> folders;
   for (std::size_t i = 0; i < study.cases.size(); ++i) {
     const StudyCase& c = study.cases[i];
-    log.info("study: case " + std::to_string(i + 1) + " of " + std::to_string(study.cases.size()) + ": " +
-             c.name);
+    log.info(fmt::format("study: case {} of {}: {}", i + 1, study.cases.size(), c.name));
     RunOptions run;
     run.case_file = c.case_file;
     run.output = study.output / c.name;
@@ -142,7 +142,7 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
     if (const int code = run_case(run, petsc); code != 0) return code;
     folders.push_back(run.output);
   }
-  log.info("study: comparing " + std::to_string(folders.size()) + " cases");
+  log.info(fmt::format("study: comparing {} cases", folders.size()));
   return compare_runs(folders, study.output / "comparison");
 }
 

@@ -1,6 +1,7 @@
 #include "app/time_loop.hpp"
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <optional>
 
 #include "app/stop_signal.hpp"
@@ -25,17 +26,17 @@ io::CheckpointHeader restart(const io::Checkpoints& checkpoints, const RunContex
     throw InputError(context.run_directory.string() + ": no checkpoint to restart from (checkpoint.every)");
   const io::CheckpointHeader header = checkpoints.read(file, restore);
   if (header.step >= steps)
-    throw InputError(file.string() + ": the checkpoint is at step " + std::to_string(header.step) +
-                     " but the run now ends at step " + std::to_string(steps) +
-                     ": nothing to continue (lengthen the run with --set)");
+    throw InputError(fmt::format("{}: the checkpoint is at step {} but the run now ends at step {}: nothing "
+                                 "to continue (lengthen the run with --set)",
+                                 file.string(), header.step, steps));
   // Rank 0 alone writes config.toml and timeseries.csv; the others wait, so that nobody appends before
   // the cut, and learn of any failure there.
   io::on_root(comm, [&] {
     context.accept_restart();
     io::truncate_csv_rows(context.run_directory / "timeseries.csv", header.timeseries_rows);
   });
-  base::Logger::global().info("restarting from " + file.string() + " (step " + std::to_string(header.step) +
-                              ", t = " + std::to_string(header.time) + " s)");
+  base::Logger::global().info(
+      fmt::format("restarting from {} (step {}, t = {:g} s)", file.string(), header.step, header.time));
   return header;
 }
 
@@ -49,10 +50,10 @@ bool due(std::int64_t step, std::int64_t every, std::int64_t last)
 std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
                          const std::filesystem::path& run_directory, int signal)
 {
-  return (signal ? "stopped by " + signal_name(signal) + " after step "
-                 : std::string("stopped after step ")) +
-         std::to_string(step) + " of " + std::to_string(steps) + " (checkpoint " + file.string() +
-         "); continue with: ibvalve run --restart " + run_directory.string();
+  return fmt::format(
+      "{}{} of {} (checkpoint {}); continue with: ibvalve run --restart {}",
+      (signal ? "stopped by " + signal_name(signal) + " after step " : std::string("stopped after step ")),
+      step, steps, file.string(), run_directory.string());
 }
 
 RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)

@@ -17,7 +17,7 @@ namespace {
 /// Whether file descriptor `fd` of this process's parent is a terminal (read through /proc).
 bool parent_descriptor_is_terminal(int fd)
 {
-  const std::string path = "/proc/" + std::to_string(getppid()) + "/fd/" + std::to_string(fd);
+  const std::string path = fmt::format("/proc/{}/fd/{}", getppid(), fd);
   const int opened = open(path.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (opened < 0) return false;
   const bool terminal = isatty(opened) != 0;

@@ -1,6 +1,7 @@
 #include "fe/element.hpp"
 
 #include <array>
+#include <fmt/format.h>
 #include <stdexcept>
 
 namespace ibvalve::fe {
@@ -212,9 +213,9 @@ CellShape shape_of_gmsh_type(int gmsh_type)
   case 15:
     return CellShape::point;
   default:
-    throw std::invalid_argument("Gmsh element type " + std::to_string(gmsh_type) +
-                                " is not supported (first-order lines, triangles, quadrangles, "
-                                "tetrahedra and hexahedra are)");
+    throw std::invalid_argument(fmt::format("Gmsh element type {} is not supported (first-order lines, "
+                                            "triangles, quadrangles, tetrahedra and hexahedra are)",
+                                            gmsh_type));
   }
 }
 

@@ -1,6 +1,7 @@
 #include "fe/gmsh_io.hpp"
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <map>
 #include <mutex>
 #include <set>
@@ -104,7 +105,7 @@ Mesh read_msh(const std::filesystem::path& path)
     group.dimension = dim;
     group.tag = tag;
     gmsh::model::getPhysicalName(dim, tag, group.name);
-    if (group.name.empty()) group.name = std::to_string(dim) + "d_" + std::to_string(tag);
+    if (group.name.empty()) group.name = fmt::format("{}d_{}", dim, tag);
     std::vector<int> entities;
     gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
     for (int entity : entities) {

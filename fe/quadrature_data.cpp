@@ -1,6 +1,7 @@
 #include "fe/quadrature_data.hpp"
 
 #include <Eigen/LU>
+#include <fmt/format.h>
 
 #include "base/errors.hpp"
 
@@ -32,8 +33,7 @@ QuadratureData::QuadratureData(const Mesh& mesh, int degree)
       }
       const double det = jacobian.determinant();
       if (!(det > 0))
-        throw InputError("mesh: element " + std::to_string(e) +
-                         " is inverted or degenerate (det J = " + std::to_string(det) + ")");
+        throw InputError(fmt::format("mesh: element {} is inverted or degenerate (det J = {:g})", e, det));
       const Eigen::Matrix3d inverse_transpose = jacobian.inverse().transpose();
       jxw_[e * points_ + q] = det * rule.weights[q];
       points_X_[e * points_ + q] = X;

@@ -1,6 +1,7 @@
 #include "fe/quasi_static.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <map>
 
 #include <petscsnes.h>
@@ -132,9 +133,9 @@ QuasiStaticResult QuasiStaticSolver::solve(std::vector<double> initial)
     PETSC_CHECK(SNESGetConvergedReason(snes_, &reason));
     PETSC_CHECK(SNESGetIterationNumber(snes_, &iterations));
     if (reason <= 0) {
-      throw RunError("quasi-static solve: Newton did not converge at load step " + std::to_string(step) +
-                     " of " + std::to_string(options_.load_steps) + " (" + SNESConvergedReasons[reason] +
-                     "); try more load steps");
+      throw RunError(fmt::format(
+          "quasi-static solve: Newton did not converge at load step {} of {} ({}); try more load steps", step,
+          options_.load_steps, SNESConvergedReasons[reason]));
     }
     result.newton_iterations.push_back(static_cast<int>(iterations));
     current = system_.gather(u);

@@ -1,6 +1,7 @@
 #include "fe/solid.hpp"
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -36,7 +37,7 @@ SolidModel::SolidModel(const Mesh& mesh, std::vector<BodyPart> parts, int quadra
       if (e < 0 || static_cast<std::size_t>(e) >= mesh.num_elements())
         throw std::invalid_argument("solid: body part '" + parts_[p].name +
                                     "' names an element that does not exist");
-      if (seen[e]++) throw InputError("solid: element " + std::to_string(e) + " is in two body parts");
+      if (seen[e]++) throw InputError(fmt::format("solid: element {} is in two body parts", e));
       items.emplace_back(static_cast<int>(p), e);
     }
   }

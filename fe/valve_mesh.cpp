@@ -1,6 +1,7 @@
 #include "fe/valve_mesh.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <numbers>
 #include <stdexcept>
 
@@ -235,7 +236,7 @@ Mesh aortic_valve_mesh(const ValveMeshParameters& p)
   check(p);
   Mesh mesh(CellShape::hexahedron, {}, {});
   for (int k = 0; k < 3; ++k) {
-    const std::string name = "leaflet" + std::to_string(k + 1);
+    const std::string name = fmt::format("leaflet{}", k + 1);
     append(mesh, leaflet_mesh(p, k), [&](const std::string& g) {
       if (g == "body") return name;
       if (g == "attachment" || g == "tau1" || g == "tau2" || g == "free_edge" || g == "n1" || g == "n2" ||

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <limits>
 #include <sstream>
 
@@ -171,7 +172,7 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t count, co
     }
   }
   if (values.size() != count)
-    throw InputError("fibers: selector '" + selector + "' needs " + std::to_string(count) + " numbers");
+    throw InputError(fmt::format("fibers: selector '{}' needs {} numbers", selector, count));
   return values;
 }
 

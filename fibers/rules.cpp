@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fmt/format.h>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -139,16 +140,16 @@ std::vector<Vec3> read_element_fibers(const std::filesystem::path& path, long ex
       count < 0)
     throw InputError(where + "1: not an ibvalve element fiber file (header 'ibvalve-element-fibers 1 N')");
   if (expected_elements >= 0 && count != expected_elements)
-    throw InputError(where + "1: the file has fibers for " + std::to_string(count) +
-                     " elements, the mesh has " + std::to_string(expected_elements));
+    throw InputError(fmt::format("{}1: the file has fibers for {} elements, the mesh has {}", where, count,
+                                 expected_elements));
   std::vector<Vec3> directions;
   directions.reserve(count);
   for (long e = 0; e < count; ++e) {
     Vec3 f;
-    if (!std::getline(in, line)) throw InputError(where + std::to_string(e + 2) + ": the file ends early");
+    if (!std::getline(in, line)) throw InputError(fmt::format("{}{}: the file ends early", where, e + 2));
     std::istringstream row(line);
     if (!(row >> f[0] >> f[1] >> f[2]) || !f.allFinite())
-      throw InputError(where + std::to_string(e + 2) + ": expected three numbers");
+      throw InputError(fmt::format("{}{}: expected three numbers", where, e + 2));
     directions.push_back(f);
   }
   return directions;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 
 namespace ibvalve::fluid {
@@ -27,8 +28,8 @@ void BoundaryConditions::check(const BoxGeometry& box) const
       throw std::invalid_argument("fluid boundary: " + side_name(side_index(d, 0)) + " and " +
                                   side_name(side_index(d, 1)) + " must both be periodic or neither");
     if (lower != box.periodic[d])
-      throw std::invalid_argument("fluid boundary: periodicity of direction " + std::to_string(d) +
-                                  " does not match the grid");
+      throw std::invalid_argument(
+          fmt::format("fluid boundary: periodicity of direction {} does not match the grid", d));
   }
 }
 

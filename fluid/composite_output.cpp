@@ -1,5 +1,7 @@
 #include "fluid/composite_output.hpp"
 
+#include <fmt/format.h>
+
 #include "io/petsc_check.hpp"
 #include "io/petsc_handle.hpp"
 
@@ -68,9 +70,8 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
       std::array<double, 3> origin{};
       for (int d = 0; d < 3; ++d)
         origin[d] = h.domain().lower[d] + static_cast<double>(box.lower[d]) * h.h(l, d);
-      grids.push_back(
-          io::XdmfGrid::regular(grid_prefix + "level" + std::to_string(l) + "_box" + std::to_string(b), n,
-                                origin, {h.h(l, 0), h.h(l, 1), h.h(l, 2)}));
+      grids.push_back(io::XdmfGrid::regular(fmt::format("{}level{}_box{}", grid_prefix, l, b), n, origin,
+                                            {h.h(l, 0), h.h(l, 1), h.h(l, 2)}));
     }
   }
   // A scalar field is one component; a vector field's components are interleaved per cell (x fastest over
@@ -100,8 +101,7 @@ std::vector<io::XdmfGrid> write_composite_fields(io::Hdf5File& file, const Compo
           for (std::size_t c = 0; c < n; ++c)
             for (std::size_t d = 0; d < m; ++d) values[m * c + d] = arrays[d][l][b][c];
         }
-        const std::string dataset =
-            group + "/level" + std::to_string(l) + "_box" + std::to_string(b) + "/" + name;
+        const std::string dataset = fmt::format("{}/level{}_box{}/{}", group, l, b, name);
         file.write_root(dataset, std::span<const double>(values), dims);
         if (!field_units.empty()) file.write_string_attribute(dataset, "units", field_units);
         grids[g].add_field(name, io::Center::cell, {dims.begin(), dims.end()},

@@ -1,6 +1,7 @@
 #include "fluid/composite_poisson.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -271,8 +272,8 @@ PetscInt CompositePoissonSolver::solve(Vec b, Vec x) const
   PetscInt iterations = 0;
   PETSC_CHECK(KSPGetIterationNumber(ksp_, &iterations));
   if (reason < 0)
-    throw RunError("composite Poisson solver diverged (" + std::string(KSPConvergedReasons[reason]) +
-                   ") after " + std::to_string(iterations) + " iterations");
+    throw RunError(fmt::format("composite Poisson solver diverged ({}) after {} iterations",
+                               KSPConvergedReasons[reason], iterations));
   return iterations;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 #include <string>
 
@@ -394,10 +395,9 @@ FaceValue CompositeVelocity::interpolate(int level, int normal, const Real3& x, 
           return v;
         }
   }
-  throw std::logic_error("composite velocity: no interpolation stencil on level " + std::to_string(level) +
-                         " for the normal-" + std::to_string(normal) + " velocity at (" +
-                         std::to_string(x[0]) + ", " + std::to_string(x[1]) + ", " + std::to_string(x[2]) +
-                         ")");
+  throw std::logic_error(fmt::format("composite velocity: no interpolation stencil on level {} for the "
+                                     "normal-{} velocity at ({:g}, {:g}, {:g})",
+                                     level, normal, x[0], x[1], x[2]));
 }
 
 std::vector<double> CompositeVelocity::data_values(const VelocityFunction& wall_velocity, double t) const

@@ -1,6 +1,7 @@
 #include "fluid/fft_stokes.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -61,8 +62,9 @@ Decomposition fft_decomposition(MPI_Comm comm, const Index3& cells)
   decomposition.slabs_in_z = true;
   for (long n : all) {
     if (n < 2)
-      throw std::invalid_argument("fluid fft solver: too many ranks for " + std::to_string(cells[2]) +
-                                  " cells in z (each rank needs a slab of at least 2 planes)");
+      throw std::invalid_argument(fmt::format(
+          "fluid fft solver: too many ranks for {} cells in z (each rank needs a slab of at least 2 planes)",
+          cells[2]));
     decomposition.z_ownership.push_back(static_cast<PetscInt>(n));
   }
   return decomposition;

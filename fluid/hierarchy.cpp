@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -103,8 +104,8 @@ GridHierarchy::GridHierarchy(const BoxGeometry& domain, std::vector<FinerLevel> 
     const int l = static_cast<int>(n) + 1;
     const FinerLevel& spec = finer_levels[n];
     if (spec.ratio != 2 && spec.ratio != 4)
-      throw HierarchyError(l, -1, "refinement ratio must be 2 or 4, got " + std::to_string(spec.ratio));
-    if (spec.boxes.empty()) throw HierarchyError(l, -1, "level " + std::to_string(l) + " has no boxes");
+      throw HierarchyError(l, -1, fmt::format("refinement ratio must be 2 or 4, got {}", spec.ratio));
+    if (spec.boxes.empty()) throw HierarchyError(l, -1, fmt::format("level {} has no boxes", l));
     Level level;
     level.ratio = spec.ratio;
     for (int d = 0; d < 3; ++d) {
@@ -118,17 +119,15 @@ GridHierarchy::GridHierarchy(const BoxGeometry& domain, std::vector<FinerLevel> 
       const int bi = static_cast<int>(b);
       if (box.empty()) throw HierarchyError(l, bi, "the box is empty (" + describe(box) + ")");
       if (!whole.contains(box))
-        throw HierarchyError(l, bi,
-                             "the box " + describe(box) + " of level " + std::to_string(l) +
-                                 " reaches outside the domain");
+        throw HierarchyError(
+            l, bi, fmt::format("the box {} of level {} reaches outside the domain", describe(box), l));
       if (box.aligned_outward(spec.ratio) != box)
         throw HierarchyError(l, bi,
-                             "the box " + describe(box) + " of level " + std::to_string(l) +
-                                 " does not start and end on cells of level " + std::to_string(l - 1));
+                             fmt::format("the box {} of level {} does not start and end on cells of level {}",
+                                         describe(box), l, l - 1));
       for (std::size_t o = 0; o < b; ++o)
         if (!box.intersection(spec.boxes[o]).empty())
-          throw HierarchyError(
-              l, bi, "the box overlaps box " + std::to_string(o) + " of level " + std::to_string(l));
+          throw HierarchyError(l, bi, fmt::format("the box overlaps box {} of level {}", o, l));
     }
     levels_.push_back(std::move(level));
     // Proper nesting: one coarser cell all around each box (inside the domain) belongs to the coarser level.
@@ -138,9 +137,9 @@ GridHierarchy::GridHierarchy(const BoxGeometry& domain, std::vector<FinerLevel> 
       const IndexBox halo = spec.boxes[b].coarsened(spec.ratio).grown(1).intersection(coarse_whole);
       if (!covers(l - 1, halo))
         throw HierarchyError(l, static_cast<int>(b),
-                             "the box " + describe(spec.boxes[b]) + " of level " + std::to_string(l) +
-                                 " is not properly nested: level " + std::to_string(l - 1) +
-                                 " must cover it with one cell to spare on every side");
+                             fmt::format("the box {} of level {} is not properly nested: level {} must cover "
+                                         "it with one cell to spare on every side",
+                                         describe(spec.boxes[b]), l, l - 1));
     }
   }
 }
@@ -240,12 +239,12 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
 {
   const auto ratios = config.integers("nested.ratios");
   for (const auto r : ratios)
-    if (r != 2 && r != 4) config.fail("nested.ratios", "each ratio must be 2 or 4, got " + std::to_string(r));
+    if (r != 2 && r != 4) config.fail("nested.ratios", fmt::format("each ratio must be 2 or 4, got {}", r));
   const int finer = static_cast<int>(ratios.size());
   const auto margins = config.integers("nested.margins");
   if (margins.size() != 1 && static_cast<int>(margins.size()) != finer)
-    config.fail("nested.margins", "give one margin or one per finer level (" + std::to_string(finer) +
-                                      "), got " + std::to_string(margins.size()));
+    config.fail("nested.margins",
+                fmt::format("give one margin or one per finer level ({}), got {}", finer, margins.size()));
   const auto margin = [&](int level) {
     return static_cast<PetscInt>(margins.size() == 1 ? margins[0] : margins[level - 1]);
   };
@@ -270,8 +269,7 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
     const io::Config& entry = entries[e];
     const auto level = entry.integer("level");
     if (level > finer)
-      entry.fail("level", "there are " + std::to_string(finer) + " finer levels (nested.ratios), not " +
-                              std::to_string(level));
+      entry.fail("level", fmt::format("there are {} finer levels (nested.ratios), not {}", finer, level));
     const int l = static_cast<int>(level);
     IndexBox box;
     for (const char* corner : {"lower", "upper"}) {
@@ -281,8 +279,9 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
         const double q = (x[d] - domain.lower[d]) / h[l - 1][d];
         const double n = std::round(q);
         if (std::abs(q - n) > 1e-8 * std::max(1.0, std::abs(q)))
-          entry.fail(corner, "not on a corner of the level-" + std::to_string(l - 1) + " cells (spacing " +
-                                 std::to_string(h[l - 1][d]) + " cm in direction " + "xyz"[d] + ")");
+          entry.fail(corner,
+                     fmt::format("not on a corner of the level-{} cells (spacing {:g} cm in direction {})",
+                                 l - 1, h[l - 1][d], "xyz"[d]));
         if (n < 0 || n > static_cast<double>(whole[l - 1][d]))
           entry.fail(corner, std::string("outside the domain in direction ") + "xyz"[d]);
         (std::string(corner) == "lower" ? box.lower : box.upper)[d] =
@@ -325,8 +324,9 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
     if (l < finer)
       for (const IndexBox& b : levels[l].boxes) add(b.coarsened(levels[l].ratio).grown(margin(l)));
     if (!hull)
-      config.fail("nested.box", "level " + std::to_string(l) +
-                                    " has no [[nested.box]] and there is no structure to place it around");
+      config.fail(
+          "nested.box",
+          fmt::format("level {} has no [[nested.box]] and there is no structure to place it around", l));
     level.boxes = {hull->aligned_outward(level.ratio).intersection(IndexBox{{0, 0, 0}, whole[l]})};
   }
 
@@ -348,13 +348,13 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
                                .grown(support_cells)
                                .intersection(hierarchy->domain_box(f));
     if (!hierarchy->covers(f, reach)) {
-      const std::string message = "the structure (bounding box with " + std::to_string(support_cells) +
-                                  " cells of kernel reach, " + describe(reach) + " of level " +
-                                  std::to_string(f) + ") is not inside the finest level";
+      const std::string message = fmt::format("the structure (bounding box with {} cells of kernel reach, {} "
+                                              "of level {}) is not inside the finest level",
+                                              support_cells, describe(reach), f);
       if (automatic[f - 1])
         config.fail("nested.margins", message + "; raise the margin");
       else
-        config.fail(structure_key, message + " (see [[nested.box]] with level = " + std::to_string(f) + ")");
+        config.fail(structure_key, fmt::format("{} (see [[nested.box]] with level = {})", message, f));
     }
   }
   return std::move(*hierarchy);

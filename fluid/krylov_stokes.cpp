@@ -1,6 +1,7 @@
 #include "fluid/krylov_stokes.hpp"
 
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #include "fluid/jacobi.hpp"
@@ -411,9 +412,9 @@ SolveStatistics KrylovStokesSolver::solve(Vec rhs, Vec solution)
   PETSC_CHECK(KSPGetIterationNumber(ksp_, &stats.iterations));
   PETSC_CHECK(KSPGetResidualNorm(ksp_, &stats.residual));
   if (reason < 0)
-    throw std::runtime_error(std::string("fluid: the Stokes solver did not converge (") +
-                             KSPConvergedReasons[reason] + ", " + std::to_string(stats.iterations) +
-                             " iterations, residual " + std::to_string(stats.residual) + ")");
+    throw std::runtime_error(
+        fmt::format("fluid: the Stokes solver did not converge ({}, {} iterations, residual {:g})",
+                    KSPConvergedReasons[reason], stats.iterations, stats.residual));
   PETSC_CHECK(DMGlobalToLocal(grid_.dm(), x_, INSERT_VALUES, solution));
   stats.helmholtz_seconds = helmholtz_seconds_;
   stats.poisson_seconds = MPI_Wtime() - start - helmholtz_seconds_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <fmt/format.h>
 #include <stdexcept>
 #include <vector>
 
@@ -322,7 +323,7 @@ void NavierStokes::restore(const io::Hdf5File& file, const std::string& group)
 std::string NavierStokes::describe() const
 {
   const Index3& n = grid_->box().cells;
-  return "grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]);
+  return fmt::format("grid {} x {} x {}", n[0], n[1], n[2]);
 }
 
 double NavierStokes::finest_spacing() const

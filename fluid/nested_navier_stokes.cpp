@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fmt/format.h>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
@@ -81,8 +82,8 @@ void check_reason(KSP ksp, const char* what)
   if (reason < 0) {
     PetscInt iterations = 0;
     PETSC_CHECK(KSPGetIterationNumber(ksp, &iterations));
-    throw RunError(std::string("nested Navier-Stokes: the ") + what + " solve diverged (" +
-                   KSPConvergedReasons[reason] + ") after " + std::to_string(iterations) + " iterations");
+    throw RunError(fmt::format("nested Navier-Stokes: the {} solve diverged ({}) after {} iterations", what,
+                               KSPConvergedReasons[reason], iterations));
   }
 }
 
@@ -472,7 +473,7 @@ void NestedNavierStokes::step(double dt)
   double u_max = 0.0;
   PETSC_CHECK(VecNorm(u_, NORM_INFINITY, &u_max));
   if (!std::isfinite(u_max))
-    throw RunError("nested Navier-Stokes: the velocity is not finite at t = " + std::to_string(time_));
+    throw RunError(fmt::format("nested Navier-Stokes: the velocity is not finite at t = {:g} s", time_));
 }
 
 namespace {
@@ -499,9 +500,8 @@ void read_vector(const io::Hdf5File& file, const std::string& name, Vec v)
   PETSC_CHECK(VecGetSize(v, &size));
   const std::vector<hsize_t> dims = file.has(name) ? file.dims(name) : std::vector<hsize_t>{};
   if (dims.size() != 1 || dims[0] != static_cast<hsize_t>(size))
-    throw std::runtime_error(file.path().string() + ": " + name +
-                             " is missing or does not fit this grid hierarchy (" + std::to_string(size) +
-                             " values)");
+    throw std::runtime_error(fmt::format("{}: {} is missing or does not fit this grid hierarchy ({} values)",
+                                         file.path().string(), name, size));
   const std::array<hsize_t, 1> offset{static_cast<hsize_t>(begin)}, count{static_cast<hsize_t>(end - begin)};
   const std::vector<double> values = file.read_block(name, offset, count);
   PetscScalar* a = nullptr;

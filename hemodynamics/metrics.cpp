@@ -123,13 +123,12 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   const double span = series.t.back() - t_first;
   const long full_cycles = static_cast<long>(std::floor(span / settings.period * (1.0 + 1e-9)));
   if (full_cycles < 1)
-    throw std::invalid_argument("the series spans " + std::to_string(span) + " s, less than one period (" +
-                                std::to_string(settings.period) + " s)");
+    throw std::invalid_argument(
+        fmt::format("the series spans {:g} s, less than one period ({:g} s)", span, settings.period));
   const long k = settings.cycle < 0 ? full_cycles - 1 : settings.cycle;
   if (k >= full_cycles)
-    throw std::invalid_argument("cycle " + std::to_string(settings.cycle) +
-                                " asked for, but the series holds " + std::to_string(full_cycles) +
-                                " full cycle(s)");
+    throw std::invalid_argument(fmt::format("cycle {} asked for, but the series holds {} full cycle(s)",
+                                            settings.cycle, full_cycles));
   const double t0 = t_first + static_cast<double>(k) * settings.period;
   const double t1 = std::min(t0 + settings.period, series.t.back());
   const ValveSeries w = time_window(series, t0, t1);
@@ -140,8 +139,8 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   ValveMetrics out;
   Phases& ph = out.phases;
   ph = Phases{t0, t1, nan, nan, nan, nan, nan, "", nan, nan, nan, nan};
-  out.notes.push_back("cycle " + std::to_string(k) + " of " + std::to_string(full_cycles) + ": [" +
-                      seconds(t0) + ", " + seconds(t1) + "], " + std::to_string(n) + " samples");
+  out.notes.push_back(
+      fmt::format("cycle {} of {}: [{}, {}], {} samples", k, full_cycles, seconds(t0), seconds(t1), n));
 
   // --- Orifice-area phases.
   bool area_phases = false;

@@ -206,12 +206,13 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
   while (waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) return "lost " + args[0] + " (" + std::strerror(errno) + ")";
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  if (WIFSIGNALED(status)) return args[0] + " was killed by signal " + std::to_string(WTERMSIG(status));
+  if (WIFSIGNALED(status)) return fmt::format("{} was killed by signal {}", args[0], WTERMSIG(status));
   std::string tail = fs::exists(log) ? io::read_text_file(log) : std::string();
   while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
   const auto cut = tail.rfind('\n');
-  return "exit " + std::to_string(WEXITSTATUS(status)) +
-         (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1)));
+  return fmt::format(
+      "exit {}{}", WEXITSTATUS(status),
+      (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1))));
 }
 
 } // namespace
@@ -380,13 +381,13 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     const double span = series.t.back() - series.t.front();
     const double interval = span / static_cast<double>(series.t.size() - 1);
     if (period > span * (1.0 + 1e-9))
-      throw InputError(period_name + ": longer than the series (" + format_value(span) + " s of " +
-                       std::to_string(series.t.size()) + " rows)");
+      throw InputError(fmt::format("{}: longer than the series ({} s of {} rows)", period_name,
+                                   format_value(span), series.t.size()));
     constexpr double minimum_rows = 10;
     if (period < minimum_rows * interval)
-      throw InputError(period_name + ": holds about " + std::to_string(std::lround(period / interval)) +
-                       " rows of the series (one every " + format_value(interval) +
-                       " s); a cycle needs at least " + std::to_string(static_cast<int>(minimum_rows)));
+      throw InputError(fmt::format(
+          "{}: holds about {} rows of the series (one every {} s); a cycle needs at least {}", period_name,
+          std::lround(period / interval), format_value(interval), static_cast<int>(minimum_rows)));
   }
   ValveMetrics metrics;
   try {

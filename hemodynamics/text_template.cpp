@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <fmt/format.h>
 #include <vector>
 
 #include "base/errors.hpp"
@@ -107,7 +108,7 @@ std::string located(const std::string& origin, std::string_view text, const std:
     const char* last = message.data() + message.size();
     if (auto [ptr, ec] = std::from_chars(first, last, offset); ec == std::errc() && ptr == last) {
       const auto line = 1 + std::count(text.begin(), text.begin() + std::min(offset, text.size()), '\n');
-      return origin + ":" + std::to_string(line) + ": " + message.substr(0, at);
+      return fmt::format("{}:{}: {}", origin, line, message.substr(0, at));
     }
   }
   return origin + ": " + message;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #include "base/errors.hpp"
@@ -73,11 +74,11 @@ ValveSeries read_valve_series(const std::filesystem::path& file)
   for (const auto* c : s.columns())
     for (std::size_t i = 0; i < c->size(); ++i)
       if (!std::isfinite((*c)[i]))
-        throw InputError(file.string() + ": data row " + std::to_string(i + 1) + ": a value is not finite");
+        throw InputError(fmt::format("{}: data row {}: a value is not finite", file.string(), i + 1));
   for (std::size_t i = 1; i < s.t.size(); ++i)
     if (!(s.t[i] > s.t[i - 1]))
-      throw InputError(file.string() + ": data row " + std::to_string(i + 1) + ": time " +
-                       std::to_string(s.t[i]) + " does not increase");
+      throw InputError(
+          fmt::format("{}: data row {}: time {} does not increase", file.string(), i + 1, s.t[i]));
   return s;
 }
 
@@ -114,9 +115,8 @@ ValveSeries time_window(const ValveSeries& series, double start, double end)
 {
   const double slack = 1e-9 * std::max(1.0, std::abs(end));
   if (!(start < end) || start < series.t.front() - slack || end > series.t.back() + slack)
-    throw std::invalid_argument("time window [" + std::to_string(start) + ", " + std::to_string(end) +
-                                "] s is not inside the series [" + std::to_string(series.t.front()) + ", " +
-                                std::to_string(series.t.back()) + "] s");
+    throw std::invalid_argument(fmt::format("time window [{}, {}] s is not inside the series [{}, {}] s",
+                                            start, end, series.t.front(), series.t.back()));
   ValveSeries out = series;
   const auto in = series.columns();
   auto into = out.columns();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fmt/format.h>
 #include <sstream>
 #include <stdexcept>
 
@@ -86,11 +87,10 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   place_points(displacement_);
 
   const StabilityEstimate s = stability_estimate();
-  base::Logger::global().info("ib: IB/FE coupling with the " + interaction_.kernel().name() + " kernel, " +
-                              std::to_string(points_.size()) +
-                              " coupling points at the start; stable time step estimate " + format(s.dt) +
-                              " s (structure modulus " + format(s.modulus) + " dyn/cm^2, length " +
-                              format(s.length) + " cm)");
+  base::Logger::global().info(fmt::format(
+      "ib: IB/FE coupling with the {} kernel, {} coupling points at the start; stable time step estimate {} "
+      "s (structure modulus {} dyn/cm^2, length {} cm)",
+      interaction_.kernel().name(), points_.size(), format(s.dt), format(s.modulus), format(s.length)));
 }
 
 std::string describe_time_step(double dt, const StabilityEstimate& s)
@@ -147,10 +147,10 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
   const std::size_t capped = points_.update(x, h_min_);
   if (capped > 0 && !warned_capped_) {
     warned_capped_ = true;
-    base::Logger::global().warn("ib: " + std::to_string(capped) + " elements are stretched so far that " +
-                                std::to_string(settings_.points.max_points) +
-                                " coupling points per direction leave gaps wider than ib.point_spacing grid "
-                                "cells; the fluid may leak through them (shown once)");
+    base::Logger::global().warn(
+        fmt::format("ib: {} elements are stretched so far that {} coupling points per direction leave gaps "
+                    "wider than ib.point_spacing grid cells; the fluid may leak through them (shown once)",
+                    capped, settings_.points.max_points));
   }
   interaction_.prepare(points_.positions(), prepared_);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -116,8 +117,9 @@ GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind ke
   }
   for (int d = 0; d < 3; ++d)
     if (grid.count(d) < kernel_.ghost_width())
-      throw std::invalid_argument("ib: each rank needs at least " + std::to_string(kernel_.ghost_width()) +
-                                  " cells per direction for the " + kernel_.name() + " kernel");
+      throw std::invalid_argument(
+          fmt::format("ib: each rank needs at least {} cells per direction for the {} kernel",
+                      kernel_.ghost_width(), kernel_.name()));
 }
 
 Vec3 GridInteraction::wrap(const Vec3& x) const

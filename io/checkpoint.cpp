@@ -92,7 +92,7 @@ void flatten(const toml::node& node, const std::string& key, std::vector<std::st
   }
   if (const toml::array* array = node.as_array(); array && !array->empty() && array->is_array_of_tables()) {
     for (std::size_t i = 0; i < array->size(); ++i)
-      flatten((*array)[i], key + "[" + std::to_string(i) + "]", lines);
+      flatten((*array)[i], fmt::format("{}[{}]", key, i), lines);
     return;
   }
   if (restart_may_change_key(key)) return;
@@ -275,8 +275,8 @@ void truncate_csv_rows(const std::filesystem::path& path, std::int64_t rows)
     if (!line.empty() && line[0] != '#') ++data_rows;
   }
   if (data_rows < rows)
-    throw InputError(path.string() + ": has " + std::to_string(std::max<std::int64_t>(data_rows, 0)) +
-                     " rows but the checkpoint expects " + std::to_string(rows));
+    throw InputError(fmt::format("{}: has {} rows but the checkpoint expects {}", path.string(),
+                                 std::max<std::int64_t>(data_rows, 0), rows));
   in.close();
   write_file_atomically(path, kept);
 }

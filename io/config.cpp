@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fmt/format.h>
 #include <functional>
 #include <sstream>
 #include <stdexcept>
@@ -383,7 +384,7 @@ std::string Schema::markdown() const
             if constexpr (std::is_same_v<T, bool>)
               def = v ? "true" : "false";
             else if constexpr (std::is_same_v<T, std::int64_t>)
-              def = std::to_string(v);
+              def = fmt::to_string(v);
             else if constexpr (std::is_same_v<T, double>)
               def = format_number(v);
             else if constexpr (std::is_same_v<T, std::string>)
@@ -444,7 +445,7 @@ std::string source_name(const toml::source_region& region, const std::filesystem
 std::string location(const toml::node* node, const std::filesystem::path& file)
 {
   if (node && node->source().begin.line > 0)
-    return source_name(node->source(), file) + ":" + std::to_string(node->source().begin.line);
+    return fmt::format("{}:{}", source_name(node->source(), file), node->source().begin.line);
   return file.string();
 }
 
@@ -579,15 +580,15 @@ struct Validator {
         input_error(&node, file, display_key,
                     "expected " + kind_name(spec.kind) + ", got " + display_value(node));
       if (array->size() < spec.min_size || array->size() > spec.max_size) {
-        const std::string count = spec.min_size == spec.max_size ? std::to_string(spec.min_size)
-                                                                 : std::to_string(spec.min_size) + " to " +
-                                                                       std::to_string(spec.max_size);
+        const std::string count = spec.min_size == spec.max_size
+                                      ? fmt::to_string(spec.min_size)
+                                      : fmt::format("{} to {}", spec.min_size, spec.max_size);
         input_error(&node, file, display_key,
-                    "expected " + count + " values, got " + std::to_string(array->size()));
+                    fmt::format("expected {} values, got {}", count, array->size()));
       }
       for (std::size_t i = 0; i < array->size(); ++i) {
         const toml::node& item = *array->get(i);
-        const std::string item_key = std::string(display_key) + "[" + std::to_string(i) + "]";
+        const std::string item_key = fmt::format("{}[{}]", display_key, i);
         if (spec.kind == ValueKind::string_list)
           check_string(item, spec, item_key);
         else
@@ -600,8 +601,7 @@ struct Validator {
       if (!array || !array->is_array_of_tables())
         input_error(&node, file, display_key, "expected a list of tables ([[" + spec.key + "]] sections)");
       if (array->size() < spec.min_size || array->size() > spec.max_size)
-        input_error(&node, file, display_key,
-                    "expected at least " + std::to_string(spec.min_size) + " entries");
+        input_error(&node, file, display_key, fmt::format("expected at least {} entries", spec.min_size));
       return; // elements are validated by validate_table
     }
     }
@@ -619,15 +619,14 @@ struct Validator {
         if (spec->kind == ValueKind::table_list) {
           auto& array = *node.as_array();
           for (std::size_t i = 0; i < array.size(); ++i)
-            validate_table(*array.get(i)->as_table(), *spec->element,
-                           display_key + "[" + std::to_string(i) + "]");
+            validate_table(*array.get(i)->as_table(), *spec->element, fmt::format("{}[{}]", display_key, i));
         }
       } else if (node.is_table() && schema.has_table(key)) {
         check_given(*node.as_table(), schema, key, display_key);
       } else {
         const toml::source_region& region = k.source();
         std::string where = region.begin.line > 0
-                                ? source_name(region, file) + ":" + std::to_string(region.begin.line)
+                                ? fmt::format("{}:{}", source_name(region, file), region.begin.line)
                                 : location(&node, file);
         // A table ([fluuid] or fluuid.viscosity = ...) is compared with the table names.
         if (node.is_table())
@@ -690,8 +689,8 @@ toml::table parse_toml_file(const std::filesystem::path& file)
   try {
     return toml::parse_file(file.string());
   } catch (const toml::parse_error& error) {
-    throw InputError(file.string() + ":" + std::to_string(error.source().begin.line) +
-                     ": TOML syntax error: " + std::string(error.description()));
+    throw InputError(fmt::format("{}:{}: TOML syntax error: {}", file.string(), error.source().begin.line,
+                                 std::string(error.description())));
   }
 }
 
@@ -913,7 +912,7 @@ std::vector<Config> Config::tables(std::string_view key) const
   const auto& array = *n->as_array();
   for (std::size_t i = 0; i < array.size(); ++i)
     out.push_back(Config(state_, array.get(i)->as_table(), s.element.get(),
-                         join_key(prefix_, key) + "[" + std::to_string(i) + "]"));
+                         fmt::format("{}[{}]", join_key(prefix_, key), i)));
   return out;
 }
 

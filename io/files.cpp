@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <fmt/format.h>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -43,7 +44,7 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
 {
   // POSIX calls rather than a stream: each failure has its errno, and close() is checked too (a
   // network filesystem may report a full disk only there).
-  const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());
+  const std::filesystem::path temporary = fmt::format("{}.tmp.{}", path.string(), ::getpid());
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) throw write_error(path, errno);
   int error = write_all(fd, content);
@@ -70,8 +71,8 @@ CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string>
     : path_(path), columns_(std::move(columns))
 {
   if (!units.empty() && units.size() != columns_.size())
-    throw std::logic_error("CsvWriter: " + std::to_string(units.size()) + " units for " +
-                           std::to_string(columns_.size()) + " columns of " + path.string());
+    throw std::logic_error(fmt::format("CsvWriter: {} units for {} columns of {}", units.size(),
+                                       columns_.size(), path.string()));
   const bool exists = append && std::filesystem::exists(path);
   errno = 0;
   out_.open(path, exists ? std::ios::app : std::ios::trunc);
@@ -199,17 +200,17 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
       continue;
     }
     if (table.columns.empty())
-      for (std::size_t i = 0; i < fields.size(); ++i) table.columns.push_back("c" + std::to_string(i));
+      for (std::size_t i = 0; i < fields.size(); ++i) table.columns.push_back(fmt::format("c{}", i));
     // A last line without its line end was cut off while being written (a run killed, or stopped by a
     // full disk, mid-row): say so rather than blame the file's content.
     if (fields.size() != table.columns.size() && in.eof())
-      throw InputError(path.string() + ":" + std::to_string(line_number) +
-                       ": the last row is torn (cut off while it was being written: a run killed or "
-                       "stopped by a full disk); ibvalve run --restart rewrites it from a checkpoint");
+      throw InputError(
+          fmt::format("{}:{}: the last row is torn (cut off while it was being written: a run killed or "
+                      "stopped by a full disk); ibvalve run --restart rewrites it from a checkpoint",
+                      path.string(), line_number));
     if (fields.size() != table.columns.size())
-      throw InputError(path.string() + ":" + std::to_string(line_number) + ": expected " +
-                       std::to_string(table.columns.size()) + " values, found " +
-                       std::to_string(fields.size()));
+      throw InputError(fmt::format("{}:{}: expected {} values, found {}", path.string(), line_number,
+                                   table.columns.size(), fields.size()));
     std::vector<double> row(fields.size());
     for (std::size_t i = 0; i < fields.size(); ++i) {
       const char* begin = fields[i].data();
@@ -218,9 +219,9 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
       // The file may be any readable file (a path in a case file someone sent): the message names the
       // place and what was expected, never the text found there.
       if (ec != std::errc() || ptr != end)
-        throw InputError(path.string() + ":" + std::to_string(line_number) +
-                         ": expected a number in column " + std::to_string(i + 1) + " of " +
-                         std::to_string(fields.size()) + " (a CSV table of numbers under a header row)");
+        throw InputError(fmt::format(
+            "{}:{}: expected a number in column {} of {} (a CSV table of numbers under a header row)",
+            path.string(), line_number, i + 1, fields.size()));
     }
     table.rows.push_back(std::move(row));
   }

@@ -1,5 +1,6 @@
 #include "io/xdmf.hpp"
 
+#include <fmt/format.h>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -109,7 +110,7 @@ namespace {
 std::string dims_text(const std::vector<std::size_t>& dims)
 {
   std::string s;
-  for (std::size_t i = 0; i < dims.size(); ++i) s += (i ? " " : "") + std::to_string(dims[i]);
+  for (std::size_t i = 0; i < dims.size(); ++i) s += fmt::format("{}{}", (i ? " " : ""), dims[i]);
   return s;
 }
 

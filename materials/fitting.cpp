@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <fmt/format.h>
 #include <fstream>
 #include <limits>
 #include <numeric>
@@ -40,7 +41,7 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
   if (!in) throw InputError(name + ": cannot be read");
   static const std::array<std::string, 4> required{"lambda1", "lambda2", "sigma11_kPa", "sigma22_kPa"};
   const auto fail = [&](int line, const std::string& message) {
-    throw InputError(name + ":" + std::to_string(line) + ": " + message);
+    throw InputError(fmt::format("{}:{}: {}", name, line, message));
   };
   BiaxialSample sample;
   sample.name = file.filename().string();
@@ -68,8 +69,7 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
       continue;
     }
     if (fields.size() != columns)
-      fail(number, "expected " + std::to_string(columns) + " comma-separated fields, got " +
-                       std::to_string(fields.size()));
+      fail(number, fmt::format("expected {} comma-separated fields, got {}", columns, fields.size()));
     std::array<double, 4> v{};
     for (std::size_t k = 0; k < required.size(); ++k)
       if (!parse_number(fields[column[k]], v[k]))
@@ -80,8 +80,8 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
   if (!header_seen)
     throw InputError(name + ":1: empty file (expected a header lambda1,lambda2,sigma11_kPa,sigma22_kPa)");
   if (sample.points.size() < 3)
-    throw InputError(name + ":" + std::to_string(number) + ": needs at least 3 data rows, got " +
-                     std::to_string(sample.points.size()));
+    throw InputError(
+        fmt::format("{}:{}: needs at least 3 data rows, got {}", name, number, sample.points.size()));
   return sample;
 }
 
@@ -278,8 +278,8 @@ FitResult fit_biaxial(const BiaxialSample& sample, const FitOptions& options)
     throw InputError("fit: a fiber angle applies to the two-family law hgo only (" + info.name +
                      " has its fiber along axis 1)");
   if (2 * sample.points.size() < info.parameters.size())
-    throw InputError(sample.name + ": too few data points for the " + std::to_string(info.parameters.size()) +
-                     " parameters of " + info.name);
+    throw InputError(fmt::format("{}: too few data points for the {} parameters of {}", sample.name,
+                                 info.parameters.size(), info.name));
   const auto starts = grid_starts(sample, options.setup);
   Solve best;
   FitResult result;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 
 namespace ibvalve::materials {
@@ -87,8 +88,8 @@ InvariantLaw::InvariantLaw(LawKind kind, std::vector<double> parameters, LawOpti
 {
   const LawInfo& info = law_info(kind);
   if (parameters_.size() != info.parameters.size())
-    throw std::invalid_argument(info.name + ": expected " + std::to_string(info.parameters.size()) +
-                                " parameters, got " + std::to_string(parameters_.size()));
+    throw std::invalid_argument(fmt::format("{}: expected {} parameters, got {}", info.name,
+                                            info.parameters.size(), parameters_.size()));
   for (std::size_t i = 0; i < parameters_.size(); ++i)
     if (!(parameters_[i] >= 0.0) || parameters_[i] > info.parameters[i].upper)
       throw std::invalid_argument(info.name + ": parameter " + info.parameters[i].name + " out of range");

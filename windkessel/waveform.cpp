@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fmt/format.h>
 #include <stdexcept>
 
 #include "base/errors.hpp"
@@ -25,9 +26,9 @@ PeriodicWaveform::PeriodicWaveform(std::vector<double> times, std::vector<double
   if (times_.size() < 2) throw std::invalid_argument("waveform: needs at least 2 points");
   for (std::size_t i = 0; i < times_.size(); ++i) {
     if (!std::isfinite(times_[i]) || !std::isfinite(values_[i]))
-      throw std::invalid_argument("waveform: point " + std::to_string(i) + " is not finite");
+      throw std::invalid_argument(fmt::format("waveform: point {} is not finite", i));
     if (i > 0 && !(times_[i] > times_[i - 1]))
-      throw std::invalid_argument("waveform: times must increase strictly (point " + std::to_string(i) + ")");
+      throw std::invalid_argument(fmt::format("waveform: times must increase strictly (point {})", i));
   }
   double largest = 0.0;
   for (double v : values_) largest = std::max(largest, std::abs(v));

@@ -11,6 +11,7 @@
 //
 //   mpiexec -n R bench_nested [divisor=1] [steps=4] [uniform=1]
 //   (divisor 2 halves every cell count per direction; uniform=0 skips the uniform grid's time steps)
+#include <fmt/format.h>
 #include <sys/resource.h>
 
 #include <chrono>
@@ -199,7 +200,7 @@ int main(int argc, char** argv)
     box.upper = {4.0, 4.0, 7.0};
     box.cells = {20 / divisor, 20 / divisor, 32 / divisor};
     box.periodic = {false, false, false};
-    const std::string text = "[nested]\nratios = [4]\nmargins = [" + std::to_string(4 / divisor) + "]\n";
+    const std::string text = fmt::format("[nested]\nratios = [4]\nmargins = [{}]\n", 4 / divisor);
     const io::Config config = io::Config::validate(
         toml::parse(std::string_view{text}, std::string_view{"bench.toml"}), "bench.toml", nested_schema());
     const GridHierarchy nested =

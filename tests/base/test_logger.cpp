@@ -2,6 +2,7 @@
 // counts this invocation's steps at this invocation's pace; every message also lands in the run's log file.
 #include <algorithm>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 
@@ -91,7 +92,7 @@ TEST(Logger, MessagesGoToTheLogFile)
   int rank = 0, pid = static_cast<int>(::getpid());
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  const auto path = std::filesystem::temp_directory_path() / ("ibvalve_log_" + std::to_string(pid) + ".txt");
+  const auto path = std::filesystem::temp_directory_path() / (fmt::format("ibvalve_log_{}.txt", pid));
   Logger& log = Logger::global();
   log.open_file(path);
   ::testing::internal::CaptureStdout();

@@ -2,6 +2,7 @@
 // gmsh API keeps nodes, elements and every named physical group.
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <numbers>
 
 #include <gmsh.h>
@@ -59,8 +60,7 @@ TEST_P(Meshes, MshRoundTripKeepsGroups)
   std::vector<int> half;
   for (std::size_t e = 0; e < mesh.num_elements(); e += 2) half.push_back(static_cast<int>(e));
   mesh.add_volume_group("leaflet", half);
-  const std::filesystem::path path =
-      "round_trip_" + std::to_string(static_cast<int>(GetParam())) + "_" + std::to_string(rank) + ".msh";
+  const std::filesystem::path path = fmt::format("round_trip_{}_{}.msh", static_cast<int>(GetParam()), rank);
   write_msh(mesh, path);
   const Mesh back = read_msh(path);
   std::filesystem::remove(path);
@@ -117,7 +117,7 @@ TEST(MeshInput, ReadsAMeshGmshGeneratedFromGeometry)
   // groups on the volume, a face and a corner (nodes classified on points, curves and surfaces).
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  const std::filesystem::path path = "gmsh_box_" + std::to_string(rank) + ".msh";
+  const std::filesystem::path path = fmt::format("gmsh_box_{}.msh", rank);
   Vec3 corner_position;
   {
     GmshSession session;

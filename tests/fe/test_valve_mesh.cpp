@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fmt/format.h>
 #include <numbers>
 #include <vector>
 
@@ -44,7 +45,7 @@ TEST(AorticValveMesh, HasTheGroupsTheFiberRulesAndTheRunNeed)
   for (int k = 1; k <= 3; ++k)
     for (const char* suffix :
          {"", "_attachment", "_tau1", "_tau2", "_n1", "_n2", "_free_edge", "_commissure1", "_commissure2"})
-      EXPECT_TRUE(mesh.has_group("leaflet" + std::to_string(k) + suffix)) << k << suffix;
+      EXPECT_TRUE(mesh.has_group(fmt::format("leaflet{}{}", k, suffix))) << k << suffix;
   for (const char* name : {"tube", "tube_outer", "tube_inner", "tube_inlet", "tube_outlet"})
     EXPECT_TRUE(mesh.has_group(name)) << name;
   const ValveMeshParameters p;

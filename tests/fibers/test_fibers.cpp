@@ -4,6 +4,7 @@
 // same answers on 1 and 2 ranks, and a per-element fiber file that reads back exactly.
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -165,7 +166,7 @@ TEST(FiberFile, RoundTripAndBadFiles)
 {
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
-  const std::filesystem::path path = "fibers_" + std::to_string(rank) + ".txt";
+  const std::filesystem::path path = fmt::format("fibers_{}.txt", rank);
   const std::vector<Vec3> directions{Vec3(1, 0, 0), Vec3(0.6, 0.8, 0), Vec3(1.0 / 3, 2.0 / 3, 2.0 / 3)};
   write_element_fibers(path, directions, PETSC_COMM_SELF);
   const std::vector<Vec3> back = read_element_fibers(path, 3);

@@ -5,6 +5,7 @@
 //    gives back every dataset bit for bit; continuing there agrees with the 2-rank run to round-off.
 // Both solvers: the FFT solver on a periodic box (z slabs) and the Krylov solver on a box with a
 // velocity inlet, a traction outlet and walls (the extra face layers of non-periodic directions).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -31,7 +32,7 @@ std::filesystem::path shared_path(const std::string& tag)
   int pid = static_cast<int>(::getpid());
   MPI_Bcast(&pid, 1, MPI_INT, 0, PETSC_COMM_WORLD);
   return std::filesystem::temp_directory_path() /
-         ("ibvalve_fluid_checkpoint_" + tag + "_" + std::to_string(pid) + ".h5");
+         (fmt::format("ibvalve_fluid_checkpoint_{}_{}.h5", tag, pid));
 }
 
 using testing::gather_fields;
@@ -99,7 +100,7 @@ void expect_readable_on_one_rank(const FlowSetup& setup, const std::filesystem::
     io::Hdf5File h5(alone, file, io::Hdf5File::Mode::read);
     one->restore(h5, "fluid");
   }
-  const std::filesystem::path again = file.string() + ".rank" + std::to_string(world_rank()) + ".h5";
+  const std::filesystem::path again = fmt::format("{}.rank{}.h5", file.string(), world_rank());
   {
     io::Hdf5File h5(alone, again, io::Hdf5File::Mode::create);
     one->save(h5, "fluid");
@@ -137,13 +138,13 @@ void expect_checkpoints_work(const FlowSetup& setup, int n, double dt, const cha
   expect_restart_exact(setup, PETSC_COMM_WORLD, file, n, dt);
   MPI_Comm alone;
   MPI_Comm_split(PETSC_COMM_WORLD, world_rank(), 0, &alone);
-  expect_restart_exact(setup, alone, file.string() + ".rank" + std::to_string(world_rank()) + ".h5", n, dt);
+  expect_restart_exact(setup, alone, fmt::format("{}.rank{}.h5", file.string(), world_rank()), n, dt);
   MPI_Comm_free(&alone);
   MPI_Barrier(PETSC_COMM_WORLD);
   expect_readable_on_one_rank(setup, file, n, dt, name);
   MPI_Barrier(PETSC_COMM_WORLD);
   if (world_rank() == 0) std::filesystem::remove(file);
-  std::filesystem::remove(file.string() + ".rank" + std::to_string(world_rank()) + ".h5");
+  std::filesystem::remove(fmt::format("{}.rank{}.h5", file.string(), world_rank()));
 }
 
 TEST(Checkpoint, PeriodicFftRunRestartsExactly)

@@ -4,6 +4,7 @@
 // The velocity of a MAC field is written at cell centres as the mean of each cell's two faces.
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 
@@ -75,7 +76,7 @@ TEST(CompositeOutput, EveryLevelBoxWithCoveredCellsAveragedFromTheFinerLevels)
   for (int l = 0; l < h.levels(); ++l)
     for (std::size_t bi = 0; bi < h.boxes(l).size(); ++bi) {
       const IndexBox& ib = h.boxes(l)[bi];
-      const std::string group = "t0/level" + std::to_string(l) + "_box" + std::to_string(bi) + "/";
+      const std::string group = fmt::format("t0/level{}_box{}/", l, bi);
       const auto dims = file.dims(group + "linear");
       ASSERT_EQ(dims.size(), 3u);
       EXPECT_EQ(dims[0], static_cast<hsize_t>(ib.cells(2)));
@@ -142,7 +143,7 @@ TEST(CompositeOutput, CellCentredVelocityOnEveryLevelIsTheMeanOfEachCellsFaces)
   for (int l = 0; l < h.levels(); ++l)
     for (std::size_t bi = 0; bi < h.boxes(l).size(); ++bi) {
       const IndexBox& ib = h.boxes(l)[bi];
-      const std::string dataset = "t0/level" + std::to_string(l) + "_box" + std::to_string(bi) + "/velocity";
+      const std::string dataset = fmt::format("t0/level{}_box{}/velocity", l, bi);
       const auto dims = file.dims(dataset);
       ASSERT_EQ(dims.size(), 4u);
       EXPECT_EQ(dims[3], 3u);

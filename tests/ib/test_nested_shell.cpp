@@ -6,6 +6,7 @@
 // pressure jump across the shell must agree closely (2 %) at a fraction of the cells.
 #include <cmath>
 #include <cstdio>
+#include <fmt/format.h>
 #include <functional>
 #include <memory>
 #include <string>
@@ -263,7 +264,8 @@ TEST(NestedShell, ANodeLeavingTheFinestLevelStopsTheRun)
     } catch (const RunError& e) {
       const std::string message = e.what();
       if (is_root()) std::printf("%s\n", message.c_str());
-      EXPECT_NE(message.find("node 7 at (" + std::to_string(x).substr(0, 4)), std::string::npos) << message;
+      EXPECT_NE(message.find("node 7 at (" + fmt::format("{}", x).substr(0, 4)), std::string::npos)
+          << message;
       EXPECT_NE(message.find("finest grid level (level 1, [0.3125, 1.1875] x [0.3125, 1.1875]"),
                 std::string::npos)
           << message;

@@ -4,6 +4,7 @@
 // checkpoint whose content no longer matches its checksum is passed over, one of another case refused.
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -22,8 +23,7 @@ std::filesystem::path shared_run_directory(const std::string& name)
 {
   int pid = static_cast<int>(::getpid());
   MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("ibvalve_ckpt_" + name + "_" + std::to_string(pid));
+  const auto dir = std::filesystem::temp_directory_path() / (fmt::format("ibvalve_ckpt_{}_{}", name, pid));
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank == 0) {
@@ -66,7 +66,7 @@ TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
     const auto block = block_of(rank, n, static_cast<double>(step));
     const auto file = checkpoints.write({step, 1e-3 * static_cast<double>(step), step / 2},
                                         [&](Hdf5File& h5) { save_block(h5, rank, size, block); });
-    EXPECT_EQ(file.filename().string(), "step_0000000" + std::to_string(step) + ".h5");
+    EXPECT_EQ(file.filename().string(), fmt::format("step_0000000{}.h5", step));
   }
   // keep = 2: step 10 is gone.
   EXPECT_FALSE(std::filesystem::exists(dir / "checkpoints" / "step_000000010.h5"));
@@ -150,7 +150,7 @@ TEST(Checkpoints, TimeSeriesIsCutBackToTheRecordedRows)
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (rank != 0) return; // a file operation of one rank
   const auto path =
-      std::filesystem::temp_directory_path() / ("ibvalve_ckpt_rows_" + std::to_string(::getpid()) + ".csv");
+      std::filesystem::temp_directory_path() / (fmt::format("ibvalve_ckpt_rows_{}.csv", ::getpid()));
   write_file_atomically(path, "t,q\n0,1\n# a comment\n1,2\n2,3\n3,4\n");
   truncate_csv_rows(path, 2);
   EXPECT_EQ(read_text_file(path), "t,q\n0,1\n# a comment\n1,2\n");

@@ -1,6 +1,7 @@
 // Case files are checked against a schema: each kind of bad input gives one InputError line that
 // names the file, the line and the key; a good file gives every key, defaults filled in, in CGS.
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <string>
 
@@ -66,8 +67,7 @@ class CaseFile {
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     static int counter = 0;
     path_ = std::filesystem::temp_directory_path() /
-            ("ibvalve_config_" + std::to_string(::getpid()) + "_" + std::to_string(rank) + "_" +
-             std::to_string(counter++) + ".toml");
+            (fmt::format("ibvalve_config_{}_{}_{}.toml", ::getpid(), rank, counter++));
     std::ofstream(path_) << text;
   }
   ~CaseFile() { std::filesystem::remove(path_); }

@@ -1,5 +1,6 @@
 // Files a run writes are never half-written; CSV time series are read back with clear errors.
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 
 #include <gtest/gtest.h>
@@ -12,8 +13,7 @@ namespace {
 
 std::filesystem::path temp(const std::string& name)
 {
-  return std::filesystem::temp_directory_path() /
-         ("ibvalve_files_" + std::to_string(::getpid()) + "_" + name);
+  return std::filesystem::temp_directory_path() / (fmt::format("ibvalve_files_{}_{}", ::getpid(), name));
 }
 
 TEST(Files, AtomicWriteReplacesTheWholeFileAndLeavesNoTemporary)

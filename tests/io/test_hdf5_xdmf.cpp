@@ -1,6 +1,7 @@
 // Parallel HDF5: a global array written in blocks by every rank reads back whole and in blocks, on 1
 // and 2 ranks; data from rank 0 is written once; the XDMF text points at the datasets.
 #include <filesystem>
+#include <fmt/format.h>
 #include <numeric>
 
 #include <gtest/gtest.h>
@@ -19,7 +20,7 @@ std::filesystem::path shared_temp_path(const std::string& name)
   // Every rank must name the same file: rank 0's process id decides.
   int pid = static_cast<int>(::getpid());
   MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  return std::filesystem::temp_directory_path() / ("ibvalve_" + name + "_" + std::to_string(pid) + ".h5");
+  return std::filesystem::temp_directory_path() / (fmt::format("ibvalve_{}_{}.h5", name, pid));
 }
 
 TEST(Hdf5File, BlocksFromEveryRankMakeOneGlobalArray)

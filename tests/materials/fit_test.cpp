@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
 #include <fstream>
 #include <iostream>
 #include <random>
@@ -120,7 +121,7 @@ class Csv : public ::testing::Test {
   std::filesystem::path write(const std::string& name, const std::string& text)
   {
     const auto dir =
-        std::filesystem::temp_directory_path() / ("ibvalve_fit_test_" + std::to_string(::getpid()));
+        std::filesystem::temp_directory_path() / (fmt::format("ibvalve_fit_test_{}", ::getpid()));
     std::filesystem::create_directories(dir);
     const auto path = dir / name;
     std::ofstream(path) << text;
