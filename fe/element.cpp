@@ -34,7 +34,6 @@ class Hex8 final : public ElementType {
     return {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
   }
   CellShape face_shape() const override { return CellShape::quadrilateral; }
-  int gmsh_type() const override { return 5; }
   std::vector<Vec3> reference_nodes() const override
   {
     std::vector<Vec3> nodes;
@@ -74,7 +73,6 @@ class Tet4 final : public ElementType {
     return {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   }
   CellShape face_shape() const override { return CellShape::triangle; }
-  int gmsh_type() const override { return 4; }
   std::vector<Vec3> reference_nodes() const override
   {
     return {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
@@ -101,7 +99,6 @@ class Quad4 final : public ElementType {
   QuadratureRule quadrature(int degree) const override { return quadrilateral_rule(degree); }
   std::vector<std::vector<int>> faces() const override { return {{0, 1}, {1, 2}, {2, 3}, {3, 0}}; }
   CellShape face_shape() const override { return CellShape::line; }
-  int gmsh_type() const override { return 3; }
   std::vector<Vec3> reference_nodes() const override
   {
     return {Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)};
@@ -133,7 +130,6 @@ class Tri3 final : public ElementType {
   QuadratureRule quadrature(int degree) const override { return triangle_rule(degree); }
   std::vector<std::vector<int>> faces() const override { return {{0, 1}, {1, 2}, {2, 0}}; }
   CellShape face_shape() const override { return CellShape::line; }
-  int gmsh_type() const override { return 2; }
   std::vector<Vec3> reference_nodes() const override { return {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)}; }
 };
 
@@ -159,83 +155,63 @@ const ElementType& element_type(CellShape shape)
   }
 }
 
+namespace {
+
+/// What a shape is to the files: nodes per cell, the Gmsh element type number (Gmsh reference manual,
+/// "MSH file format": 1 line, 2 triangle, 3 quadrangle, 4 tetrahedron, 5 hexahedron, 15 point) and the
+/// XDMF topology name (xdmf.org, "XDMF Model and Format": Topology).
+struct ShapeFacts {
+  CellShape shape;
+  int nodes;
+  int gmsh_type;
+  const char* xdmf_topology;
+};
+constexpr ShapeFacts shape_facts[] = {
+    {CellShape::hexahedron, 8, 5, "Hexahedron"},
+    {CellShape::tetrahedron, 4, 4, "Tetrahedron"},
+    {CellShape::quadrilateral, 4, 3, "Quadrilateral"},
+    {CellShape::triangle, 3, 2, "Triangle"},
+    {CellShape::line, 2, 1, "Polyline"},
+    {CellShape::point, 1, 15, "Polyvertex"},
+};
+
+const ShapeFacts& facts_of(CellShape shape)
+{
+  for (const ShapeFacts& f : shape_facts)
+    if (f.shape == shape) return f;
+  throw std::logic_error("fe: a cell shape without an entry in shape_facts");
+}
+
+} // namespace
+
+int ElementType::gmsh_type() const
+{
+  return gmsh_type_of(shape());
+}
+
 int nodes_per_cell(CellShape shape)
 {
-  switch (shape) {
-  case CellShape::hexahedron:
-    return 8;
-  case CellShape::tetrahedron:
-    return 4;
-  case CellShape::quadrilateral:
-    return 4;
-  case CellShape::triangle:
-    return 3;
-  case CellShape::line:
-    return 2;
-  case CellShape::point:
-    return 1;
-  }
-  return 0;
+  return facts_of(shape).nodes;
 }
 
 int gmsh_type_of(CellShape shape)
 {
-  switch (shape) {
-  case CellShape::hexahedron:
-    return 5;
-  case CellShape::tetrahedron:
-    return 4;
-  case CellShape::quadrilateral:
-    return 3;
-  case CellShape::triangle:
-    return 2;
-  case CellShape::line:
-    return 1;
-  case CellShape::point:
-    return 15;
-  }
-  return 0;
+  return facts_of(shape).gmsh_type;
 }
 
 CellShape shape_of_gmsh_type(int gmsh_type)
 {
-  switch (gmsh_type) {
-  case 5:
-    return CellShape::hexahedron;
-  case 4:
-    return CellShape::tetrahedron;
-  case 3:
-    return CellShape::quadrilateral;
-  case 2:
-    return CellShape::triangle;
-  case 1:
-    return CellShape::line;
-  case 15:
-    return CellShape::point;
-  default:
-    throw std::invalid_argument(fmt::format("Gmsh element type {} is not supported (first-order lines, "
-                                            "triangles, quadrangles, tetrahedra and hexahedra are)",
-                                            gmsh_type));
-  }
+  for (const ShapeFacts& f : shape_facts)
+    if (f.gmsh_type == gmsh_type) return f.shape;
+  throw std::invalid_argument(
+      fmt::format("Gmsh element type {} is not supported (first-order lines, triangles, "
+                  "quadrangles, tetrahedra and hexahedra are)",
+                  gmsh_type));
 }
 
 std::string xdmf_topology(CellShape shape)
 {
-  switch (shape) {
-  case CellShape::hexahedron:
-    return "Hexahedron";
-  case CellShape::tetrahedron:
-    return "Tetrahedron";
-  case CellShape::quadrilateral:
-    return "Quadrilateral";
-  case CellShape::triangle:
-    return "Triangle";
-  case CellShape::line:
-    return "Polyline";
-  case CellShape::point:
-    return "Polyvertex";
-  }
-  return "";
+  return facts_of(shape).xdmf_topology;
 }
 
 } // namespace ibvalve::fe

@@ -32,8 +32,8 @@ class ElementType {
   virtual std::vector<std::vector<int>> faces() const = 0;
   /// The shape of those faces.
   virtual CellShape face_shape() const = 0;
-  /// Gmsh element type number (1: line, 2: triangle, 3: quadrangle, 4: tetrahedron, 5: hexahedron).
-  virtual int gmsh_type() const = 0;
+  /// Gmsh element type number of its shape (gmsh_type_of).
+  int gmsh_type() const;
   /// Reference coordinates of the nodes.
   virtual std::vector<Vec3> reference_nodes() const = 0;
 };
