@@ -180,8 +180,6 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   const double threshold = settings.forward_threshold;
   const std::size_t i_max = argmax(q, 0, n);
   const Extreme forward_peak = refine_extreme(t, q, i_max);
-  const std::size_t i_min_all = argmin(q, 0, n);
-  const Extreme regurgitant_peak_all = refine_extreme(t, q, i_min_all);
   const bool forward = q[i_max] > threshold;
   std::size_t after_ejection = n;
   if (forward) {
@@ -260,12 +258,15 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
     out.metrics.push_back(Metric{std::move(key), std::move(symbol), std::move(unit), std::move(description),
                                  value, std::move(note)});
   };
+  // A peak's note names its own instant (inside the cycle), so that a value is never read against
+  // another extreme's time.
+  auto at = [](double time) { return "at t = " + seconds(time); };
   std::optional<double> vf, vr, vl, rf, tpg, qrms, eoa, duration;
   if (forward) {
     duration = ph.ejection_end - ph.ejection_start;
     vf = integrate(t, q, ph.ejection_start, ph.ejection_end);
     vr = -integrate(t, q, ph.ejection_end, ph.closure);
-    vl = -(integrate(t, q, t0, ph.ejection_start) + integrate(t, q, ph.closure, t1));
+    vl = -integrate(t, q, ph.closure, t1);
     rf = (*vr + *vl) / *vf * 100.0;
     const auto gradient = combine(w.near_lv_pressure, w.near_aortic_pressure, std::minus<>());
     tpg = integrate(t, gradient, ph.ejection_start, ph.ejection_end) / *duration;
@@ -277,7 +278,9 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   add("forward_volume", "V_F", "mL", "forward volume over ejection", vf, no_ejection);
   add("regurgitant_volume", "V_R", "mL", "closing regurgitant volume (end of ejection to closure)", vr,
       no_ejection);
-  add("leakage_volume", "V_L", "mL", "leakage volume (rest of the cycle)", vl, no_ejection);
+  add("leakage_volume", "V_L", "mL",
+      "leakage volume: minus the integral of Q from closure t_c to the cycle's end", vl,
+      vl && *vl < 0.0 ? "negative: net forward flow after closure" : no_ejection);
   add("regurgitant_fraction", "RF", "%", "(V_R + V_L) / V_F", rf, no_ejection);
   add("transvalvular_pressure_gradient", "TPG", "mmHg", "mean P_nlv - P_nao over ejection", tpg, no_ejection);
   add("rms_forward_flow", "Q_rms", "mL/s", "root mean square flow over ejection", qrms, no_ejection);
@@ -287,18 +290,53 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
       combine(combine(w.lv_pressure, w.aortic_pressure, std::minus<>()), q, std::multiplies<>());
   add("energy_loss", "E_L", "mJ", "mmHg mL -> mJ times the integral of (P_LV - P_Ao) Q over the cycle",
       mmHg_mL_in_mJ() * integrate(t, dp_q, t0, t1));
-  add("peak_forward_flow", "Q_max", "mL/s", "largest forward flow", forward_peak.value);
-  add("peak_regurgitant_flow", "Q_reg", "mL/s", "largest backward flow (positive)",
-      std::max(0.0, -regurgitant_peak_all.value));
+  add("peak_forward_flow", "Q_max", "mL/s", "largest forward flow in the cycle", forward_peak.value,
+      at(forward_peak.time));
+  add("peak_regurgitant_flow", "Q_reg", "mL/s", "largest backward flow after ejection (positive)",
+      std::isnan(regurgitant_peak.time) ? std::optional(0.0) : std::optional(-regurgitant_peak.value),
+      std::isnan(regurgitant_peak.time) ? (forward ? "no backward flow after ejection" : no_ejection)
+                                        : at(regurgitant_peak.time));
   add("ejection_duration", "T_ej", "ms", "t_es - t_bs",
       duration ? std::optional(*duration * 1e3) : std::nullopt, no_ejection);
   add("net_volume", "V_net", "mL", "integral of Q over the cycle", integrate(t, q, t0, t1));
   add("mean_aortic_pressure", "P_Ao,mean", "mmHg", "mean P_Ao over the cycle",
       integrate(t, w.aortic_pressure, t0, t1) / (t1 - t0));
+  const std::size_t i_pao_max = argmax(w.aortic_pressure, 0, n), i_pao_min = argmin(w.aortic_pressure, 0, n);
   add("systolic_aortic_pressure", "P_Ao,max", "mmHg", "largest P_Ao in the cycle",
-      *std::max_element(w.aortic_pressure.begin(), w.aortic_pressure.end()));
+      w.aortic_pressure[i_pao_max], at(t[i_pao_max]));
   add("diastolic_aortic_pressure", "P_Ao,min", "mmHg", "smallest P_Ao in the cycle",
-      *std::min_element(w.aortic_pressure.begin(), w.aortic_pressure.end()));
+      w.aortic_pressure[i_pao_min], at(t[i_pao_min]));
+  // Closed, as the IB method can measure it: the effective (hydraulic) orifice of the late-diastolic
+  // leak, the largest |Q| over the cycle's last quarter divided by the Bernoulli jet velocity
+  // sqrt(2 dp / rho) of the smallest closing pressure difference dp = P_nao - P_nlv there (an upper
+  // bound on Q / v). A geometric gap narrower than the kernel's reach is sealed by the smeared
+  // interface, so this, not the projected area, says whether the valve holds (docs/hemodynamics.md).
+  {
+    const double late = t1 - 0.25 * (t1 - t0);
+    double q_abs = 0.0, dp_min = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+      if (t[i] >= late) {
+        q_abs = std::max(q_abs, std::abs(q[i]));
+        dp_min = std::min(dp_min, w.near_aortic_pressure[i] - w.near_lv_pressure[i]);
+      }
+    const bool closing_pressure = dp_min > 0.0 && std::isfinite(dp_min);
+    add("diastolic_leak_area", "EROA_d", "cm^2",
+        "late-diastolic leak orifice: max |Q| / sqrt(2 min(P_nao - P_nlv) / rho) over the cycle's last "
+        "quarter",
+        closing_pressure ? std::optional(q_abs / std::sqrt(2.0 * dp_min * units::mmHg / settings.density))
+                         : std::nullopt,
+        closing_pressure ? "" : "no closing pressure difference in late diastole");
+  }
+  // How periodic the cycle is: the Windkessel pressure at its two ends, and the volume it took in.
+  if (!w.windkessel_pressure.empty()) {
+    add("windkessel_pressure_start", "P_Wk,0", "mmHg", "Windkessel pressure at the cycle's start",
+        w.windkessel_pressure.front());
+    add("windkessel_pressure_end", "P_Wk,1", "mmHg", "Windkessel pressure at the cycle's end",
+        w.windkessel_pressure.back());
+  }
+  if (!w.outlet_flow.empty())
+    add("outlet_volume", "V_out", "mL", "integral of the outlet flow over the cycle (against V_net)",
+        integrate(t, w.outlet_flow, t0, t1));
   const std::string no_area = !w.has_orifice_area() ? "no orifice_area column" : "orifice area does not vary";
   add("max_orifice_area", "GOA_max", "cm^2", "largest orifice area",
       w.has_orifice_area() ? std::optional(area_max) : std::nullopt, w.has_orifice_area() ? "" : no_area);

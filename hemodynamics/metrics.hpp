@@ -15,20 +15,24 @@
 //    the largest Q after the peak. Rule "area": t_c is the end of the closing phase below
 //    (normalised area falls to closed_area_fraction). Rule "auto": "area" when an orifice-area column
 //    varies, else "flow".
-//  * Closing regurgitation [t_es, t_c]; leakage: the rest of the cycle, [t0, t_bs] and [t_c, t1].
+//  * Closing regurgitation [t_es, t_c]; leakage [t_c, t1], from closure to the cycle's end (the study's
+//    definition, docs/reference.md); the flow before ejection, [t0, t_bs], is in neither.
 //  * Orifice area a(t) = (A - A_min) / (A_max - A_min) over the cycle: opening from the last upward
 //    crossing of closed_area_fraction before a first reaches open_area_fraction, fully open from then
 //    to the last time a >= open_area_fraction, closing from then to the next downward crossing of
 //    closed_area_fraction.
 // Metrics (integrals: trapezoidal rule on the samples, ends of phases interpolated linearly):
-//  V_F = int_{t_bs}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -(int_{t0}^{t_bs} Q + int_{t_c}^{t1} Q);
+//  V_F = int_{t_bs}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -int_{t_c}^{t1} Q;
 //  RF = (V_R + V_L) / V_F * 100;  TPG = mean over [t_bs, t_es] of P_nlv - P_nao;
 //  Q_rms = sqrt(mean over [t_bs, t_es] of Q^2);  EOA = Q_rms / (51.6 sqrt(TPG / rho));
 //  E_L = k * int_{t0}^{t1} (P_LV - P_Ao) Q dt with k = 1 mmHg mL in mJ (0.133322): the study writes
 //  dp = P_Ao - P_LV; with that sign the loss would come out negative, so ibvalve uses
 //  dp = P_LV - P_Ao and reports E_L > 0 for energy dissipated across the valve.
-//  Peak forward / regurgitant flow: max Q and -min Q over the cycle (refined by a parabola through
-//  the three samples around the extreme).
+//  Peak forward / regurgitant flow: max Q over the cycle and -min Q after ejection (refined by a
+//  parabola through the three samples around the extreme), each noted with its own instant.
+//  EROA_d = max |Q| / sqrt(2 min(P_nao - P_nlv) / rho) over the cycle's last quarter: the closed
+//  criterion (docs/hemodynamics.md, "Closed"). P_Wk at the cycle's ends and the outlet volume say how
+//  periodic the cycle is.
 #include <optional>
 #include <string>
 #include <vector>

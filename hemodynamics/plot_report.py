@@ -63,8 +63,8 @@ def main():
     fig, ax = plt.subplots(figsize=(8, 4))
     shade(ax, bs, es, "tab:green", "forward ejection")
     shade(ax, es, tc, "tab:orange", "closing regurgitation")
-    shade(ax, t0, bs, "tab:gray", "leakage")
-    shade(ax, tc, t1, "tab:gray", None)
+    shade(ax, t0, bs, "tab:blue", "before ejection")
+    shade(ax, tc, t1, "tab:gray", "leakage")
     ax.plot(t, col("Q_valve"), color="k", lw=1.5, label="Q through the valve")
     if col("Q_outlet") is not None:
         ax.plot(t, col("Q_outlet"), color="tab:blue", lw=1, ls="--", label="Q at the outlet")

@@ -15,6 +15,7 @@
 #include <numbers>
 #include <random>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "base/errors.hpp"
@@ -95,7 +96,7 @@ std::vector<double> jittered(double mean_h, unsigned seed, double end = 2 * T)
 }
 
 struct Expected {
-  double vf, vr, vl, rf, tpg, qrms, eoa, el, qmax, qreg, t_c;
+  double vf, vr, vl, rf, tpg, qrms, eoa, el, qmax, qreg, t_c, net;
 };
 
 Expected expected(double closure_offset)
@@ -105,7 +106,11 @@ Expected expected(double closure_offset)
   e.vf = 2 * A_f * D_f / pi;
   const double backward_total = 2 * A_r * D_r / pi + 2 * B_L * D_L / pi + 2 * B_p * d_p / pi;
   e.vr = A_r * D_r / pi * (1.0 - std::cos(pi * closure_offset / D_r));
-  e.vl = backward_total - e.vr;
+  // V_L: from closure to the cycle's end, the rest of the backflow lobe and the leakage lobe up to t0 + T
+  // (the part of that lobe before ejection, and the short lobe just before opening, are not leakage).
+  e.vl = A_r * D_r / pi * (1.0 + std::cos(pi * closure_offset / D_r)) +
+         B_L * D_L / pi * (1.0 - std::cos(pi * (T - t_leak) / D_L));
+  e.net = e.vf - backward_total;
   e.rf = (e.vr + e.vl) / e.vf * 100;
   e.tpg = dP;
   e.qrms = A_f / std::sqrt(2.0);
@@ -146,7 +151,16 @@ void check_all(const hd::ValveMetrics& m, const Expected& e, const std::string& 
   expect_relative(m.value("peak_forward_flow"), e.qmax, tol, label + " peak forward");
   expect_relative(m.value("peak_regurgitant_flow"), e.qreg, tol, label + " peak regurgitant");
   expect_relative(m.value("ejection_duration"), D_f * 1e3, tol, label + " ejection duration");
-  expect_relative(m.value("net_volume"), e.vf - e.vr - e.vl, 1e-5, label + " net volume");
+  expect_relative(m.value("net_volume"), e.net, 1e-5, label + " net volume");
+  expect_relative(m.value("outlet_volume"), e.net, 1e-5, label + " outlet volume"); // Q_outlet = Q here
+  expect_relative(m.value("windkessel_pressure_start"), 85.0 + 5.0 - 2.0, 1e-9, label + " P_Wk at t0");
+  expect_relative(m.value("windkessel_pressure_end"), 85.0 + 5.0 - 2.0, 1e-9, label + " P_Wk at t0 + T");
+  // Each peak's note names its own instant: the ejection's crest and the closing backflow's.
+  EXPECT_EQ(m.find("peak_forward_flow")->note, fmt::format("at t = {:.4f} s", T + t_bs + D_f / 2)) << label;
+  EXPECT_EQ(m.find("peak_regurgitant_flow")->note, fmt::format("at t = {:.4f} s", T + t_es + D_r / 2))
+      << label;
+  // P_nlv - P_nao = 8 mmHg all through this series: no closing pressure, so no leak orifice.
+  EXPECT_FALSE(m.find("diastolic_leak_area")->value) << label;
   expect_relative(m.phases.ejection_start, T + t_bs, 1e-8, label + " t_bs");
   expect_relative(m.phases.ejection_end, T + t_es, 1e-8, label + " t_es");
   expect_relative(m.phases.closure, e.t_c, 1e-8, label + " t_c");
@@ -170,6 +184,27 @@ TEST(Metrics, FlowClosureRuleMatchesClosedFormsForAnySampling)
     EXPECT_FALSE(m.find("opening_duration")->value); // no area column: reported missing
     EXPECT_FALSE(m.find("opening_duration")->note.empty());
   }
+}
+
+TEST(Metrics, TheLateDiastolicLeakOrificeIsTheLeakOverTheBernoulliVelocity)
+{
+  // A 0.8 s cycle: ejection, then a steady leak of 0.5 mL/s against P_nao - P_nlv = 80 mmHg (60 mmHg
+  // in the last 50 ms, the smallest difference of the cycle's last quarter).
+  hd::ValveSeries s;
+  for (double t : uniform(1e-4, T)) {
+    const bool ejecting = t > 0.1 && t < 0.4;
+    s.t.push_back(t);
+    s.valve_flow.push_back(ejecting ? 300.0 * std::sin(pi * (t - 0.1) / 0.3) : -0.5);
+    s.lv_pressure.push_back(ejecting ? 100.0 : 5.0);
+    s.aortic_pressure.push_back(ejecting ? 95.0 : 85.0);
+    s.near_lv_pressure.push_back(ejecting ? 100.0 : 5.0);
+    s.near_aortic_pressure.push_back(ejecting ? 95.0 : (t > 0.75 ? 65.0 : 85.0));
+  }
+  const hd::ValveMetrics m = hd::compute_metrics(s, hd::MetricSettings{});
+  const double v = std::sqrt(2.0 * 60.0 * 1333.22 / 1.0); // cm/s
+  expect_relative(m.value("diastolic_leak_area"), 0.5 / v, 1e-12, "EROA_d");
+  EXPECT_FALSE(m.find("windkessel_pressure_start")); // no such columns: no such metrics
+  EXPECT_FALSE(m.find("outlet_volume"));
 }
 
 TEST(Metrics, AreaRuleAndOrificeDurationsMatchClosedForms)
