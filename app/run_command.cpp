@@ -3,17 +3,19 @@
 #include <array>
 #include <cctype>
 #include <filesystem>
-#include <fmt/format.h>
 #include <sstream>
 #include <string_view>
 #include <vector>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <petscsys.h>
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "app/stop_signal.hpp"
 #include "app/version.hpp"
+#include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "io/checkpoint.hpp"
@@ -193,9 +195,9 @@ void check_case_petsc_options(const io::Config& config)
 /// What a run writes into its folder (docs/runs.md). --overwrite removes these, and nothing else, before
 /// the new run starts: no checkpoint of the old run can be pruned with the new run's or continued by
 /// --restart, and no field file, plan or report of the old run passes for the new run's.
-constexpr std::array<const char*, 9> run_outputs{"checkpoints",     "fftw_wisdom", "fields",
-                                                 "fields.xdmf",     "report",      "timeseries.csv",
-                                                 "diagnostics.csv", "log.txt",     "config.toml"};
+constexpr std::array<const char*, 10> run_outputs{
+    "checkpoints",    "fftw_wisdom",     "fields",  "fields.xdmf", "report",
+    "timeseries.csv", "diagnostics.csv", "log.txt", "config.toml", "run.json"};
 
 /// Creates the run folder (rank 0): InputError naming the path when it is not a folder, cannot be
 /// created, or holds files and --overwrite was not given; with --overwrite the old run's outputs go.
@@ -222,6 +224,38 @@ void write_config(const std::filesystem::path& directory, const io::Config& conf
 {
   try {
     io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+  } catch (const std::exception& e) {
+    throw InputError(directory.string() + ": cannot write the run folder (" + e.what() + ")");
+  }
+}
+
+/// Records in run.json where the run came from (rank 0): the case file, this ibvalve's version and
+/// commit, when it started and on how many ranks; a restart appends when, by which build and on how
+/// many ranks to "restarts". The report carries it (hemodynamics/report.hpp, "provenance").
+void write_run_record(const std::filesystem::path& directory, const std::filesystem::path& case_file,
+                      int ranks, bool restart)
+{
+  const std::filesystem::path file = directory / "run.json";
+  nlohmann::ordered_json record;
+  const nlohmann::ordered_json build{
+      {"at", base::utc_now()}, {"ibvalve", base::version()}, {"commit", base::commit()}, {"ranks", ranks}};
+  if (restart && std::filesystem::exists(file)) {
+    try {
+      record = nlohmann::ordered_json::parse(io::read_text_file(file));
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(file.string() + ": not the run record ibvalve writes (" + e.what() + ")");
+    }
+    record["restarts"].push_back(build);
+  } else {
+    record = {{"case_file", std::filesystem::absolute(case_file).lexically_normal().string()},
+              {"ibvalve", base::version()},
+              {"commit", base::commit()},
+              {"started", build["at"]},
+              {"ranks", ranks},
+              {"restarts", nlohmann::ordered_json::array()}};
+  }
+  try {
+    io::write_file_atomically(file, record.dump(2) + "\n");
   } catch (const std::exception& e) {
     throw InputError(directory.string() + ": cannot write the run folder (" + e.what() + ")");
   }
@@ -308,6 +342,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     io::on_root(PETSC_COMM_WORLD, [&] {
       prepare_run_folder(directory, options.overwrite);
       write_config(directory, config);
+      write_run_record(directory, options.case_file, size, false);
     });
   }
   log.open_file(directory / "log.txt");
@@ -321,7 +356,10 @@ int run_case(RunOptions options, const PetscArguments& petsc)
                      checkpoint};
   // Overrides given with --restart (e.g. more cycles) become part of the run's recorded case, once the
   // model has accepted the checkpoint.
-  context.accept_restart = [&] { write_config(directory, config); };
+  context.accept_restart = [&] {
+    write_config(directory, config);
+    write_run_record(directory, options.case_file, size, true);
+  };
   // From here on SIGINT and SIGTERM stop the run with a checkpoint (app/stop_signal.hpp).
   catch_stop_signals();
   const RunSummary summary = prepared->run(context);

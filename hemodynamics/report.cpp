@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "hemodynamics/text_template.hpp"
@@ -217,6 +218,39 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
 
 } // namespace
 
+namespace {
+
+/// The case's tables that are not its physics: where and how it writes, logs and reports.
+bool is_input_key(const std::string& key)
+{
+  for (const char* table : {"output.", "log.", "petsc.", "run.", "report.", "checkpoint."})
+    if (key.rfind(table, 0) == 0) return false;
+  return true;
+}
+
+} // namespace
+
+Json provenance_document(const fs::path& run_directory)
+{
+  Json out = Json::object();
+  const fs::path record = run_directory / "run.json";
+  if (fs::exists(record)) {
+    try {
+      out["run"] = Json::parse(io::read_text_file(record));
+    } catch (const Json::parse_error& error) {
+      throw InputError(record.string() + ": " + error.what());
+    }
+  }
+  out["report"] =
+      Json{{"ibvalve", base::version()}, {"commit", base::commit()}, {"written", base::utc_now()}};
+  Json inputs = Json::object();
+  if (const fs::path config = run_directory / "config.toml"; fs::exists(config))
+    for (const auto& [key, value] : io::flattened(io::parse_toml_file(config)))
+      if (is_input_key(key)) inputs[key] = value;
+  out["inputs"] = inputs;
+  return out;
+}
+
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const fs::path& run_directory)
 {
@@ -281,7 +315,8 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
               {"settings", settings_json},
               {"phases", phases},
               {"metrics", values},
-              {"notes", notes}};
+              {"notes", notes},
+              {"provenance", provenance_document(run_directory)}};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -359,6 +394,42 @@ kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::p
     notes.push_back(row);
   }
   values.set("notes", notes);
+  const Json& provenance = doc.at("provenance");
+  data provenance_rows{data::type::list};
+  auto provenance_row = [&](const std::string& name, const std::string& value) {
+    data row;
+    row.set("name", name);
+    row.set("value", value);
+    provenance_rows.push_back(row);
+  };
+  auto field = [](const Json& j, const char* key) {
+    const auto f = j.find(key);
+    return f == j.end() ? std::string("unknown") : f->is_string() ? f->get<std::string>() : f->dump();
+  };
+  if (const auto run = provenance.find("run"); run != provenance.end()) {
+    provenance_row("case file", field(*run, "case_file"));
+    provenance_row("run by",
+                   fmt::format("ibvalve {} (commit {})", field(*run, "ibvalve"), field(*run, "commit")));
+    provenance_row("started", fmt::format("{} on {} rank(s)", field(*run, "started"), field(*run, "ranks")));
+    for (const auto& restart : run->value("restarts", Json::array()))
+      provenance_row("restarted", fmt::format("{} by ibvalve {} (commit {}) on {} rank(s)",
+                                              field(restart, "at"), field(restart, "ibvalve"),
+                                              field(restart, "commit"), field(restart, "ranks")));
+  } else {
+    provenance_row("run", "no run.json in the run folder: where it came from is not recorded");
+  }
+  const Json& report = provenance.at("report");
+  provenance_row("report by", fmt::format("ibvalve {} (commit {}) at {}", field(report, "ibvalve"),
+                                          field(report, "commit"), field(report, "written")));
+  values.set("provenance", provenance_rows);
+  data input_rows{data::type::list};
+  for (const auto& [key, value] : provenance.at("inputs").items()) {
+    data row;
+    row.set("key", key);
+    row.set("value", value.get<std::string>());
+    input_rows.push_back(row);
+  }
+  values.set("inputs", input_rows);
   return values;
 }
 

@@ -73,10 +73,16 @@ struct ReportFiles {
   std::string warning;
 };
 
+/// Where a run came from and what it was given: "run" (its run.json: case file, the ibvalve version and
+/// commit that ran it, when it started, on how many ranks, its restarts), "report" (the version, commit
+/// and time of this report) and "inputs" (every key of its config.toml but the output, log, petsc, run,
+/// report and checkpoint tables, as TOML writes the value).
+Json provenance_document(const std::filesystem::path& run_directory);
+
 /// metrics.json as a document: settings, phases, metrics (value, unit, symbol, description, note),
-/// notes. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value, unit,
-/// symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error,
-/// strain and stress variation, displacements) it computes itself.
+/// notes, provenance. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value,
+/// unit, symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error, strain
+/// and stress variation, displacements) it computes itself.
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const std::filesystem::path& run_directory);
 

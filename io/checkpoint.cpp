@@ -83,24 +83,6 @@ bool restart_may_change_key(const std::string& key)
   return false;
 }
 
-void flatten(const toml::node& node, const std::string& key, std::vector<std::string>& lines)
-{
-  if (const toml::table* table = node.as_table()) {
-    for (auto&& [k, child] : *table)
-      flatten(child, key.empty() ? std::string(k.str()) : key + "." + std::string(k.str()), lines);
-    return;
-  }
-  if (const toml::array* array = node.as_array(); array && !array->empty() && array->is_array_of_tables()) {
-    for (std::size_t i = 0; i < array->size(); ++i)
-      flatten((*array)[i], fmt::format("{}[{}]", key, i), lines);
-    return;
-  }
-  if (restart_may_change_key(key)) return;
-  std::ostringstream os;
-  node.visit([&](const auto& value) { os << value; });
-  lines.push_back(key + " = " + os.str());
-}
-
 std::map<std::string, std::string> record_keys(const std::string& record)
 {
   std::map<std::string, std::string> keys;
@@ -169,7 +151,8 @@ std::string case_record(const Config& config)
 {
   const toml::table resolved = toml::parse(config.resolved_toml());
   std::vector<std::string> lines;
-  flatten(resolved, "", lines);
+  for (const auto& [key, value] : io::flattened(resolved))
+    if (!restart_may_change_key(key)) lines.push_back(key + " = " + value);
   std::sort(lines.begin(), lines.end());
   std::string record;
   for (const auto& line : lines) record += line + '\n';

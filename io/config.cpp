@@ -682,6 +682,35 @@ struct Validator {
 
 } // namespace
 
+namespace {
+
+void flatten_into(const toml::node& node, const std::string& key,
+                  std::vector<std::pair<std::string, std::string>>& out)
+{
+  if (const toml::table* table = node.as_table()) {
+    for (auto&& [k, child] : *table)
+      flatten_into(child, key.empty() ? std::string(k.str()) : key + "." + std::string(k.str()), out);
+    return;
+  }
+  if (const toml::array* array = node.as_array(); array && !array->empty() && array->is_array_of_tables()) {
+    for (std::size_t i = 0; i < array->size(); ++i)
+      flatten_into((*array)[i], fmt::format("{}[{}]", key, i), out);
+    return;
+  }
+  std::ostringstream os;
+  node.visit([&](const auto& value) { os << value; });
+  out.emplace_back(key, os.str());
+}
+
+} // namespace
+
+std::vector<std::pair<std::string, std::string>> flattened(const toml::table& table)
+{
+  std::vector<std::pair<std::string, std::string>> out;
+  flatten_into(table, "", out);
+  return out;
+}
+
 toml::table parse_toml_file(const std::filesystem::path& file)
 {
   if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");

@@ -132,6 +132,9 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 
 /// Parses a TOML file; a syntax error or a missing file throws InputError naming file and line.
 toml::table parse_toml_file(const std::filesystem::path& file);
+/// Every value of a TOML table as (dotted key, value as TOML writes it), in the table's order; an
+/// array of tables gives key[i].field.
+std::vector<std::pair<std::string, std::string>> flattened(const toml::table& table);
 /// Finds a key's spec by its dotted name (nullptr when unknown); lets overrides read bare words.
 using KeyLookup = std::function<const KeySpec*(std::string_view key)>;
 /// Applies "key=value" overrides given on the command line. The value is TOML, except that for a

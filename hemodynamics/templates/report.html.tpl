@@ -2,7 +2,8 @@
     A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
     those of report.md.tpl:
       run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
-      unit, note), phases (name, time), plots (file, caption, png_base64), notes (text).
+      unit, note), phases (name, time), plots (file, caption, png_base64), notes (text),
+      provenance (name, value), inputs (key, value).
     The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
 <!DOCTYPE html>
@@ -48,5 +49,19 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 {{/notes}}
 <li>E_L sign: dp = P_LV - P_Ao, so energy dissipated across the valve is positive.</li>
 </ul>
+<h2>Inputs and provenance</h2>
+<table id="provenance">
+{{#provenance}}
+<tr><th>{{name}}</th><td>{{value}}</td></tr>
+{{/provenance}}
+</table>
+<details><summary>Every input of the case (config.toml)</summary>
+<table id="inputs">
+<tr><th>key</th><th>value</th></tr>
+{{#inputs}}
+<tr><td><code>{{key}}</code></td><td>{{value}}</td></tr>
+{{/inputs}}
+</table>
+</details>
 </body>
 </html>

@@ -8,6 +8,9 @@
       phases                    list: name, time (s, 4 significant digits, "missing", or a rule's name)
       plots                     list: file (PNG beside the report), caption, png_base64
       notes                     list: text
+      provenance                list: name, value (case file, the build that ran it, start, ranks,
+                                restarts, the build and time of this report)
+      inputs                    list: key, value (the case's keys as config.toml records them)
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
 # ibvalve report: {{run}}
 
@@ -42,5 +45,19 @@ Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
 {{#notes}}
 - {{text}}
 {{/notes}}
+
+## Inputs and provenance
+
+| record | |
+|---|---|
+{{#provenance}}
+| {{name}} | {{value}} |
+{{/provenance}}
+
+| key | value |
+|---|---|
+{{#inputs}}
+| `{{key}}` | {{value}} |
+{{/inputs}}
 
 Definitions: docs/hemodynamics.md. E_L sign: dp = P_LV - P_Ao, so energy dissipated is positive.

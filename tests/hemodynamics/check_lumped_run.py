@@ -69,7 +69,20 @@ def check_report(run):
     for png in pngs:
         if f"({png})" not in md:
             fail(f"report.md does not show {png}")
-    print(f"report.html: {len(pngs)} PNGs, {len(cells)} metrics equal to metrics.json")
+    # Provenance: the run's record (case file, the build that ran it) and its inputs reach the report.
+    record = json.load(open(os.path.join(run, "run.json")))
+    provenance = json.load(open(os.path.join(report, "metrics.json")))["provenance"]
+    if provenance.get("run") != record:
+        fail("metrics.json's provenance does not carry run.json")
+    if not record.get("case_file", "").endswith(".toml") or not record.get("commit"):
+        fail(f"run.json lacks the case file or the commit: {record}")
+    if provenance["inputs"].get("windkessel.compliance") is None:
+        fail("metrics.json's provenance lacks the case's inputs (windkessel.compliance)")
+    for text in (record["case_file"], record["commit"], "`windkessel.compliance`"):
+        if text not in md:
+            fail(f"report.md does not show {text}")
+    print(f"report.html: {len(pngs)} PNGs, {len(cells)} metrics equal to metrics.json; provenance: "
+          f"commit {record['commit']}, {len(provenance['inputs'])} inputs")
 
 
 def check_compare(out):

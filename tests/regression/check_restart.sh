@@ -26,5 +26,7 @@ echo "not an HDF5 file: a checkpoint torn by a crash" > "$split/checkpoints/step
 "$mpiexec" --oversubscribe -n "$ranks" "$ibvalve" run --restart "$split" > "$split.out" 2>&1 || { cat "$split.out"; exit 1; }
 grep -q "restarting from .*step_000012300.h5" "$split/log.txt" || { echo "FAIL: did not skip the torn checkpoint"; cat "$split/log.txt"; exit 1; }
 "$python" "$source/tests/regression/compare_runs.py" --rtol 0 --atol 0 "$whole" "$split" --series-only
+# run.json keeps where the run came from and lists both restarts, each with its build and ranks.
+"$python" -c 'import json, sys; r = json.load(open(sys.argv[1])); assert r["case_file"].endswith(".toml") and len(r["restarts"]) == 2 and all(x["commit"] and x["ranks"] == int(sys.argv[2]) for x in r["restarts"]), r' "$split/run.json" "$ranks" || { echo "FAIL: run.json does not record the two restarts"; exit 1; }
 cp "$whole/report/metrics.json" "$whole/metrics.json"
 "$python" "$source/tests/regression/compare_runs.py" --rtol 0 --atol 0 "$whole" "$split"
