@@ -164,7 +164,7 @@ Ranking rank_cases(std::span<const CaseResult> cases)
     const double hi = *std::max_element(values.begin(), values.end());
     for (std::size_t i = 0; i < cases.size(); ++i) {
       double score = 1.0;
-      if (hi > lo)
+      if (hi - lo > tie_tolerance * std::max(std::abs(hi), std::abs(lo)))
         score = criteria[k].higher_is_better ? (values[i] - lo) / (hi - lo) : (hi - values[i]) / (hi - lo);
       r.rows[i].scores.push_back(score);
       r.rows[i].total += score;

@@ -3,10 +3,12 @@
 // scaled ranking (its Table 8), as Markdown, CSV and HTML.
 //
 // Ranking (docs/reference.md, "Hemodynamic metrics"): for each criterion the best case scores 1 and
-// the worst 0, linearly in between; a case's total is the sum; cases are ranked by total. When every case has
-// the same value all score 1. A criterion missing for any case (e.g. the fit error of a lumped run) is left
-// out of the ranking for all cases, and the output says so. Which direction is "best" is ibvalve's reading of
-// the study, listed in ranking_criteria() and docs/hemodynamics.md.
+// the worst 0, linearly in between; a case's total is the sum; cases are ranked by total. When the cases'
+// values of a criterion all lie within tie_tolerance of the largest in size, they tie and all score 1:
+// min-max scaling would otherwise turn a round-off difference (1e-9) into a whole point. A criterion missing
+// for any case (e.g. the fit error of a lumped run) is left out of the ranking for all cases, and the output
+// says so. Which direction is "best" is ibvalve's reading of the study, listed in ranking_criteria() and
+// docs/hemodynamics.md.
 #include <filesystem>
 #include <span>
 #include <string>
@@ -22,6 +24,10 @@ struct Criterion {
   std::string label; // as in the study's table
   bool higher_is_better = false;
 };
+/// Relative spread below which a criterion's values tie: 1e-3, ten times the run-to-run differences of
+/// a 3-D cycle's metrics between 1 and 2 ranks (1.4e-4 at most, tests/regression/README.md) and a tenth
+/// of the 1 % change the nightly regression must detect.
+inline constexpr double tie_tolerance = 1e-3;
 /// The 12 criteria, in the study's order.
 const std::vector<Criterion>& ranking_criteria();
 

@@ -254,6 +254,35 @@ TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
   fs::remove_all(out);
 }
 
+TEST(Compare, ValuesWithinTheTieToleranceTieAndLargerDifferencesAreScored)
+{
+  auto make = [](const std::string& name, double vf) {
+    hd::CaseResult c;
+    c.name = name;
+    c.metrics = hd::Json{{"forward_volume", hd::Json{{"value", vf}, {"unit", "mL"}, {"symbol", "V_F"}}}};
+    return c;
+  };
+  const auto& criteria = hd::ranking_criteria();
+  std::size_t vf = 0;
+  while (criteria[vf].key != "forward_volume") ++vf;
+  // 1e-9 apart (round-off): a tie, both score 1 and share the first rank.
+  const std::vector<hd::CaseResult> round_off{make("a", 80.0), make("b", 80.0 * (1 + 1e-9))};
+  hd::Ranking r = hd::rank_cases(round_off);
+  EXPECT_EQ(*r.rows[0].scores[vf], 1.0);
+  EXPECT_EQ(*r.rows[1].scores[vf], 1.0);
+  EXPECT_EQ(r.rows[0].rank, 1);
+  EXPECT_EQ(r.rows[1].rank, 1);
+  // Just inside and just outside the stated tolerance.
+  r = hd::rank_cases(
+      std::vector<hd::CaseResult>{make("a", 80.0), make("b", 80.0 * (1 + 0.9 * hd::tie_tolerance))});
+  EXPECT_EQ(*r.rows[0].scores[vf], 1.0);
+  r = hd::rank_cases(std::vector<hd::CaseResult>{make("a", 80.0), make("b", 80.0 * (1 + 1e-2))});
+  EXPECT_EQ(*r.rows[0].scores[vf], 0.0); // 1 % less forward volume: the worst
+  EXPECT_EQ(*r.rows[1].scores[vf], 1.0);
+  EXPECT_EQ(r.rows[1].rank, 1);
+  EXPECT_EQ(r.rows[0].rank, 2);
+}
+
 TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
 {
   hd::CaseResult one;
