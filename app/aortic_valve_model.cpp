@@ -610,12 +610,8 @@ class AorticValveRun : public PreparedRun {
   {
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
         read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
-    const double cells = composite_cells(*hierarchy_);
     memory_line_ = check_memory(
-        config,
-        {{fluid_memory(cells, FluidMemoryKind::nested, true,
-                       cells > 2.0 * grid_cells(box_) ? nested_ratios_key : keys_.key_of(k_.cells)),
-          structure_memory_}},
+        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
         PETSC_COMM_WORLD);
   }
 

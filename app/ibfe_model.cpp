@@ -372,12 +372,8 @@ class IbfeRun : public PreparedRun {
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
         read_structure_levels(config, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
-    const double cells = composite_cells(*hierarchy_);
     memory_line_ = check_memory(
-        config,
-        {{fluid_memory(cells, FluidMemoryKind::nested, true,
-                       cells > 2.0 * grid_cells(box_) ? nested_ratios_key : keys_.key_of(k_.cells)),
-          structure_memory_}},
+        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
         PETSC_COMM_WORLD);
     // Centred convection on nested levels: second order on smooth flows (docs/nested.md).
     fluid_settings_.convection = fluid::ConvectionScheme::centered;

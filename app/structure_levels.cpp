@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "app/fluid_box.hpp"
 #include "ib/kernels.hpp"
 
 namespace ibvalve::app {
@@ -11,15 +12,17 @@ bool has_nested_levels(const io::Config& config)
   return !config.integers(nested_ratios_key).empty();
 }
 
-double composite_cells(const fluid::GridHierarchy& hierarchy)
+MemoryPart nested_fluid_memory(const fluid::GridHierarchy& hierarchy, const fluid::BoxGeometry& box,
+                               const std::string& cells_key)
 {
   double cells = 1.0;
   for (int d = 0; d < 3; ++d) cells *= static_cast<double>(hierarchy.domain_cells(0)[d]);
   for (int level = 1; level < hierarchy.levels(); ++level)
-    for (const fluid::IndexBox& box : hierarchy.boxes(level))
-      cells += static_cast<double>(box.cells(0)) * static_cast<double>(box.cells(1)) *
-               static_cast<double>(box.cells(2));
-  return cells;
+    for (const fluid::IndexBox& level_box : hierarchy.boxes(level))
+      cells += static_cast<double>(level_box.cells(0)) * static_cast<double>(level_box.cells(1)) *
+               static_cast<double>(level_box.cells(2));
+  return fluid_memory(cells, FluidMemoryKind::nested, true,
+                      cells > 2.0 * grid_cells(box) ? nested_ratios_key : cells_key);
 }
 
 fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,

@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 
+#include "app/resource_estimate.hpp"
 #include "fe/mesh.hpp"
 #include "fluid/hierarchy.hpp"
 #include "ib/kernels.hpp"
@@ -17,8 +18,10 @@ inline constexpr const char* nested_ratios_key = "nested.ratios";
 /// True when the case asks for nested levels (a non-empty nested.ratios).
 bool has_nested_levels(const io::Config& config);
 
-/// The cells of every level of `hierarchy`, in floating point (for the memory estimate).
-double composite_cells(const fluid::GridHierarchy& hierarchy);
+/// The nested fluid's part of the memory estimate: the cells of every level of `hierarchy`, blamed on
+/// nested.ratios when the finer levels more than double the cells of `box`, else on `cells_key`.
+MemoryPart nested_fluid_memory(const fluid::GridHierarchy& hierarchy, const fluid::BoxGeometry& box,
+                               const std::string& cells_key);
 
 /// The nested levels of a case whose structure starts at `positions` (node positions): read_hierarchy with
 /// the structure's bounding box and the reach of `kernel`, automatic levels placed around it;
