@@ -21,6 +21,7 @@
 
 #include <mpi.h>
 
+#include "app/build_paths.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -30,7 +31,6 @@
 #include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
-#include "app/version.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "base/units.hpp"

@@ -13,11 +13,11 @@
 
 #include <mpi.h>
 
+#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "app/stop_signal.hpp"
 #include "app/time_loop.hpp"
-#include "app/version.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "base/units.hpp"

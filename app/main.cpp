@@ -11,7 +11,7 @@
 #include <petscsys.h>
 
 #include "app/commands.hpp"
-#include "app/version.hpp"
+#include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 
@@ -53,7 +53,7 @@ int main(int argc, char** argv)
                    app::petsc_options_help(),
                "ibvalve"};
   cli.set_version_flag("--version",
-                       fmt::format("ibvalve {} (PETSc {}.{}.{})", version_string, PETSC_VERSION_MAJOR,
+                       fmt::format("ibvalve {} (PETSc {}.{}.{})", base::version(), PETSC_VERSION_MAJOR,
                                    PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR));
   cli.require_subcommand(1);
   app::CommandAction action;

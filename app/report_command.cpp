@@ -10,8 +10,8 @@
 #include <mpi.h>
 #include <petscsys.h>
 
+#include "app/build_paths.hpp"
 #include "app/commands.hpp"
-#include "app/version.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "hemodynamics/report.hpp"

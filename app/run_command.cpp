@@ -14,7 +14,6 @@
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "app/stop_signal.hpp"
-#include "app/version.hpp"
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
@@ -346,7 +345,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     });
   }
   log.open_file(directory / "log.txt");
-  log.info(fmt::format("ibvalve {}: {}{}{} on {}{}", version_string, model.name,
+  log.info(fmt::format("ibvalve {}: {}{}{} on {}{}", base::version(), model.name,
                        (options.restart.empty() ? " run of " : " restart of "), options.case_file.string(),
                        size, (size == 1 ? " rank" : " ranks")));
   log.info("run folder: " + directory.string());
