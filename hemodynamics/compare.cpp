@@ -187,7 +187,8 @@ Ranking rank_cases(std::span<const CaseResult> cases)
 namespace {
 
 /// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
-kainjow::mustache::data comparison_values(std::span<const CaseResult> cases, const Ranking& ranking)
+kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
+                                          std::span<const std::string> keys, const Ranking& ranking)
 {
   using kainjow::mustache::data;
   data values;
@@ -197,7 +198,7 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases, con
   values.set("cases", case_rows);
 
   data metric_rows{data::type::list};
-  for (const auto& key : all_keys(cases)) {
+  for (const auto& key : keys) {
     data row;
     const std::string symbol = first_text(cases, key, "symbol");
     row.set("key", key);
@@ -281,7 +282,7 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
     ranking_csv += fmt::format(",{},{}\n", exact_value(row.total), row.rank);
   }
 
-  const kainjow::mustache::data values = comparison_values(cases, ranking);
+  const kainjow::mustache::data values = comparison_values(cases, keys, ranking);
   const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   fs::create_directories(output_directory);
   ComparisonFiles files{output_directory / "comparison.md", output_directory / "metrics.csv",

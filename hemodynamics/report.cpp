@@ -86,8 +86,8 @@ void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r)
 {
   if (r.templates.empty()) return;
   if (!fs::is_directory(r.templates)) keys.fail(r.templates, "no such folder '" + r.templates.string() + "'");
-  load_page_templates("report", r.templates,
-                      "report.templates"); // a template that does not parse is refused now, not after the run
+  // A template that does not parse is refused now, not after the run.
+  load_page_templates("report", r.templates, "report.templates");
 }
 
 RecordedReport recorded_report(const fs::path& run_directory)
@@ -215,10 +215,6 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
       "exit {}{}", WEXITSTATUS(status),
       (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1))));
 }
-
-} // namespace
-
-namespace {
 
 /// The case's tables that are not its physics: where and how it writes, logs and reports.
 bool is_input_key(const std::string& key)
