@@ -910,6 +910,16 @@ std::filesystem::path Config::path(std::string_view key) const
   return p.is_relative() ? state_->file.parent_path() / p : p;
 }
 
+std::vector<std::filesystem::path> Config::paths(std::string_view key) const
+{
+  std::vector<std::filesystem::path> out;
+  for (const std::string& name : strings(key)) {
+    const std::filesystem::path p(name);
+    out.push_back(p.is_relative() ? state_->file.parent_path() / p : p);
+  }
+  return out;
+}
+
 std::vector<double> Config::reals(std::string_view key) const
 {
   const double factor = *units::to_cgs(spec(key).unit);
@@ -1044,11 +1054,19 @@ std::string unset_line(const toml::table& table, const KeySpec& spec, const std:
 /// case file's), so that a run folder's config.toml still names the same files (`ibvalve run --restart`).
 std::string format_value(const toml::node& node, const KeySpec& spec, const std::filesystem::path& folder)
 {
-  if (spec.is_path && node.is_string()) {
-    const std::filesystem::path path(*node.value<std::string>());
-    if (path.is_relative() && !path.empty())
-      return format_node(
-          toml::value<std::string>(std::filesystem::absolute(folder / path).lexically_normal().string()));
+  auto absolute = [&](const std::string& name) {
+    const std::filesystem::path path(name);
+    return path.is_relative() && !path.empty()
+               ? std::filesystem::absolute(folder / path).lexically_normal().string()
+               : name;
+  };
+  if (spec.is_path && node.is_string())
+    return format_node(toml::value<std::string>(absolute(*node.value<std::string>())));
+  if (spec.is_path && node.is_array()) { // a list of files (KeyBinder::paths)
+    toml::array files;
+    for (const auto& item : *node.as_array())
+      files.push_back(item.is_string() ? absolute(*item.value<std::string>()) : std::string());
+    return format_node(files);
   }
   return format_node(node);
 }

@@ -164,6 +164,8 @@ class Config {
   std::string string(std::string_view key) const;
   /// A path key, resolved against the case file's folder.
   std::filesystem::path path(std::string_view key) const;
+  /// A list of path keys, each resolved against the case file's folder.
+  std::vector<std::filesystem::path> paths(std::string_view key) const;
   std::vector<double> reals(std::string_view key) const;
   std::vector<std::int64_t> integers(std::string_view key) const;
   std::vector<std::string> strings(std::string_view key) const;

@@ -97,6 +97,18 @@ KeyBuilder KeyBinder::path(std::string_view key, std::string doc, std::filesyste
   return builder;
 }
 
+KeyBuilder KeyBinder::paths(std::string_view key, std::string doc, std::vector<std::filesystem::path>& target)
+{
+  bound(key, &target);
+  if (reading()) {
+    if (config_->has(full(key))) target = config_->paths(full(key));
+    return scratch();
+  }
+  KeyBuilder builder = schema_->add_string_list(full(key), std::move(doc));
+  builder.file(true);
+  return builder;
+}
+
 KeyBuilder KeyBinder::reals(std::string_view key, std::string doc, std::vector<double>& target)
 {
   bound(key, &target);

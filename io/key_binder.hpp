@@ -57,6 +57,9 @@ class KeyBinder {
   /// A file named relative to the case file's folder (KeyBuilder::file); unset leaves the target empty.
   KeyBuilder path(std::string_view key, std::string doc, std::filesystem::path& target,
                   bool must_exist = true);
+  /// A list of files, each named relative to the case file's folder and required to exist; unset leaves
+  /// the target empty.
+  KeyBuilder paths(std::string_view key, std::string doc, std::vector<std::filesystem::path>& target);
   KeyBuilder reals(std::string_view key, std::string doc, std::vector<double>& target);
   KeyBuilder integers(std::string_view key, std::string doc, std::vector<std::int64_t>& target);
   KeyBuilder strings(std::string_view key, std::string doc, std::vector<std::string>& target);
