@@ -20,11 +20,13 @@
 #include <sstream>
 
 #include <mpi.h>
+#include <nlohmann/json.hpp>
 
 #include "app/build_paths.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
+#include "app/leaflet_state.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
@@ -50,6 +52,7 @@
 #include "io/collective.hpp"
 #include "io/files.hpp"
 #include "io/key_binder.hpp"
+#include "materials/fitting.hpp"
 #include "materials/settings.hpp"
 #include "windkessel/waveform.hpp"
 #include "windkessel/windkessel.hpp"
@@ -83,6 +86,7 @@ struct AorticValveKeys {
   double point_spacing = 0;
   int quadrature_degree = 2;
   hemodynamics::ReportSettings report;
+  std::vector<std::filesystem::path> fit_data;
 };
 
 void bind(io::KeyBinder& keys, AorticValveKeys& k)
@@ -209,6 +213,11 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
 
   keys.merge(materials::material_schema("leaflets.material"));
   keys.merge(materials::material_schema("tube.material"));
+  keys.paths("leaflets.fit_data",
+             "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "
+             "its parameters is measured against: the report's fit_error, the first criterion of the study's "
+             "ranking; unset = no fit error",
+             k.fit_data);
   keys.choice("fibers.rule", "leaflet fiber rule (docs/fibers.md)", k.rule,
               {{"FD1", fibers::FiberRule::FD1}, {"FD2", fibers::FiberRule::FD2}})
       .defaults(std::string("FD1"));
@@ -295,6 +304,19 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   });
 }
 
+/// The mean over the samples of the mean absolute error (kPa) of the leaflet law's biaxial stresses
+/// with its parameters (docs/reference.md, "Constitutive fitting": the study's fit quality).
+double leaflet_fit_error(const materials::MaterialSettings& material,
+                         const std::vector<std::filesystem::path>& files)
+{
+  const materials::BiaxialSetup setup{material.law, material.options.fiber_compression, 0.0};
+  const std::vector<double> parameters = materials::to_user_units(material.law, material.parameters);
+  double sum = 0.0;
+  for (const auto& file : files)
+    sum += materials::fit_quality(materials::read_biaxial_csv(file), setup, parameters).mae;
+  return sum / static_cast<double>(files.size());
+}
+
 class AorticValveRun : public PreparedRun {
  public:
   explicit AorticValveRun(const io::Config& config)
@@ -334,7 +356,7 @@ class AorticValveRun : public PreparedRun {
     for (const std::string group : {"tube", "tube_outer"})
       if (!mesh_.has_group(group)) keys_.fail(k.mesh_file, "the mesh has no group '" + group + "'");
     for (int n = 1; n <= leaflet_count; ++n)
-      for (const std::string suffix : {"", "_attachment", "_n1", "_n2", "_tau1", "_tau2"})
+      for (const std::string suffix : {"", "_attachment", "_n1", "_n2", "_tau1", "_tau2", "_free_edge"})
         if (!mesh_.has_group(leaflet(n) + suffix))
           keys_.fail(k.mesh_file, "the mesh has no group '" + leaflet(n) + suffix + "'");
     for (const fe::Vec3& X : mesh_.nodes())
@@ -343,6 +365,7 @@ class AorticValveRun : public PreparedRun {
           keys_.fail(k.lower, "the valve and tube must lie inside the box");
 
     leaflet_material_ = materials::read_material(config, "leaflets.material");
+    if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
     tube_material_ = materials::read_material(config, "tube.material");
     ib_.kernel = k.kernel;
     ib_.points.spacing = k.point_spacing;
@@ -476,6 +499,10 @@ class AorticValveRun : public PreparedRun {
                                                   hemodynamics::OrificeOptions{k_.orifice_resolution});
     };
 
+    const LeafletState leaflet_state(solid, leaflet_count, k_.geometry.leaflet_thickness);
+    log.info(leaflet_state.describe());
+    write_extra_metrics(context);
+
     double outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
     TimeLoop loop;
     loop.comm = context.comm;
@@ -484,6 +511,8 @@ class AorticValveRun : public PreparedRun {
     loop.checkpoints = checkpoint_settings_;
     loop.columns = hemodynamics::standard_columns();
     loop.units = hemodynamics::standard_units();
+    for (const std::string& c : hemodynamics::leaflet_state_columns()) loop.columns.push_back(c);
+    for (const std::string& u : hemodynamics::leaflet_state_units()) loop.units.push_back(u);
     loop.record_every = k_.every;
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
@@ -509,15 +538,17 @@ class AorticValveRun : public PreparedRun {
       if (!std::isfinite(q_valve) || !std::isfinite(p[2]))
         throw RunError(fmt::format("aortic-valve: the flow is not finite at t = {:g} s (try a smaller {})", t,
                                    keys_.key_of(k_.step)));
-      return std::vector<double>{t,
-                                 q_valve / units::mL,
-                                 outlet_flow / units::mL,
-                                 p[0] / units::mmHg,
-                                 p[1] / units::mmHg,
-                                 outlet.reservoir_pressure() / units::mmHg,
-                                 p[2] / units::mmHg,
-                                 p[3] / units::mmHg,
-                                 area};
+      std::vector<double> row{t,
+                              q_valve / units::mL,
+                              outlet_flow / units::mL,
+                              p[0] / units::mmHg,
+                              p[1] / units::mmHg,
+                              outlet.reservoir_pressure() / units::mmHg,
+                              p[2] / units::mmHg,
+                              p[3] / units::mmHg,
+                              area};
+      for (double v : leaflet_state.row(ibfe.displacement(), fluid->max_velocity())) row.push_back(v);
+      return row;
     };
     // Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the Windkessel and the
     // lagged outlet pressure and flow, and the orifice-area range of the summary.
@@ -636,6 +667,25 @@ class AorticValveRun : public PreparedRun {
     });
   }
 
+  /// <run>/extra_metrics.json: what the report adds from outside the time series (docs/hemodynamics.md,
+  /// "Extra metrics"), here the leaflet law's fit error. Written whole or not at all, by rank 0.
+  void write_extra_metrics(const RunContext& context) const
+  {
+    if (!fit_error_) return;
+    io::on_root(context.comm, [&] {
+      nlohmann::ordered_json extra;
+      extra["fit_error"] = {
+          {"value", *fit_error_},
+          {"unit", "kPa"},
+          {"symbol", "e_fit"},
+          {"description",
+           fmt::format("mean absolute error of the leaflet law's stresses against the {} planar "
+                       "biaxial sample(s) of {}",
+                       k_.fit_data.size(), keys_.key_of(k_.fit_data))}};
+      io::write_file_atomically(context.run_directory / "extra_metrics.json", extra.dump(2) + "\n");
+    });
+  }
+
   io::Config config_;
   io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
   AorticValveKeys k_;
@@ -647,6 +697,7 @@ class AorticValveRun : public PreparedRun {
   materials::MaterialSettings leaflet_material_, tube_material_;
   ib::IbfeSettings ib_;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
+  std::optional<double> fit_error_; ///< kPa, from leaflets.fit_data
 
   /// The factor of both boundary pressures at time t: a smooth rise from 0 to 1 over the ramp.
   double pressure_ramp(double t) const

@@ -75,6 +75,75 @@ std::string seconds(double t)
   return fmt::format("{:.4f} s", t);
 }
 
+/// The study's structural figures (docs/reference.md, "Hemodynamic metrics"): the leaflet-state
+/// columns of a 3-D run read at the orifice phases' instants: fully opened (the fully open phase's
+/// start), pre-close (its end) and fully closed (the closing phase's end, "just closed" for the
+/// velocity). Nothing is added when the series has none of those columns.
+void add_leaflet_state_metrics(const ValveSeries& w, const Phases& ph, const std::string& no_area, auto&& add)
+{
+  if (w.leaflet_state.empty()) return;
+  struct State {
+    const char* suffix;
+    const char* symbol;
+    const char* name;
+    double time;
+  };
+  const State open{"open", "FO", "fully opened", ph.fully_open_start};
+  const State preclose{"preclose", "PC", "pre-close", ph.fully_open_end};
+  const State closed{"closed", "FC", "fully closed", ph.closing_end};
+  // A column read at a state: scaled to the report unit; missing without the column or the instant.
+  auto at_state = [&](const char* column, const State& state,
+                      double scale) -> std::pair<std::optional<double>, std::string> {
+    const auto c = w.leaflet_state.find(column);
+    if (c == w.leaflet_state.end()) return {std::nullopt, fmt::format("no {} column", column)};
+    if (!no_area.empty()) return {std::nullopt, no_area};
+    if (std::isnan(state.time)) return {std::nullopt, fmt::format("no {} instant in the cycle", state.name)};
+    return {scale * interpolate(w.t, c->second, state.time), "at t = " + seconds(state.time)};
+  };
+  auto metric = [&](std::string key, std::string symbol, const char* unit, std::string description,
+                    const char* column, const State& state, double scale = 1.0) {
+    auto [value, note] = at_state(column, state, scale);
+    add(std::move(key), std::move(symbol), unit, std::move(description), value, note);
+  };
+  for (const State& s : {open, preclose, closed}) {
+    metric(fmt::format("leaflet_displacement_mean_{}", s.suffix), fmt::format("d_mean,{}", s.symbol), "cm",
+           fmt::format("mean leaflet displacement |x - X|, {}", s.name), column::displacement_mean, s);
+    metric(fmt::format("leaflet_displacement_max_{}", s.suffix), fmt::format("d_max,{}", s.symbol), "cm",
+           fmt::format("largest leaflet displacement |x - X|, {}", s.name), column::displacement_max, s);
+  }
+  for (const State& s : {open, closed})
+    metric(fmt::format("peak_velocity_{}", s.suffix), fmt::format("u_max,{}", s.symbol), "m/s",
+           fmt::format("largest fluid speed in the box, {}", s.name), column::peak_velocity, s,
+           1.0 / units::m_per_s);
+  for (const State& s : {open, closed}) {
+    metric(fmt::format("fiber_strain_belly_{}", s.suffix), fmt::format("E_ff,belly,{}", s.symbol), "1",
+           fmt::format("fiber strain f0 . (E f0), belly spheres, {}", s.name), column::belly_fiber_strain, s);
+    metric(fmt::format("fiber_strain_top_{}", s.suffix), fmt::format("E_ff,top,{}", s.symbol), "1",
+           fmt::format("fiber strain f0 . (E f0), top-centre spheres, {}", s.name), column::top_fiber_strain,
+           s);
+    metric(fmt::format("fiber_stress_belly_{}", s.suffix), fmt::format("S_ff,belly,{}", s.symbol), "kPa",
+           fmt::format("fiber stress f . (sigma f), belly spheres, {}", s.name), column::belly_fiber_stress,
+           s);
+    metric(fmt::format("fiber_stress_top_{}", s.suffix), fmt::format("S_ff,top,{}", s.symbol), "kPa",
+           fmt::format("fiber stress f . (sigma f), top-centre spheres, {}", s.name),
+           column::top_fiber_stress, s);
+  }
+  // The ranking's variations (docs/hemodynamics.md, "Comparison"): how far the belly and the
+  // top-centre differ in the loaded, fully closed valve; the smaller, the more evenly the leaflet
+  // carries its load.
+  auto variation = [&](std::string key, std::string symbol, const char* unit, std::string description,
+                       const char* belly, const char* top) {
+    const auto [b, note] = at_state(belly, closed, 1.0);
+    const auto [c, unused] = at_state(top, closed, 1.0);
+    add(std::move(key), std::move(symbol), unit, std::move(description),
+        b && c ? std::optional(std::abs(*b - *c)) : std::nullopt, note);
+  };
+  variation("strain_variation", "dE_ff", "1", "|belly - top-centre| fiber strain, fully closed",
+            column::belly_fiber_strain, column::top_fiber_strain);
+  variation("stress_variation", "dS_ff", "kPa", "|belly - top-centre| fiber stress, fully closed",
+            column::belly_fiber_stress, column::top_fiber_stress);
+}
+
 } // namespace
 
 ClosureRule closure_rule_from_name(const std::string& name)
@@ -350,6 +419,7 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   add("closing_duration", "T_close", "ms", "orifice closing (fully open -> closed)",
       area_phases ? ms(ph.fully_open_end, ph.closing_end) : std::nullopt,
       area_phases ? (std::isnan(ph.closing_end) ? "did not close in the cycle" : "") : no_area);
+  add_leaflet_state_metrics(w, ph, area_phases ? "" : no_area, add);
   return out;
 }
 

@@ -28,6 +28,18 @@ std::vector<std::string> standard_units()
   return {"s", "mL/s", "mL/s", "mmHg", "mmHg", "mmHg", "mmHg", "mmHg", "cm^2"};
 }
 
+std::vector<std::string> leaflet_state_columns()
+{
+  return {column::displacement_mean,  column::displacement_max, column::peak_velocity,
+          column::belly_fiber_strain, column::top_fiber_strain, column::belly_fiber_stress,
+          column::top_fiber_stress};
+}
+
+std::vector<std::string> leaflet_state_units()
+{
+  return {"cm", "cm", "cm/s", "1", "1", "kPa", "kPa"};
+}
+
 std::vector<std::vector<double>*> ValveSeries::columns()
 {
   std::vector<std::vector<double>*> all{&t,
@@ -39,6 +51,7 @@ std::vector<std::vector<double>*> ValveSeries::columns()
                                         &near_lv_pressure,
                                         &near_aortic_pressure,
                                         &orifice_area};
+  for (auto& [name, values] : leaflet_state) all.push_back(&values);
   std::erase_if(all, [](const std::vector<double>* c) { return c->empty(); });
   return all;
 }
@@ -68,6 +81,9 @@ ValveSeries read_valve_series(const std::filesystem::path& file)
   optional(column::outlet_flow, s.outlet_flow);
   optional(column::windkessel_pressure, s.windkessel_pressure);
   optional(column::orifice_area, s.orifice_area);
+  for (const std::string& name : leaflet_state_columns())
+    if (std::find(table.columns.begin(), table.columns.end(), name) != table.columns.end())
+      s.leaflet_state[name] = table.values(name);
   if (s.t.size() < 3) throw InputError(file.string() + ": needs at least 3 rows of samples");
   // Data rows start after the header; comment lines make exact line numbers unknowable here, so the
   // row number (1 = first data row) is given.

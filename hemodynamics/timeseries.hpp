@@ -6,6 +6,7 @@
 // and E_L = 0.1333 * integral of dp Q, are written in these units). Runs write the columns named
 // below; a run may add more columns, which are ignored here.
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,20 @@ inline constexpr const char* windkessel_pressure = "P_Wk";   // mmHg, Windkessel
 inline constexpr const char* near_lv_pressure = "P_nlv";     // mmHg, near the leaflets, LV side
 inline constexpr const char* near_aortic_pressure = "P_nao"; // mmHg, near the leaflets, aortic side
 inline constexpr const char* orifice_area = "orifice_area";  // cm^2 (geometric, or effective for lumped runs)
+// The leaflets' state, written by 3-D runs (optional; the metrics read them at the orifice phases'
+// instants, docs/hemodynamics.md, "Leaflet state").
+inline constexpr const char* displacement_mean = "d_mean";      // cm, mean |x - X| over the leaflet nodes
+inline constexpr const char* displacement_max = "d_max";        // cm, largest |x - X| over them
+inline constexpr const char* peak_velocity = "u_max";           // cm/s, largest fluid speed in the box
+inline constexpr const char* belly_fiber_strain = "E_ff_belly"; // f0 . (E f0), mean over the belly spheres
+inline constexpr const char* top_fiber_strain = "E_ff_top";     // the same over the top-centre spheres
+inline constexpr const char* belly_fiber_stress = "S_ff_belly"; // kPa, f . (sigma f), belly spheres
+inline constexpr const char* top_fiber_stress = "S_ff_top";     // kPa, top-centre spheres
 } // namespace column
+
+/// The leaflet-state columns, in the order runs write them after the standard ones, and their units.
+std::vector<std::string> leaflet_state_columns();
+std::vector<std::string> leaflet_state_units();
 
 /// The standard columns in the order runs write them.
 std::vector<std::string> standard_columns();
@@ -39,6 +53,8 @@ struct ValveSeries {
   std::vector<double> near_lv_pressure;
   std::vector<double> near_aortic_pressure;
   std::vector<double> orifice_area; // optional
+  /// The leaflet-state columns the file has (leaflet_state_columns() names), each optional.
+  std::map<std::string, std::vector<double>> leaflet_state;
   std::filesystem::path source;
 
   std::size_t size() const { return t.size(); }
@@ -49,8 +65,8 @@ struct ValveSeries {
 };
 
 /// Reads timeseries.csv. Required: t, Q_valve, P_LV, P_Ao, P_nlv, P_nao; optional: Q_outlet, P_Wk,
-/// orifice_area. A missing file or column, a malformed line, a non-finite value or times that do not
-/// increase strictly are InputErrors naming the file (and line).
+/// orifice_area and the leaflet-state columns. A missing file or column, a malformed line, a non-finite value
+/// or times that do not increase strictly are InputErrors naming the file (and line).
 ValveSeries read_valve_series(const std::filesystem::path& file);
 
 /// The samples in [start, end], with every column interpolated linearly at the two ends when they

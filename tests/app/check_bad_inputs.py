@@ -230,8 +230,8 @@ def prepare(row, examples, work):
     if how[0] in ("edit", "append", "set"):
         source = examples / how[1]
         text = source.read_text()
-        # The case sits one folder below WORK_DIR, beside a link to the examples' waveforms, so its
-        # relative paths (../waveforms/lv_pressure.csv) still hold.
+        # The case sits one folder below WORK_DIR, beside links to the examples' waveforms and biaxial
+        # samples, so its relative paths (../waveforms/lv_pressure.csv, ../biaxial/sample1.csv) still hold.
         case = work / "cases" / f"bad_{slug}.toml"
         if how[0] == "edit":
             if how[2] not in text:
@@ -328,6 +328,7 @@ def main():
     (work / "runs").mkdir(parents=True)
     (work / "cases").mkdir()
     (work / "waveforms").symlink_to(options.examples.resolve() / "waveforms")
+    (work / "biaxial").symlink_to(options.examples.resolve() / "biaxial")
     # The folder the commands are given (not a run folder): it must stay as it is.
     (work / "given").mkdir()
     (work / "given" / "notes.txt").write_text("not a run\n")

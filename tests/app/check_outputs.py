@@ -8,10 +8,14 @@ a user would: fields.xdmf (ElementTree) and the HDF5 files it names (h5py), and 
     `fiber_reference` and `fiber_direction` per element, unit vectors in the parts given by --fibers-in
     and zero elsewhere; the geometry is the current positions (Information "geometry"), so the last
     snapshot's coordinates minus its displacement are the first snapshot's (the reference);
-  - timeseries.csv: a '# units: ' line right under the header with one unit per column.
+  - timeseries.csv: a '# units: ' line right under the header with one unit per column;
+  - with --extra-metrics KEY,...: extra_metrics.json holds each KEY as an object with a finite value,
+    a unit, a symbol and a description (the aortic-valve model's fit_error).
 
 Usage: check_outputs.py RUN_DIR [--parts leaflet1,leaflet2,leaflet3,tube] [--fibers-in leaflet1,...]"""
 import argparse
+import json
+import math
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -109,14 +113,33 @@ def check_series(run):
     print("timeseries.csv units: " + ", ".join(f"{c} [{u}]" for c, u in zip(header, units)))
 
 
+def check_extra_metrics(run, keys):
+    path = run / "extra_metrics.json"
+    if not path.exists():
+        fail("no extra_metrics.json")
+        return
+    extra = json.loads(path.read_text())
+    for key in keys:
+        entry = extra.get(key)
+        if not isinstance(entry, dict) or not all(entry.get(k) for k in ("unit", "symbol", "description")):
+            fail(f"extra_metrics.json: {key}: not an object with a unit, a symbol and a description: {entry!r}")
+        elif not isinstance(entry.get("value"), (int, float)) or not math.isfinite(entry["value"]):
+            fail(f"extra_metrics.json: {key}: value {entry.get('value')!r} is not a finite number")
+        else:
+            print(f"extra_metrics.json: {key} = {entry['value']:.4g} {entry['unit']}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("run", type=Path)
     parser.add_argument("--parts", type=lambda s: s.split(","), default=None)
     parser.add_argument("--fibers-in", type=lambda s: [p for p in s.split(",") if p], default=None,
                         help="the parts with fibers (default: any element whose vector is not zero)")
+    parser.add_argument("--extra-metrics", type=lambda s: s.split(","), default=[])
     args = parser.parse_args()
     check_series(args.run)
+    if args.extra_metrics:
+        check_extra_metrics(args.run, args.extra_metrics)
     xdmf = args.run / "fields.xdmf"
     if xdmf.exists():
         steps = ET.parse(xdmf).getroot().findall("./Domain/Grid/Grid")

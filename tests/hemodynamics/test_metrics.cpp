@@ -14,6 +14,7 @@
 #include <iostream>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -330,4 +331,84 @@ TEST(Metrics, IntegrationAndWindowsAreExactForLinearData)
   EXPECT_DOUBLE_EQ(w.t.back(), 0.9);
   EXPECT_NEAR(w.valve_flow.back(), 1.7, 1e-14);
   EXPECT_TRUE(w.outlet_flow.empty());
+}
+
+// The leaflet-state columns of a 3-D run, linear in t so that the values at the orifice phases'
+// instants are exact: fully opened (a reaches 0.9 at 0.1 + 0.9 x 0.04 s), pre-close (a leaves 0.9 at
+// 0.36 + 0.1 x 0.06 s) and fully closed (a falls to 0.05 at 0.36 + 0.95 x 0.06 s), in the second cycle.
+TEST(Metrics, LeafletStateIsReadAtTheFullyOpenedPreCloseAndFullyClosedInstants)
+{
+  const std::vector<std::pair<std::string, std::pair<double, double>>> linear{
+      {hd::column::displacement_mean, {0.1, 0.5}}, {hd::column::displacement_max, {0.3, 1.5}},
+      {hd::column::peak_velocity, {50.0, 200.0}},  {hd::column::belly_fiber_strain, {0.01, 0.1}},
+      {hd::column::top_fiber_strain, {0.02, 0.3}}, {hd::column::belly_fiber_stress, {5.0, 40.0}},
+      {hd::column::top_fiber_stress, {1.0, 90.0}}};
+  auto value = [&](const char* column, double t) {
+    for (const auto& [name, ab] : linear)
+      if (name == column) return ab.first + ab.second * t;
+    return std::nan("");
+  };
+  const auto times = jittered(2e-4, 5);
+  hd::ValveSeries s = synthetic(times, true);
+  for (const auto& [name, ab] : linear)
+    for (double t : times) s.leaflet_state[name].push_back(ab.first + ab.second * t);
+  const hd::ValveMetrics m = hd::compute_metrics(s, {});
+  const double open = T + 0.1 + 0.9 * 0.04, preclose = T + 0.36 + 0.1 * 0.06, closed = T + 0.36 + 0.95 * 0.06;
+  const std::vector<std::tuple<std::string, const char*, double, double>> cases{
+      {"leaflet_displacement_mean_open", hd::column::displacement_mean, open, 1.0},
+      {"leaflet_displacement_mean_preclose", hd::column::displacement_mean, preclose, 1.0},
+      {"leaflet_displacement_mean_closed", hd::column::displacement_mean, closed, 1.0},
+      {"leaflet_displacement_max_open", hd::column::displacement_max, open, 1.0},
+      {"leaflet_displacement_max_preclose", hd::column::displacement_max, preclose, 1.0},
+      {"leaflet_displacement_max_closed", hd::column::displacement_max, closed, 1.0},
+      {"peak_velocity_open", hd::column::peak_velocity, open, 0.01}, // cm/s -> m/s
+      {"peak_velocity_closed", hd::column::peak_velocity, closed, 0.01},
+      {"fiber_strain_belly_open", hd::column::belly_fiber_strain, open, 1.0},
+      {"fiber_strain_top_closed", hd::column::top_fiber_strain, closed, 1.0},
+      {"fiber_stress_belly_closed", hd::column::belly_fiber_stress, closed, 1.0},
+      {"fiber_stress_top_open", hd::column::top_fiber_stress, open, 1.0}};
+  for (const auto& [key, column, t, scale] : cases) {
+    ASSERT_TRUE(m.find(key)) << key;
+    expect_relative(m.value(key), scale * value(column, t), 1e-9, key);
+    EXPECT_NE(m.find(key)->note.find(fmt::format("at t = {:.4f} s", t)), std::string::npos) << key;
+  }
+  expect_relative(
+      m.value("strain_variation"),
+      std::abs(value(hd::column::belly_fiber_strain, closed) - value(hd::column::top_fiber_strain, closed)),
+      1e-9, "strain variation");
+  expect_relative(
+      m.value("stress_variation"),
+      std::abs(value(hd::column::belly_fiber_stress, closed) - value(hd::column::top_fiber_stress, closed)),
+      1e-9, "stress variation");
+
+  // Without an orifice area the instants are unknown: the metrics are there, missing, with the reason.
+  hd::ValveSeries no_area = s;
+  no_area.orifice_area.clear();
+  const hd::ValveMetrics without = hd::compute_metrics(no_area, {});
+  ASSERT_TRUE(without.find("fiber_strain_belly_open"));
+  EXPECT_FALSE(without.find("fiber_strain_belly_open")->value);
+  EXPECT_EQ(without.find("strain_variation")->note, "no orifice_area column");
+  // A run without leaflet-state columns (lumped, older 3-D series) gets none of these metrics.
+  EXPECT_FALSE(hd::compute_metrics(synthetic(times, true), {}).find("strain_variation"));
+
+  // timeseries.csv with the columns reads them back.
+  const auto dir = std::filesystem::temp_directory_path() / "ibvalve_test_leaflet_state";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream out(dir / "timeseries.csv");
+    out << std::setprecision(17) << "t,Q_valve,P_LV,P_Ao,P_nlv,P_nao,orifice_area";
+    for (const auto& name : hd::leaflet_state_columns()) out << "," << name;
+    out << "\n";
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      out << s.t[i] << "," << s.valve_flow[i] << "," << s.lv_pressure[i] << "," << s.aortic_pressure[i] << ","
+          << s.near_lv_pressure[i] << "," << s.near_aortic_pressure[i] << "," << s.orifice_area[i];
+      for (const auto& name : hd::leaflet_state_columns()) out << "," << s.leaflet_state.at(name)[i];
+      out << "\n";
+    }
+  }
+  const hd::ValveMetrics read = hd::compute_metrics(hd::read_valve_series(dir / "timeseries.csv"), {});
+  EXPECT_DOUBLE_EQ(read.value("stress_variation"), m.value("stress_variation"));
+  EXPECT_DOUBLE_EQ(read.value("leaflet_displacement_max_preclose"),
+                   m.value("leaflet_displacement_max_preclose"));
+  std::filesystem::remove_all(dir);
 }
