@@ -514,6 +514,7 @@ class AorticValveRun : public PreparedRun {
     for (const std::string& c : hemodynamics::leaflet_state_columns()) loop.columns.push_back(c);
     for (const std::string& u : hemodynamics::leaflet_state_units()) loop.units.push_back(u);
     loop.record_every = k_.every;
+    loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
     loop.advance = [&](std::int64_t n) {

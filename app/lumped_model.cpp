@@ -188,6 +188,7 @@ class LumpedRun : public PreparedRun {
     loop.units = hemodynamics::standard_units();
     loop.units.push_back("1");
     loop.record_every = k_.every;
+    loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
     // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
     // millisecond of this model) every 1000 steps.
     loop.progress_every = 1000;

@@ -80,7 +80,8 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
     csv = io::CsvWriter(directory / "timeseries.csv", loop.columns, context.restart, loop.units);
   });
   auto outputs = [&](std::int64_t step) {
-    if (due(step, loop.record_every, steps)) {
+    if (due(step, loop.record_every, steps) ||
+        (loop.record_also_every > 0 && step % loop.record_also_every == 0)) {
       const std::vector<double> row = loop.row(step);
       // Rank 0's row; a failure to write it (a full disk) reaches every rank.
       io::on_root(loop.comm, [&] { csv.write_row(row); });

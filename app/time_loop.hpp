@@ -5,8 +5,8 @@
 // end. The loop does the rest the same way for all (docs/runs.md):
 //  - --restart: reads the newest checkpoint (the model's restore hook), records the case, cuts
 //    timeseries.csv and diagnostics.csv back to the checkpoint's step and goes on from there;
-//  - timeseries.csv (rank 0 writes; a failure reaches every rank), a row at step 0 and every
-//    `record_every` steps and at the last;
+//  - timeseries.csv (rank 0 writes; a failure reaches every rank), a row at step 0, every
+//    `record_every` steps, at every multiple of `record_also_every` and at the last;
 //  - field snapshots in fields/ with fields.xdmf, at step 0, every `fields_every` steps and at the last;
 //  - diagnostics.csv and the progress line;
 //  - checkpoints (checkpoint.every), --stop-after-steps, and a stop by SIGINT/SIGTERM, which leave a
@@ -36,6 +36,9 @@ struct TimeLoop {
 
   std::vector<std::string> columns, units; // timeseries.csv's header and units line
   std::int64_t record_every = 1;
+  /// A row also at every multiple of this (a cardiac cycle's steps: its report then has the cycle's
+  /// last instant, whatever record_every); 0: none.
+  std::int64_t record_also_every = 0;
   /// Field snapshots every this many steps, and at the first and the last step; 0: only those two;
   /// negative: none (no fields/ folder, no fields.xdmf).
   std::int64_t fields_every = -1;
