@@ -66,7 +66,7 @@ constexpr int leaflet_count = 3;
 /// The model's own keys and where they go (io/key_binder.hpp); the sections of other folders (the LV
 /// pressure table, the Windkessel, the materials, the report, checkpoints, nested levels) are theirs.
 struct AorticValveKeys {
-  std::int64_t cycles = 1, every = 10;
+  std::int64_t cycles = 2, every = 10;
   std::optional<double> end;
   double step = 0, pressure_ramp = 0, fields_interval = 0;
   std::vector<std::int64_t> cells;
@@ -91,8 +91,9 @@ struct AorticValveKeys {
 
 void bind(io::KeyBinder& keys, AorticValveKeys& k)
 {
-  keys.integer("time.cycles", "cardiac cycles to run (a report after each)", k.cycles)
-      .defaults(std::int64_t{1})
+  keys.integer("time.cycles",
+               "cardiac cycles to run (a report after each; the study reports the second of two)", k.cycles)
+      .defaults(std::int64_t{2})
       .at_least(1);
   keys.real("time.end",
             "simulated end time; unset = " + keys.key_of(k.cycles) +
@@ -102,7 +103,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .positive();
   keys.real("time.step", "time step (rounded so a cycle holds a whole number of steps)", k.step)
       .unit("s")
-      .defaults(5e-5)
+      .defaults(3e-5)
       .positive();
   keys.real("time.pressure_ramp",
             "the inlet and outlet pressures rise from zero to their values over this time, as "
