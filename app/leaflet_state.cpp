@@ -8,6 +8,7 @@
 #include "base/errors.hpp"
 #include "base/units.hpp"
 #include "fe/quadrature_data.hpp"
+#include "hemodynamics/geometry.hpp"
 
 namespace ibvalve::app {
 
@@ -78,18 +79,16 @@ LeafletState::LeafletState(const fe::SolidModel& solid, int leaflets, double thi
                                    name, radius));
     nodes_.insert(nodes_.end(), leaflet.nodes.begin(), leaflet.nodes.end());
   }
+  for (int n : nodes_) reference_.push_back({mesh.nodes()[n][0], mesh.nodes()[n][1], mesh.nodes()[n][2]});
 }
 
 std::vector<double> LeafletState::row(std::span<const double> displacement, double max_fluid_speed) const
 {
-  double sum = 0.0, largest = 0.0;
-  for (int n : nodes_) {
-    const double d = std::sqrt(displacement[3 * n] * displacement[3 * n] +
-                               displacement[3 * n + 1] * displacement[3 * n + 1] +
-                               displacement[3 * n + 2] * displacement[3 * n + 2]);
-    sum += d;
-    largest = std::max(largest, d);
-  }
+  std::vector<hemodynamics::Point> current(nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i)
+    for (int d = 0; d < 3; ++d) current[i][d] = reference_[i][d] + displacement[3 * nodes_[i] + d];
+  const hemodynamics::DisplacementStatistics moved =
+      hemodynamics::displacement_statistics(reference_, current);
   const fe::PointFields fields = solid_.point_fields(displacement);
   // Per sphere the volume average; then the mean over the leaflets. The stress is f . (sigma f) with
   // f = F f0 (docs/reference.md), lambda_f^2 = 1 + 2 E_ff times the unit-fiber normal stress that
@@ -108,8 +107,8 @@ std::vector<double> LeafletState::row(std::span<const double> displacement, doub
     }
     return over_leaflets / static_cast<double>(spheres.size());
   };
-  return {sum / static_cast<double>(nodes_.size()),
-          largest,
+  return {moved.mean,
+          moved.max,
           max_fluid_speed,
           average(belly_, false),
           average(top_, false),

@@ -14,6 +14,7 @@
 //    the leafletK_attachment nodes within one thickness of the lowest), the leaflet node as far along
 //    the leaflet from the nadir as from the top-centre (both distances equal, the node nearest that
 //    plane breaking ties).
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,7 +47,8 @@ class LeafletState {
 
  private:
   const fe::SolidModel& solid_;
-  std::vector<int> nodes_; ///< every leaflet node
+  std::vector<int> nodes_;                       ///< every leaflet node
+  std::vector<std::array<double, 3>> reference_; ///< their reference positions
   std::vector<Sphere> belly_, top_;
 };
 
