@@ -177,17 +177,31 @@ void GridInteraction::prepare(std::span<const Vec3> points, PreparedPoints& prep
   prepared.weights.clear();
   prepared.first.clear();
   prepared.inside.clear();
+  const fluid::BoxGeometry& box = grid_.box();
   std::array<double, max_kernel_support> w{};
   for (std::size_t p = 0; p < points.size(); ++p) {
     const Vec3 y = wrap(points[p]);
-    if (!owns_wrapped(y)) continue;
+    // The point's grid coordinate per direction (faces normal to e sit at s = i), computed once for
+    // the ownership test (as owns_wrapped) and both stencils.
+    std::array<double, 3> s{};
+    bool mine = true;
+    for (int d = 0; d < 3 && mine; ++d) {
+      s[static_cast<std::size_t>(d)] = (y[d] - box.lower[d]) / grid_.h(d);
+      const auto cell = std::clamp<PetscInt>(
+          static_cast<PetscInt>(std::floor(s[static_cast<std::size_t>(d)])), 0, grid_.cells(d) - 1);
+      mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
+    }
+    if (!mine) continue;
     prepared.index.push_back(p);
+    const std::size_t offset = prepared.weights.size();
+    prepared.weights.resize(offset + 6 * static_cast<std::size_t>(S));
+    double* out = prepared.weights.data() + offset;
     std::array<int, 6> first{};
     for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
       for (int e = 0; e < 3; ++e) {
-        const double t = (y[e] - grid_.box().lower[e]) / grid_.h(e) - (set == 1 ? 0.5 : 0.0);
+        const double t = s[static_cast<std::size_t>(e)] - (set == 1 ? 0.5 : 0.0);
         first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
-        prepared.weights.insert(prepared.weights.end(), w.begin(), w.begin() + S);
+        std::copy(w.begin(), w.begin() + S, out + (3 * set + e) * S);
       }
     std::uint8_t inside = 0;
     for (int d = 0; d < 3; ++d) {

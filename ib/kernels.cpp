@@ -138,21 +138,10 @@ double DeltaKernel::phi(double r) const
   return 0.0;
 }
 
-int DeltaKernel::weights(double s, std::array<double, max_kernel_support>& w) const
+int DeltaKernel::weights_of_other_kernels(double s, std::array<double, max_kernel_support>& w) const
 {
   // The grid points within half the support of s: first = floor(s - support/2) + 1.
   const int first = static_cast<int>(std::floor(s - 0.5 * support_)) + 1;
-  if (kind_ == KernelKind::ib_4) {
-    // With r = s - floor(s) the four distances are 1 + r, r, 1 - r and 2 - r, and both pieces of
-    // Peskin (2002), eq. (6.27), take the same root sqrt(1 + 4r - 4r^2) there: one square root.
-    const double f = std::floor(s), r = s - f;
-    const double q = std::sqrt(1.0 + 4.0 * r - 4.0 * r * r);
-    w[0] = (3.0 - 2.0 * r - q) / 8.0;
-    w[1] = (3.0 - 2.0 * r + q) / 8.0;
-    w[2] = (1.0 + 2.0 * r + q) / 8.0;
-    w[3] = (1.0 + 2.0 * r - q) / 8.0;
-    return static_cast<int>(f) - 1;
-  }
   if (kind_ == KernelKind::ib_6) {
     // first = floor(s) - 2 and the weights are the six pieces at r = s - floor(s) directly.
     ib6_pieces(s - std::floor(s), w);
