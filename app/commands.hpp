@@ -10,6 +10,8 @@
 #include <CLI/CLI.hpp>
 #include <mpi.h>
 
+#include "hemodynamics/compare.hpp"
+
 namespace ibvalve::app {
 
 /// Options given after `--` on the command line, handed to PETSc unchanged.
@@ -54,10 +56,10 @@ void add_fibers_command(CLI::App& app, CommandAction& action);
 void add_report_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve compare RUN_DIR...` (hemodynamics/compare.hpp).
 void add_compare_command(CLI::App& app, CommandAction& action);
-/// What `ibvalve compare RUNS... -o OUTPUT [--templates DIR]` does (also the last step of `ibvalve
-/// study`); an empty `templates` = the built-in comparison templates.
+/// What `ibvalve compare RUNS... -o OUTPUT [--templates DIR] [--python P] [--no-plots]` does (also the
+/// last step of `ibvalve study`, with the built-in templates and the build's Python).
 int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output,
-                 const std::filesystem::path& templates = {});
+                 const hemodynamics::ComparisonOptions& options);
 /// Runs `work` on rank 0 of `comm` only and rethrows its InputError/RunError/other error on every rank.
 void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work);
 

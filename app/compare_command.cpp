@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <petscsys.h>
 
+#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "base/logger.hpp"
 #include "hemodynamics/compare.hpp"
@@ -20,17 +21,18 @@ struct CompareOptions {
   std::vector<std::filesystem::path> runs;
   std::filesystem::path output = "comparison";
   std::filesystem::path templates; // empty = the built-in templates
+  std::string python = python_executable;
+  bool no_plots = false;
 };
 
 } // namespace
 
 int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output,
-                 const std::filesystem::path& templates)
+                 const hemodynamics::ComparisonOptions& options)
 {
-  const CompareOptions options{runs, output, templates};
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     std::vector<hemodynamics::CaseResult> cases;
-    for (const auto& run : options.runs) cases.push_back(hemodynamics::load_case(run));
+    for (const auto& run : runs) cases.push_back(hemodynamics::load_case(run));
     // Cases with the same name (e.g. two runs of one case file) are told apart by their folders.
     for (std::size_t i = 0; i < cases.size(); ++i)
       for (std::size_t j = 0; j < cases.size(); ++j)
@@ -40,7 +42,7 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
                       std::filesystem::absolute(c.run_directory).lexically_normal().filename().string() + ")";
           i = j = cases.size();
         }
-    const auto files = hemodynamics::write_comparison(cases, options.output, options.templates);
+    const auto files = hemodynamics::write_comparison(cases, output, options);
     const auto ranking = hemodynamics::rank_cases(cases);
     auto& log = base::Logger::global();
     for (const auto& row : ranking.rows)
@@ -48,7 +50,8 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
           fmt::format("rank {}: {} (total {})", row.rank, row.name, hemodynamics::format_value(row.total)));
     for (const auto& left : ranking.left_out) log.info("left out of the ranking: " + left);
     log.info("comparison: " + files.html.string() + ", " + files.markdown.string() + ", " +
-             files.metrics_csv.string() + ", " + files.ranking_csv.string());
+             files.metrics_csv.string() + ", " + files.ranking_csv.string() +
+             fmt::format(" ({} plots)", files.plots.size()));
   });
   return 0;
 }
@@ -64,9 +67,13 @@ void add_compare_command(CLI::App& app, CommandAction& action)
   sub->add_option("--templates", options->templates,
                   "folder of comparison.html.tpl and/or comparison.md.tpl to lay the pages out with "
                   "(`ibvalve report --write-templates DIR` writes the built-in ones)");
+  sub->add_option("--python", options->python,
+                  "the Python interpreter that draws the overlaid curves (needs matplotlib and numpy)");
+  sub->add_flag("--no-plots", options->no_plots, "skip the overlaid curves");
   sub->callback([options, &action] {
     action = [options](const PetscArguments&) {
-      return compare_runs(options->runs, options->output, options->templates);
+      return compare_runs(options->runs, options->output,
+                          {options->templates, options->python, !options->no_plots});
     };
   });
 }

@@ -71,6 +71,14 @@ CaseResult load_case(const fs::path& run_directory)
   if (metrics == doc.end() || !metrics->is_object())
     throw InputError(stored.string() + ": no \"metrics\" object");
   c.metrics = *metrics;
+  if (const auto phases = doc.find("phases"); phases != doc.end() && phases->is_object()) {
+    auto instant = [&](const char* key) -> std::optional<double> {
+      const auto v = phases->find(key);
+      return v != phases->end() && v->is_number() ? std::optional<double>(v->get<double>()) : std::nullopt;
+    };
+    c.cycle_start = instant("cycle_start");
+    c.cycle_end = instant("cycle_end");
+  }
   return c;
 }
 
@@ -188,7 +196,8 @@ namespace {
 
 /// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
 kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
-                                          std::span<const std::string> keys, const Ranking& ranking)
+                                          std::span<const std::string> keys, const Ranking& ranking,
+                                          std::span<const fs::path> plots)
 {
   using kainjow::mustache::data;
   data values;
@@ -233,6 +242,16 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     criterion_rows.push_back(row);
   }
   values.set("criteria", criterion_rows);
+  data plot_rows{data::type::list};
+  for (const auto& p : plots) {
+    data row;
+    row.set("file", p.filename().string());
+    for (const auto& info : comparison_plots)
+      if (p.filename() == info.file) row.set("caption", std::string(info.caption));
+    row.set("png_base64", base64(io::read_text_file(p)));
+    plot_rows.push_back(row);
+  }
+  values.set("plots", plot_rows);
   data ranking_rows{data::type::list};
   for (const auto& r : ranking.rows) {
     data row;
@@ -256,10 +275,10 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
 } // namespace
 
 ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::path& output_directory,
-                                 const fs::path& templates_folder)
+                                 const ComparisonOptions& options)
 {
   // The templates first: a user's template that does not parse stops the comparison before it writes.
-  const PageTemplates templates = load_page_templates("comparison", templates_folder, "--templates");
+  const PageTemplates templates = load_page_templates("comparison", options.templates, "--templates");
   const auto keys = all_keys(cases);
   const auto& criteria = ranking_criteria();
   const Ranking ranking = rank_cases(cases);
@@ -282,15 +301,44 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
     ranking_csv += fmt::format(",{},{}\n", exact_value(row.total), row.rank);
   }
 
-  const kainjow::mustache::data values = comparison_values(cases, keys, ranking);
-  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   fs::create_directories(output_directory);
-  ComparisonFiles files{output_directory / "comparison.md", output_directory / "metrics.csv",
-                        output_directory / "ranking.csv", output_directory / "comparison.html"};
+  ComparisonFiles files{output_directory / "comparison.md",
+                        output_directory / "metrics.csv",
+                        output_directory / "ranking.csv",
+                        output_directory / "comparison.html",
+                        {}};
+  for (const auto& info : comparison_plots) fs::remove(output_directory / info.file);
+  std::string plot_problem;
+  if (options.plots) {
+    // The cases' series and cycles for the script, then the script itself, run isolated (-I) from the
+    // root folder as the report's is (report.cpp), so nothing planted beside the output is imported.
+    Json curves{{"cases", Json::array()}};
+    for (const auto& c : cases)
+      curves["cases"].push_back({{"name", c.name},
+                                 {"series", fs::absolute(c.run_directory / "timeseries.csv").string()},
+                                 {"cycle_start", c.cycle_start ? Json(*c.cycle_start) : Json()},
+                                 {"cycle_end", c.cycle_end ? Json(*c.cycle_end) : Json()}});
+    const fs::path curves_file = output_directory / "curves.json";
+    const fs::path script = output_directory / "plot_comparison.py";
+    const fs::path log = output_directory / "plot_log.txt";
+    io::write_file_atomically(curves_file, curves.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+    io::write_file_atomically(script, plot_comparison_script());
+    const std::string problem =
+        run_program({options.python, "-I", fs::absolute(script).string(), fs::absolute(curves_file).string(),
+                     fs::absolute(output_directory).string()},
+                    "/", log);
+    if (!problem.empty())
+      plot_problem = "plotting with " + options.python + " failed (" + log.string() + "): " + problem;
+    for (const auto& info : comparison_plots)
+      if (fs::exists(output_directory / info.file)) files.plots.push_back(output_directory / info.file);
+  }
+  const kainjow::mustache::data values = comparison_values(cases, keys, ranking, files.plots);
+  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   io::write_file_atomically(files.markdown, markdown);
   io::write_file_atomically(files.metrics_csv, metrics_csv);
   io::write_file_atomically(files.ranking_csv, ranking_csv);
   io::write_file_atomically(files.html, html);
+  if (!plot_problem.empty()) throw RunError(plot_problem);
   return files;
 }
 

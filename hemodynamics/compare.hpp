@@ -10,6 +10,7 @@
 // says so. Which direction is "best" is ibvalve's reading of the study, listed in ranking_criteria() and
 // docs/hemodynamics.md.
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -35,6 +36,8 @@ struct CaseResult {
   std::string name;
   std::filesystem::path run_directory;
   Json metrics; // the "metrics" object of metrics.json
+  /// The analysed cycle (metrics.json's phases cycle_start, cycle_end), for the overlaid curves.
+  std::optional<double> cycle_start, cycle_end;
 };
 
 /// A run folder's metrics: report/metrics.json when present, otherwise computed from timeseries.csv
@@ -54,15 +57,34 @@ struct Ranking {
 };
 Ranking rank_cases(std::span<const CaseResult> cases);
 
+struct ComparisonOptions {
+  std::filesystem::path templates;         // a folder of comparison templates; empty: the built-in ones
+  std::string python = "/usr/bin/python3"; // an interpreter with matplotlib and numpy
+  bool plots = true;
+};
 struct ComparisonFiles {
   std::filesystem::path markdown, metrics_csv, ranking_csv, html;
+  std::vector<std::filesystem::path> plots; // the overlaid curves drawn
+};
+/// The overlaid curves' files and captions, in the order the pages show them.
+struct ComparisonPlot {
+  const char* file;
+  const char* caption;
+};
+inline constexpr ComparisonPlot comparison_plots[] = {
+    {"flow.png", "Flow through the valve Q(t), each case over its analysed cycle"},
+    {"pressure_difference.png", "P_nlv - P_nao across the leaflets"},
+    {"orifice_area.png", "Geometric orifice area"},
 };
 /// Writes comparison.md, comparison.html (laid out by the comparison templates: the built-in ones, or
-/// those of `templates_folder`, see page_templates.hpp), metrics.csv and ranking.csv into
-/// `output_directory`. A templates folder that is missing or holds a template that does not parse is an
-/// InputError raised before anything is written.
+/// those of `options.templates`, see page_templates.hpp), metrics.csv and ranking.csv into
+/// `output_directory`, and with `options.plots` the overlaid curves of the cases' time series (their
+/// timeseries.csv, each over its analysed cycle: flow.png, pressure_difference.png and orifice_area.png
+/// for the columns the series have, drawn by plot_comparison.py with `options.python`). A templates
+/// folder that is missing or holds a template that does not parse is an InputError raised before
+/// anything is written; a plotting failure is a RunError after the pages (without plots) are written.
 ComparisonFiles write_comparison(std::span<const CaseResult> cases,
                                  const std::filesystem::path& output_directory,
-                                 const std::filesystem::path& templates_folder = {});
+                                 const ComparisonOptions& options = {});
 
 } // namespace ibvalve::hemodynamics

@@ -185,9 +185,16 @@ Json metric_json(const std::string& symbol, const std::string& unit, const std::
   return o;
 }
 
-/// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
-/// stdin from /dev/null, stdout and stderr into `log`, and waits for it: "" when it exited with 0, else
-/// what went wrong (one line).
+/// The case's tables that are not its physics: where and how it writes, logs and reports.
+bool is_input_key(const std::string& key)
+{
+  for (const char* table : {"output.", "log.", "petsc.", "run.", "report.", "checkpoint."})
+    if (key.rfind(table, 0) == 0) return false;
+  return true;
+}
+
+} // namespace
+
 std::string run_program(const std::vector<std::string>& args, const fs::path& directory, const fs::path& log)
 {
   posix_spawn_file_actions_t actions;
@@ -215,16 +222,6 @@ std::string run_program(const std::vector<std::string>& args, const fs::path& di
       "exit {}{}", WEXITSTATUS(status),
       (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1))));
 }
-
-/// The case's tables that are not its physics: where and how it writes, logs and reports.
-bool is_input_key(const std::string& key)
-{
-  for (const char* table : {"output.", "log.", "petsc.", "run.", "report.", "checkpoint."})
-    if (key.rfind(table, 0) == 0) return false;
-  return true;
-}
-
-} // namespace
 
 Json provenance_document(const fs::path& run_directory)
 {

@@ -3,7 +3,7 @@
     those of comparison.md.tpl:
       count, cases (name), metrics (key, symbol, label, unit, values (value, exact, missing)),
       left_out_note, criteria (key, label, higher_is_better), ranking (name, scores (value, missing),
-      total, rank).
+      total, rank), plots (file, caption, png_base64: embedded, so the page opens anywhere).
     docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
 <!DOCTYPE html>
 <html lang="en">
@@ -33,5 +33,12 @@ td,th{border:1px solid #bbb;padding:3px 8px}td.value{text-align:right;font-varia
 <tr><td>{{name}}</td>{{#scores}}<td class="value{{#missing}} missing{{/missing}}">{{value}}</td>{{/scores}}<td class="value">{{total}}</td><td class="value">{{rank}}</td></tr>
 {{/ranking}}
 </table>
+<h2>Curves</h2>
+{{#plots}}
+<figure><a href="{{file}}"><img alt="{{caption}}" src="data:image/png;base64,{{{png_base64}}}"></a><figcaption>{{caption}} (<a href="{{file}}">{{file}}</a>)</figcaption></figure>
+{{/plots}}
+{{^plots}}
+<p>(no plots)</p>
+{{/plots}}
 </body>
 </html>

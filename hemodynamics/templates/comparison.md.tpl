@@ -10,6 +10,8 @@
       criteria                  list, the study's 12: key, label, higher_is_better
       ranking                   list, one per case: name, scores (list, one per ranked criterion: value,
                                 missing), total, rank
+      plots                     list, the overlaid curves drawn: file (PNG beside the page), caption,
+                                png_base64
     docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
 # ibvalve comparison of {{count}} case(s)
 
@@ -30,3 +32,13 @@ Each criterion: best case 1, worst 0, linear in between; total = sum; rank by to
 {{#ranking}}
 | {{name}} |{{#scores}} {{value}} |{{/scores}} {{total}} | {{rank}} |
 {{/ranking}}
+
+## Curves
+
+{{#plots}}
+![{{caption}}]({{file}})
+
+{{/plots}}
+{{^plots}}
+(no plots)
+{{/plots}}

@@ -99,7 +99,25 @@ def check_compare(out):
     totals = [float(r[-2]) for r in rows[1:]]
     if not all(math.isfinite(x) for x in totals):
         fail("ranking totals not finite")
-    print("comparison files written; ranking totals", totals)
+    # The overlaid curves: one PNG per curve, each embedded in the HTML and linked from the Markdown, drawn
+    # from both cases' series over their analysed cycles.
+    html = open(os.path.join(out, "comparison.html")).read()
+    for name in ("flow.png", "pressure_difference.png", "orifice_area.png"):
+        path = os.path.join(out, name)
+        if not os.path.exists(path) or open(path, "rb").read(8) != b"\x89PNG\r\n\x1a\n":
+            fail(f"{name} missing or not a PNG")
+        if f"]({name})" not in md:
+            fail(f"comparison.md does not show {name}")
+    if html.count("data:image/png;base64,") != 3:
+        fail("comparison.html does not embed the three curves")
+    with open(os.path.join(out, "curves.json")) as f:
+        curves = json.load(f)["cases"]
+    if len(curves) != 2:
+        fail("curves.json: expected the two cases")
+    for c in curves:
+        if not os.path.exists(c["series"]) or not abs(c["cycle_end"] - c["cycle_start"] - 0.8) < 1e-9:
+            fail(f"curves.json: {c['name']}: series or analysed cycle wrong: {c}")
+    print("comparison files written with 3 overlaid curves; ranking totals", totals)
 
 
 def check_converged(run, run_half):

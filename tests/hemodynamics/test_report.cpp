@@ -246,7 +246,9 @@ TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
   EXPECT_EQ(r.rows[2].rank, 3);
   EXPECT_EQ(r.rows[0].rank, 2);
   const auto out = scratch("compare");
-  const auto files = hd::write_comparison(cases, out);
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false; // these cases have metrics but no time series to draw
+  const auto files = hd::write_comparison(cases, out, pages_only);
   const std::string md = ibvalve::io::read_text_file(files.markdown);
   EXPECT_NE(md.find("fit_error (missing for: b)"), std::string::npos);
   EXPECT_NE(ibvalve::io::read_text_file(files.ranking_csv).find("b,missing,missing"), std::string::npos);
@@ -296,7 +298,8 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
       "MARKER {{count}}{{#metrics}} {{key}}={{#values}}{{value}}{{/values}}{{/metrics}}\n");
   fs::remove(templates / "comparison.html.tpl");
   const auto out = scratch("compare_user");
-  const auto files = hd::write_comparison(cases, out, templates);
+  const hd::ComparisonOptions options{templates, "/usr/bin/python3", false};
+  const auto files = hd::write_comparison(cases, out, options);
   const std::string md = ibvalve::io::read_text_file(files.markdown);
   EXPECT_EQ(md.rfind("MARKER 1 forward_volume=70", 0), 0u) << md;
   EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<table id=\"ranking\">"), std::string::npos);
@@ -304,13 +307,14 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
 
   ibvalve::io::write_file_atomically(templates / "comparison.md.tpl", "{{#metrics}}\n");
   try {
-    hd::write_comparison(cases, out, templates);
+    hd::write_comparison(cases, out, options);
     ADD_FAILURE() << "a broken template was accepted";
   } catch (const ibvalve::InputError& error) {
     EXPECT_NE(std::string(error.what()).find("comparison.md.tpl:1:"), std::string::npos) << error.what();
   }
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_THROW(hd::write_comparison(cases, out, templates / "missing"), ibvalve::InputError);
+  EXPECT_THROW(hd::write_comparison(cases, out, {templates / "missing", "/usr/bin/python3", false}),
+               ibvalve::InputError);
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(templates);
 }
