@@ -319,13 +319,13 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
                                  {"cycle_start", c.cycle_start ? Json(*c.cycle_start) : Json()},
                                  {"cycle_end", c.cycle_end ? Json(*c.cycle_end) : Json()}});
     const fs::path curves_file = output_directory / "curves.json";
-    const fs::path script = output_directory / "plot_comparison.py";
+    const fs::path script = output_directory / "plot_report.py";
     const fs::path log = output_directory / "plot_log.txt";
     io::write_file_atomically(curves_file, curves.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
-    io::write_file_atomically(script, plot_comparison_script());
+    io::write_file_atomically(script, plot_report_script());
     const std::string problem =
-        run_program({options.python, "-I", fs::absolute(script).string(), fs::absolute(curves_file).string(),
-                     fs::absolute(output_directory).string()},
+        run_program({options.python, "-I", fs::absolute(script).string(), "--compare",
+                     fs::absolute(curves_file).string(), fs::absolute(output_directory).string()},
                     "/", log);
     if (!problem.empty())
       plot_problem = "plotting with " + options.python + " failed (" + log.string() + "): " + problem;

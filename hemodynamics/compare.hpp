@@ -80,7 +80,7 @@ inline constexpr ComparisonPlot comparison_plots[] = {
 /// those of `options.templates`, see page_templates.hpp), metrics.csv and ranking.csv into
 /// `output_directory`, and with `options.plots` the overlaid curves of the cases' time series (their
 /// timeseries.csv, each over its analysed cycle: flow.png, pressure_difference.png and orifice_area.png
-/// for the columns the series have, drawn by plot_comparison.py with `options.python`). A templates
+/// for the columns the series have, drawn by plot_report.py --compare with `options.python`). A templates
 /// folder that is missing or holds a template that does not parse is an InputError raised before
 /// anything is written; a plotting failure is a RunError after the pages (without plots) are written.
 ComparisonFiles write_comparison(std::span<const CaseResult> cases,

@@ -93,9 +93,9 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 /// RunError after the metrics, Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 
-/// The embedded plotting scripts (hemodynamics/plot_report.py, hemodynamics/plot_comparison.py).
+/// The embedded plotting script (hemodynamics/plot_report.py): a report's plots, and with --compare a
+/// comparison's curves.
 const char* plot_report_script();
-const char* plot_comparison_script();
 
 /// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
 /// stdin from /dev/null, stdout and stderr into `log`, and waits for it: "" when it exited with 0, else
