@@ -216,16 +216,30 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   double area_max = nan;
   if (w.has_orifice_area()) {
     const auto& area = w.orifice_area;
-    const std::size_t i_hi = argmax(area, 0, n), i_lo = argmin(area, 0, n);
+    const std::size_t i_hi = argmax(area, 0, n);
     area_max = refine_extreme(t, area, i_hi).value;
-    const double a_min = area[i_lo], a_max = area[i_hi];
-    if (a_max - a_min > 1e-12 * std::max(1.0, std::abs(a_max))) {
+    const double a_max = area[i_hi];
+    // Each side of the largest area is normalised by the closed state on its side: the opening by
+    // the smallest area before it, the closing by the smallest after it. A dip of the leaflets just
+    // before they open (pushed back by the ventricle's first contraction) would otherwise set the
+    // closed level of the closing phase too, and the closing would end only when diastole creeps
+    // down to that dip, or never (docs/hemodynamics.md, "Orifice phases").
+    const double before_min = area[argmin(area, 0, i_hi + 1)];
+    const double after_min = area[argmin(area, i_hi, n)];
+    const auto varies = [&](double a_min) { return a_max - a_min > 1e-12 * std::max(1.0, std::abs(a_max)); };
+    if (varies(before_min) || varies(after_min)) {
       area_phases = true;
+      // Already open at one end of the cycle: that side has no closed state of its own.
+      const double opening_min = varies(before_min) ? before_min : after_min;
+      const double closing_min = varies(after_min) ? after_min : before_min;
       std::vector<double> a(n);
-      for (std::size_t i = 0; i < n; ++i) a[i] = (area[i] - a_min) / (a_max - a_min);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double closed_area = i <= i_hi ? opening_min : closing_min;
+        a[i] = (area[i] - closed_area) / (a_max - closed_area);
+      }
       const double open = settings.open_area_fraction, closed = settings.closed_area_fraction;
       std::size_t i_open = 0;
-      while (a[i_open] < open) ++i_open; // exists: a reaches 1
+      while (a[i_open] < open) ++i_open; // exists: a[i_hi] = 1
       std::size_t j = i_open;
       while (j > 0 && a[j - 1] > closed) --j;
       ph.opening_start = j == 0 ? t[0] : crossing(t, a, j - 1, closed);

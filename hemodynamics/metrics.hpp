@@ -17,10 +17,11 @@
 //    varies, else "flow".
 //  * Closing regurgitation [t_es, t_c]; leakage [t_c, t1], from closure to the cycle's end (the study's
 //    definition, docs/reference.md); the flow before ejection, [t0, t_bs], is in neither.
-//  * Orifice area a(t) = (A - A_min) / (A_max - A_min) over the cycle: opening from the last upward
-//    crossing of closed_area_fraction before a first reaches open_area_fraction, fully open from then
-//    to the last time a >= open_area_fraction, closing from then to the next downward crossing of
-//    closed_area_fraction.
+//  * Orifice area a(t) = (A - A_min) / (A_max - A_min), A_max the cycle's largest area and A_min the
+//    smallest on the same side of it (before it for the opening, after it for the closing): opening
+//    from the last upward crossing of closed_area_fraction before a first reaches open_area_fraction,
+//    fully open from then to the last time a >= open_area_fraction, closing from then to the next
+//    downward crossing of closed_area_fraction.
 // Metrics (integrals: trapezoidal rule on the samples, ends of phases interpolated linearly):
 //  V_F = int_{t_bs}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -int_{t_c}^{t1} Q;
 //  RF = (V_R + V_L) / V_F * 100;  TPG = mean over [t_bs, t_es] of P_nlv - P_nao;

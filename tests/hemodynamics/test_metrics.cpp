@@ -227,6 +227,35 @@ TEST(Metrics, AreaRuleAndOrificeDurationsMatchClosedForms)
   }
 }
 
+TEST(Metrics, EachOrificePhaseIsJudgedAgainstTheClosedStateOnItsSide)
+{
+  // The series above with the leaflets pushed back just before they open: the area dips to
+  // area_closed - depth over [0.05, 0.09] s, below its diastolic level. The closing is normalised by
+  // the smallest area after the largest, so it ends as without the dip; the opening by the smallest
+  // before it, the dip. (With one minimum for the cycle the diastolic level sits at
+  // depth / (extra + depth) = 0.09 > closed_area_fraction and the orifice never closes.)
+  constexpr double depth = 0.3, dip_start = 0.05, dip_length = 0.04;
+  hd::MetricSettings settings;
+  const double closed = settings.closed_area_fraction, open = settings.open_area_fraction;
+  hd::ValveSeries s = synthetic(uniform(1e-5), true);
+  for (std::size_t i = 0; i < s.t.size(); ++i) {
+    const double tau = std::fmod(s.t[i], T) - dip_start;
+    if (tau >= 0.0 && tau < dip_length) s.orifice_area[i] -= depth * std::sin(pi * tau / dip_length);
+  }
+  const hd::ValveMetrics m = hd::compute_metrics(s, settings);
+
+  const double a_min = area_closed - depth, range = area_closed + area_open_extra - a_min;
+  // Opening: a = closed on the dip's way back up, where depth sin(phase) = area_closed - a_min - closed range
+  // with the phase past its middle; a = open on the ramp, area_closed + extra r = a_min + open range.
+  const double phase = pi - std::asin((area_closed - (a_min + closed * range)) / depth);
+  const double opening_start = dip_start + dip_length * phase / pi;
+  const double fully_open_start = 0.1 + 0.04 * (a_min + open * range - area_closed) / area_open_extra;
+  expect_relative(m.value("opening_duration"), (fully_open_start - opening_start) * 1e3, 1e-6, "opening");
+  expect_relative(m.value("fully_open_duration"), (0.36 + (1.0 - open) * 0.06 - fully_open_start) * 1e3, 1e-6,
+                  "fully open");
+  expect_relative(m.value("closing_duration"), (open - closed) * 0.06 * 1e3, 1e-6, "closing");
+}
+
 TEST(Metrics, TrapezoidalErrorsFallAtSecondOrder)
 {
   // Coarse samplings: the error of the integrals falls as h^2 (the measured figure behind the
