@@ -22,7 +22,6 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
-#include "app/build_paths.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -655,7 +654,6 @@ class AorticValveRun : public PreparedRun {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
     if (cycle == 0) options.settings.period = length;
-    options.python = python_executable;
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.

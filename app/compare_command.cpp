@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 #include <petscsys.h>
 
-#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "base/logger.hpp"
 #include "hemodynamics/compare.hpp"
@@ -21,7 +20,7 @@ struct CompareOptions {
   std::vector<std::filesystem::path> runs;
   std::filesystem::path output = "comparison";
   std::filesystem::path templates; // empty = the built-in templates
-  std::string python = python_executable;
+  std::string python = hemodynamics::default_python();
   bool no_plots = false;
 };
 

@@ -13,7 +13,6 @@
 
 #include <mpi.h>
 
-#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "app/stop_signal.hpp"
@@ -234,7 +233,6 @@ class LumpedRun : public PreparedRun {
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
-    options.python = python_executable;
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);

@@ -10,7 +10,6 @@
 #include <mpi.h>
 #include <petscsys.h>
 
-#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
@@ -52,7 +51,7 @@ namespace {
 
 struct ReportCommandOptions {
   std::filesystem::path run_directory;
-  std::string python = python_executable;
+  std::string python = hemodynamics::default_python();
   bool no_plots = false;
   std::optional<double> period;
   std::optional<int> cycle;

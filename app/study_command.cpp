@@ -20,7 +20,6 @@
 
 #include <petscsys.h>
 
-#include "app/build_paths.hpp"
 #include "app/commands.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
@@ -144,9 +143,7 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
     folders.push_back(run.output);
   }
   log.info(fmt::format("study: comparing {} cases", folders.size()));
-  hemodynamics::ComparisonOptions compare;
-  compare.python = python_executable;
-  return compare_runs(folders, study.output / "comparison", compare);
+  return compare_runs(folders, study.output / "comparison", hemodynamics::ComparisonOptions{});
 }
 
 } // namespace

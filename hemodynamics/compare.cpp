@@ -242,16 +242,7 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     criterion_rows.push_back(row);
   }
   values.set("criteria", criterion_rows);
-  data plot_rows{data::type::list};
-  for (const auto& p : plots) {
-    data row;
-    row.set("file", p.filename().string());
-    for (const auto& info : comparison_plots)
-      if (p.filename() == info.file) row.set("caption", std::string(info.caption));
-    row.set("png_base64", base64(io::read_text_file(p)));
-    plot_rows.push_back(row);
-  }
-  values.set("plots", plot_rows);
+  values.set("plots", plot_template_rows(plots, comparison_plots));
   data ranking_rows{data::type::list};
   for (const auto& r : ranking.rows) {
     data row;
@@ -307,38 +298,29 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
                         output_directory / "ranking.csv",
                         output_directory / "comparison.html",
                         {}};
-  for (const auto& info : comparison_plots) fs::remove(output_directory / info.file);
-  std::string plot_problem;
+  // The cases' series and cycles for the plotting script.
+  const fs::path curves_file = output_directory / "curves.json";
   if (options.plots) {
-    // The cases' series and cycles for the script, then the script itself, run isolated (-I) from the
-    // root folder as the report's is (report.cpp), so nothing planted beside the output is imported.
     Json curves{{"cases", Json::array()}};
     for (const auto& c : cases)
       curves["cases"].push_back({{"name", c.name},
                                  {"series", fs::absolute(c.run_directory / "timeseries.csv").string()},
                                  {"cycle_start", c.cycle_start ? Json(*c.cycle_start) : Json()},
                                  {"cycle_end", c.cycle_end ? Json(*c.cycle_end) : Json()}});
-    const fs::path curves_file = output_directory / "curves.json";
-    const fs::path script = output_directory / "plot_report.py";
-    const fs::path log = output_directory / "plot_log.txt";
     io::write_file_atomically(curves_file, curves.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
-    io::write_file_atomically(script, plot_report_script());
-    const std::string problem =
-        run_program({options.python, "-I", fs::absolute(script).string(), "--compare",
-                     fs::absolute(curves_file).string(), fs::absolute(output_directory).string()},
-                    "/", log);
-    if (!problem.empty())
-      plot_problem = "plotting with " + options.python + " failed (" + log.string() + "): " + problem;
-    for (const auto& info : comparison_plots)
-      if (fs::exists(output_directory / info.file)) files.plots.push_back(output_directory / info.file);
   }
+  DrawnPlots drawn =
+      draw_plots(options.plots, options.python,
+                 {"--compare", fs::absolute(curves_file).string(), fs::absolute(output_directory).string()},
+                 output_directory, comparison_plots);
+  files.plots = std::move(drawn.files);
   const kainjow::mustache::data values = comparison_values(cases, keys, ranking, files.plots);
   const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   io::write_file_atomically(files.markdown, markdown);
   io::write_file_atomically(files.metrics_csv, metrics_csv);
   io::write_file_atomically(files.ranking_csv, ranking_csv);
   io::write_file_atomically(files.html, html);
-  if (!plot_problem.empty()) throw RunError(plot_problem);
+  if (!drawn.problem.empty()) throw RunError(drawn.problem);
   return files;
 }
 

@@ -58,8 +58,8 @@ struct Ranking {
 Ranking rank_cases(std::span<const CaseResult> cases);
 
 struct ComparisonOptions {
-  std::filesystem::path templates;         // a folder of comparison templates; empty: the built-in ones
-  std::string python = "/usr/bin/python3"; // an interpreter with matplotlib and numpy
+  std::filesystem::path templates;       // a folder of comparison templates; empty: the built-in ones
+  std::string python = default_python(); // an interpreter with matplotlib and numpy
   bool plots = true;
 };
 struct ComparisonFiles {
@@ -67,11 +67,7 @@ struct ComparisonFiles {
   std::vector<std::filesystem::path> plots; // the overlaid curves drawn
 };
 /// The overlaid curves' files and captions, in the order the pages show them.
-struct ComparisonPlot {
-  const char* file;
-  const char* caption;
-};
-inline constexpr ComparisonPlot comparison_plots[] = {
+inline constexpr PlotCaption comparison_plots[] = {
     {"flow.png", "Flow through the valve Q(t), each case over its analysed cycle"},
     {"pressure_difference.png", "P_nlv - P_nao across the leaflets"},
     {"orifice_area.png", "Geometric orifice area"},

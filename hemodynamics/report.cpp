@@ -1,6 +1,5 @@
 #include "hemodynamics/report.hpp"
 
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -8,16 +7,12 @@
 #include <fstream>
 #include <sstream>
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <fmt/format.h>
 
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "hemodynamics/plotting.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
 
@@ -124,36 +119,6 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
 // ---------------------------------------------------------------------------------------------
 // Formatting helpers
 
-std::string base64(std::string_view data)
-{
-  static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((data.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < data.size(); i += 3) {
-    const unsigned v = static_cast<unsigned char>(data[i]) << 16 |
-                       static_cast<unsigned char>(data[i + 1]) << 8 | static_cast<unsigned char>(data[i + 2]);
-    out += alphabet[v >> 18 & 63];
-    out += alphabet[v >> 12 & 63];
-    out += alphabet[v >> 6 & 63];
-    out += alphabet[v & 63];
-  }
-  if (i + 1 == data.size()) {
-    const unsigned v = static_cast<unsigned char>(data[i]) << 16;
-    out += alphabet[v >> 18 & 63];
-    out += alphabet[v >> 12 & 63];
-    out += "==";
-  } else if (i + 2 == data.size()) {
-    const unsigned v = static_cast<unsigned char>(data[i]) << 16 | static_cast<unsigned char>(data[i + 1])
-                                                                       << 8;
-    out += alphabet[v >> 18 & 63];
-    out += alphabet[v >> 12 & 63];
-    out += alphabet[v >> 6 & 63];
-    out += '=';
-  }
-  return out;
-}
-
 std::string format_value(double value)
 {
   if (!std::isfinite(value)) return "missing";
@@ -194,34 +159,6 @@ bool is_input_key(const std::string& key)
 }
 
 } // namespace
-
-std::string run_program(const std::vector<std::string>& args, const fs::path& directory, const fs::path& log)
-{
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  posix_spawn_file_actions_addchdir_np(&actions, directory.c_str());
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  const int error = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) return "cannot start " + args[0] + " (" + std::strerror(error) + ")";
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return "lost " + args[0] + " (" + std::strerror(errno) + ")";
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  if (WIFSIGNALED(status)) return fmt::format("{} was killed by signal {}", args[0], WTERMSIG(status));
-  std::string tail = fs::exists(log) ? io::read_text_file(log) : std::string();
-  while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
-  const auto cut = tail.rfind('\n');
-  return fmt::format(
-      "exit {}{}", WEXITSTATUS(status),
-      (tail.empty() ? std::string() : ": " + (cut == std::string::npos ? tail : tail.substr(cut + 1))));
-}
 
 Json provenance_document(const fs::path& run_directory)
 {
@@ -317,12 +254,7 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 
 namespace {
 
-struct PlotInfo {
-  const char* file;
-  const char* caption;
-};
-
-constexpr PlotInfo plot_list[] = {
+constexpr PlotCaption report_plots[] = {
     {"flow.png",
      "Flow through the valve Q(t), phases shaded: forward ejection, closing regurgitation, leakage"},
     {"pressures.png", "P_LV (driving), P_Ao (outlet) and P_Wk (Windkessel reservoir)"},
@@ -368,18 +300,7 @@ kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::p
     phase_rows.push_back(row);
   }
   values.set("phases", phase_rows);
-  data plot_rows{data::type::list};
-  for (const auto& p : plots) {
-    std::string caption;
-    for (const auto& info : plot_list)
-      if (p.filename() == info.file) caption = info.caption;
-    data row;
-    row.set("file", p.filename().string());
-    row.set("caption", caption);
-    row.set("png_base64", base64(io::read_text_file(p)));
-    plot_rows.push_back(row);
-  }
-  values.set("plots", plot_rows);
+  values.set("plots", plot_template_rows(plots, report_plots));
   data notes{data::type::list};
   for (const auto& n : doc.at("notes")) {
     data row;
@@ -487,29 +408,16 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
   io::write_file_atomically(files.json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 
-  std::string plot_problem;
-  if (options.plots) {
-    const fs::path script = files.directory / "plot_report.py";
-    io::write_file_atomically(script, plot_report_script());
-    for (const auto& info : plot_list) fs::remove(files.directory / info.file);
-    const fs::path log = files.directory / "plot_log.txt";
-    // Isolated (-I: neither the script's folder, the report folder, nor the working directory, user
-    // site-packages or PYTHON* variables reach sys.path), from the root folder, with no shell between:
-    // a json.py or matplotlib.py planted in report/ is never imported.
-    const std::string problem =
-        run_program({options.python, "-I", fs::absolute(script).string(), fs::absolute(series_file).string(),
-                     fs::absolute(files.json).string(), fs::absolute(files.directory).string()},
-                    "/", log);
-    if (!problem.empty())
-      plot_problem = "plotting with " + options.python + " failed (" + log.string() + "): " + problem;
-    for (const auto& info : plot_list)
-      if (fs::exists(files.directory / info.file)) files.plots.push_back(files.directory / info.file);
-  }
+  DrawnPlots drawn = draw_plots(options.plots, options.python,
+                                {fs::absolute(series_file).string(), fs::absolute(files.json).string(),
+                                 fs::absolute(files.directory).string()},
+                                files.directory, report_plots);
+  files.plots = std::move(drawn.files);
   const kainjow::mustache::data values = template_values(doc, files.plots);
   const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   io::write_file_atomically(files.markdown, markdown);
   io::write_file_atomically(files.html, html);
-  if (!plot_problem.empty()) throw RunError(plot_problem);
+  if (!drawn.problem.empty()) throw RunError(drawn.problem);
   return files;
 }
 

@@ -13,6 +13,7 @@
 
 #include "hemodynamics/metrics.hpp"
 #include "hemodynamics/page_templates.hpp"
+#include "hemodynamics/plotting.hpp"
 #include "io/config.hpp"
 #include "io/key_binder.hpp"
 
@@ -54,7 +55,7 @@ MetricSettings metric_settings_from_run(const std::filesystem::path& run_directo
 
 struct ReportOptions {
   MetricSettings settings;
-  std::string python = "/usr/bin/python3"; // an interpreter with matplotlib and numpy
+  std::string python = default_python(); // an interpreter with matplotlib and numpy
   bool plots = true;
   /// The settings' period was given on the command line (--period): messages name the option.
   bool period_given = false;
@@ -93,18 +94,6 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 /// RunError after the metrics, Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 
-/// The embedded plotting script (hemodynamics/plot_report.py): a report's plots, and with --compare a
-/// comparison's curves.
-const char* plot_report_script();
-
-/// Runs `args` (args[0] looked up in PATH unless it holds a '/') with no shell between, in `directory`,
-/// stdin from /dev/null, stdout and stderr into `log`, and waits for it: "" when it exited with 0, else
-/// what went wrong (one line).
-std::string run_program(const std::vector<std::string>& args, const std::filesystem::path& directory,
-                        const std::filesystem::path& log);
-
-/// Base64 of binary data (RFC 4648), for images embedded in HTML.
-std::string base64(std::string_view data);
 /// A value for tables: 4 significant digits (or "missing").
 std::string format_value(double value);
 /// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or

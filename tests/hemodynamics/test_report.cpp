@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "hemodynamics/compare.hpp"
+#include "hemodynamics/plotting.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
