@@ -22,6 +22,7 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
+#include "app/coupling_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -81,8 +82,7 @@ struct AorticValveKeys {
   bool inlet_walled = false, outlet_walled = false;
   double probe_offset = 0, flow_plane_offset = 0;
   int orifice_resolution = 256;
-  ib::KernelKind kernel = ib::default_kernel;
-  double point_spacing = 0;
+  ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing, ib.predictor
   int quadrature_degree = 2;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;
@@ -280,13 +280,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .at_least(16)
       .at_most(8192);
 
-  std::vector<std::pair<std::string, ib::KernelKind>> kernels;
-  for (const ib::KernelKind kind : ib::every_kernel()) kernels.emplace_back(ib::kernel_name(kind), kind);
-  keys.choice("ib.kernel", "regularized delta function", k.kernel, kernels)
-      .defaults(ib::kernel_name(ib::default_kernel));
-  keys.real("ib.point_spacing", "largest spacing of the coupling points, in grid cells", k.point_spacing)
-      .defaults(0.5)
-      .positive();
+  bind_coupling_keys(keys, k.coupling);
   keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
       .defaults(std::int64_t{2})
       .at_least(1)
@@ -367,8 +361,7 @@ class AorticValveRun : public PreparedRun {
     leaflet_material_ = materials::read_material(config, "leaflets.material");
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
     tube_material_ = materials::read_material(config, "tube.material");
-    ib_.kernel = k.kernel;
-    ib_.points.spacing = k.point_spacing;
+    ib_ = k.coupling;
     for (const std::string& surface : k.tube_surfaces) {
       if (!mesh_.has_group(surface)) keys_.fail(k.tube_surfaces, "the mesh has no group '" + surface + "'");
       ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});

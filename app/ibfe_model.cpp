@@ -13,6 +13,7 @@
 
 #include <mpi.h>
 
+#include "app/coupling_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -192,10 +193,7 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
               "[structure.material] for the whole mesh); every element in exactly one part",
               k.parts);
 
-  std::vector<std::pair<std::string, ib::KernelKind>> kernels;
-  for (const ib::KernelKind kind : ib::every_kernel()) kernels.emplace_back(ib::kernel_name(kind), kind);
-  keys.choice("ib.kernel", "regularized delta function", k.ib.kernel, kernels)
-      .defaults(ib::kernel_name(ib::default_kernel));
+  bind_coupling_keys(keys, k.ib);
   const std::vector<std::pair<std::string, fe::MassKind>> projections{
       {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
   keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",
@@ -204,9 +202,6 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
   keys.choice("ib.force_projection", "L2 projection of the nodal forces to a force density",
               k.ib.force_projection, projections)
       .defaults(std::string("consistent"));
-  keys.real("ib.point_spacing", "largest spacing of the coupling points, in grid cells", k.ib.points.spacing)
-      .defaults(0.5)
-      .positive();
   keys.tables("ib.tether", tether_schema(),
               "tethers pulling groups of nodes back to their reference positions", k.tethers);
   keys.section([](io::Schema& s) {
