@@ -82,7 +82,7 @@ struct AorticValveKeys {
   bool inlet_walled = false, outlet_walled = false;
   double probe_offset = 0, flow_plane_offset = 0;
   int orifice_resolution = 256;
-  ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing, ib.predictor
+  ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing
   int quadrature_degree = 2;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;

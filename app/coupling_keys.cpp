@@ -17,16 +17,6 @@ void bind_coupling_keys(io::KeyBinder& keys, ib::IbfeSettings& ib)
   keys.real("ib.point_spacing", "largest spacing of the coupling points, in grid cells", ib.points.spacing)
       .defaults(0.5)
       .positive();
-  // docs/ib.md, "Time stepping": the lagged predictor saves a point placement, an interpolation and a
-  // projection a step, at a lower stable time step.
-  keys.choice("ib.predictor",
-              "structure velocity of the half-step position: interpolated U^n (explicit midpoint rule) or "
-              "lagged U^{n-1/2}",
-              ib.predictor,
-              std::vector<std::pair<std::string, ib::HalfStepPredictor>>{
-                  {"interpolated", ib::HalfStepPredictor::interpolated},
-                  {"lagged", ib::HalfStepPredictor::lagged}})
-      .defaults(std::string("interpolated"));
 }
 
 } // namespace ibvalve::app

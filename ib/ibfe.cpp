@@ -110,19 +110,11 @@ std::string describe_time_step(double dt, const StabilityEstimate& s)
          " the stable time step estimate " + format(s.dt) + " s of the explicit IB/FE coupling: " + binding;
 }
 
-HalfStepPredictor half_step_predictor_from_name(const std::string& name)
-{
-  if (name == "interpolated") return HalfStepPredictor::interpolated;
-  if (name == "lagged") return HalfStepPredictor::lagged;
-  throw std::invalid_argument("unknown half-step predictor '" + name + "' (interpolated, lagged)");
-}
-
 void IbfeIntegrator::set_displacement(std::vector<double> displacement)
 {
   if (displacement.size() != solid_.num_dofs())
     throw std::invalid_argument("ib: displacement has the wrong size");
   displacement_ = std::move(displacement);
-  has_half_step_velocity_ = false; // a new configuration: the last step's velocity is not its own
   require_inside(displacement_);
   place_points(displacement_);
 }
@@ -236,20 +228,15 @@ void IbfeIntegrator::step(double dt)
       base::Logger::global().info("ib: " + describe_time_step(dt, s));
   }
   const std::size_t dofs = solid_.num_dofs();
-  // 1. The predictor velocity (U^n at chi^n, or the lagged U^{n-1/2}) and the half-step position.
-  std::vector<double> U_predictor;
-  if (settings_.predictor == HalfStepPredictor::lagged && has_half_step_velocity_) {
-    U_predictor = velocity_;
-  } else {
-    place_points(displacement_);
-    U_predictor = project_velocity(fluid_.velocity(), 0);
-  }
+  // 1. U^n at chi^n, and the half-step position.
+  place_points(displacement_);
+  const std::vector<double> U_n = project_velocity(fluid_.velocity(), 0);
   std::vector<double> u_half(dofs);
-  for (std::size_t i = 0; i < dofs; ++i) u_half[i] = displacement_[i] + 0.5 * dt * U_predictor[i];
+  for (std::size_t i = 0; i < dofs; ++i) u_half[i] = displacement_[i] + 0.5 * dt * U_n[i];
   require_inside(u_half);
   // 2. Forces at chi^{n+1/2}, spread from the points placed there.
   place_points(u_half);
-  forces_ = structure_forces(u_half, U_predictor);
+  forces_ = structure_forces(u_half, U_n);
   spread_force_density(forces_);
   // 3. The fluid step, keeping u^n.
   PETSC_CHECK(VecCopy(fluid_.velocity(), velocity_old_));
@@ -267,7 +254,6 @@ void IbfeIntegrator::step(double dt)
                      " s (the time step is probably above the stable limit)");
   }
   require_inside(displacement_);
-  has_half_step_velocity_ = true;
   ++timings_.steps;
 }
 
@@ -278,9 +264,6 @@ void IbfeIntegrator::save(io::Hdf5File& file, const std::string& group) const
   file.write_root(group + "/displacement", displacement_, dims);
   file.write_root(group + "/velocity", velocity_, dims);
   file.write_root(group + "/nodal_forces", forces_, dims);
-  // Whether "velocity" is a U^{n-1/2} the lagged predictor may start from (not before the first step).
-  file.write_root(group + "/velocity_is_half_step", std::vector<double>{has_half_step_velocity_ ? 1.0 : 0.0},
-                  std::array<hsize_t, 2>{1, 1});
   velocity_mass_.save(file, group + "/velocity_mass");
   if (force_mass_) force_mass_->save(file, group + "/force_mass");
 }
@@ -298,9 +281,6 @@ void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
   displacement_ = read("displacement");
   velocity_ = read("velocity");
   forces_ = read("nodal_forces");
-  // Checkpoints from before the flag was written were all taken after a step.
-  has_half_step_velocity_ =
-      !file.has(group + "/velocity_is_half_step") || file.read(group + "/velocity_is_half_step").at(0) != 0.0;
   velocity_mass_.restore(file, group + "/velocity_mass");
   if (force_mass_) force_mass_->restore(file, group + "/force_mass");
   require_inside(displacement_);

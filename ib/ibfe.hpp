@@ -14,11 +14,6 @@
 //   2. f^{n+1/2} = S[chi^{n+1/2}] M^{-1} F(chi^{n+1/2}, U^n)
 //   3. (u^{n+1}, p^{n+1/2}) from the Navier–Stokes step with body force f^{n+1/2}
 //   4. U^{n+1/2} = P_h J[chi^{n+1/2}] (u^n + u^{n+1})/2,   chi^{n+1} = chi^n + dt U^{n+1/2}
-// With `predictor = lagged` step 1 is instead chi^{n+1/2} = chi^n + dt/2 U^{n-1/2}, the last step's
-// position update velocity (U^0 at the first step): no points placed at chi^n and no interpolation or
-// projection there, one of the step's two of each. Its half-step position is off by O(dt^2), as the
-// forward-Euler half step of the midpoint rule is (3/8 dt^2 dU/dt against 1/8), so the scheme stays
-// second order; the lag can lower the stable step of a stiff structure (docs/ib.md, "Time stepping").
 // The fluid is an ib::EulerianFluid (ib/eulerian_fluid.hpp): one uniform grid, or the finest level of
 // nested grids.
 // Spreading (2) and the interpolation of (4) use the same points, so the power the structure puts
@@ -49,16 +44,8 @@ struct Tether {
   double damping = 0.0;   ///< eta: the same per unit velocity (s/cm times kappa's unit)
 };
 
-/// The structure's velocity for the half-step position chi^{n+1/2} = chi^n + dt/2 U.
-enum class HalfStepPredictor {
-  interpolated, ///< U^n, interpolated at chi^n and projected (the explicit midpoint rule)
-  lagged,       ///< U^{n-1/2}, the previous step's position update velocity
-};
-HalfStepPredictor half_step_predictor_from_name(const std::string& name); // "interpolated", "lagged"
-
 struct IbfeSettings {
   KernelKind kernel = default_kernel;
-  HalfStepPredictor predictor = HalfStepPredictor::interpolated;
   fe::MassKind velocity_projection = fe::MassKind::consistent;
   fe::MassKind force_projection = fe::MassKind::consistent;
   CouplingPointSettings points{};
@@ -178,7 +165,6 @@ class IbfeIntegrator {
   PetscInt projection_iterations_ = 0; // of the step being taken
   double h_min_ = 0.0;
   bool warned_capped_ = false;
-  bool has_half_step_velocity_ = false; // velocity_ is a U^{n-1/2} (a step was taken), for `lagged`
 };
 
 } // namespace ibvalve::ib
