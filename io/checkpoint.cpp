@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -83,13 +84,41 @@ bool restart_may_change_key(const std::string& key)
   return false;
 }
 
-std::map<std::string, std::string> record_keys(const std::string& record)
+/// What case_record writes after the value of a key the case file leaves at its default.
+constexpr std::string_view default_marker = "  (default)";
+
+/// The record as a checkpoint stores it: the marks say how this run's case file reads, which a
+/// restart (reading the run's resolved config.toml, every key written) would not repeat, and a
+/// restarted run's checkpoints are the uninterrupted run's bit for bit.
+std::string without_default_marks(const std::string& record)
 {
-  std::map<std::string, std::string> keys;
+  std::string out;
+  std::istringstream in(record);
+  for (std::string line; std::getline(in, line);) {
+    if (line.ends_with(default_marker)) line.resize(line.size() - default_marker.size());
+    out += line + '\n';
+  }
+  return out;
+}
+
+struct RecordedValue {
+  std::string text;        // as TOML writes it
+  bool at_default = false; // marked by case_record (the current case's; stored records have none)
+};
+
+std::map<std::string, RecordedValue> record_keys(const std::string& record)
+{
+  std::map<std::string, RecordedValue> keys;
   std::istringstream in(record);
   for (std::string line; std::getline(in, line);) {
     const auto equals = line.find(" = ");
-    if (equals != std::string::npos) keys[line.substr(0, equals)] = line.substr(equals + 3);
+    if (equals == std::string::npos) continue;
+    RecordedValue value{line.substr(equals + 3), false};
+    if (value.text.ends_with(default_marker)) {
+      value.text.resize(value.text.size() - default_marker.size());
+      value.at_default = true;
+    }
+    keys[line.substr(0, equals)] = value;
   }
   return keys;
 }
@@ -100,28 +129,31 @@ std::string case_difference(const std::string& stored, const std::string& curren
 {
   if (stored == current) return {};
   const auto a = record_keys(stored), b = record_keys(current);
-  const auto model = [](const std::map<std::string, std::string>& keys) {
+  const auto model = [](const std::map<std::string, RecordedValue>& keys) {
     const auto found = keys.find("model");
     if (found == keys.end()) return std::string("(no)");
-    std::string name = found->second; // a TOML string: 'fluid'
+    std::string name = found->second.text; // a TOML string: 'fluid'
     if (name.size() >= 2 && (name.front() == '\'' || name.front() == '"'))
       name = name.substr(1, name.size() - 2);
     return name;
   };
   if (model(a) != model(b))
     return "a checkpoint of the " + model(a) + " model, not of this " + model(b) + " case";
-  std::map<std::string, std::string> all = a;
+  std::map<std::string, RecordedValue> all = a;
   all.insert(b.begin(), b.end());
   for (const auto& [key, ignored] : all) {
     const auto x = a.find(key), y = b.find(key);
-    const std::string there = x == a.end() ? std::string("not set") : x->second;
-    const std::string here = y == b.end() ? std::string("not set") : y->second;
+    // A key the checkpoint's build did not have, left at its default here: a newer build continues an
+    // older build's run as long as what it added keeps the behaviour it had.
+    if (x == a.end() && y != b.end() && y->second.at_default) continue;
+    const std::string there = x == a.end() ? std::string("not set") : x->second.text;
+    const std::string here = y == b.end() ? std::string("not set") : y->second.text;
     if (there != here)
       return "not a checkpoint of this case: " + key + " is " + there + " there but " + here +
              " here (a restart may change only time.end, time.cycles, output.*, log.*, report.*, "
              "checkpoint.*, name and petsc.options)";
   }
-  return "not a checkpoint of this case";
+  return {}; // the same values; the records differ only in their default marks
 }
 
 enum class Verdict { good, damaged, foreign };
@@ -152,7 +184,11 @@ std::string case_record(const Config& config)
   const toml::table resolved = toml::parse(config.resolved_toml());
   std::vector<std::string> lines;
   for (const auto& [key, value] : io::flattened(resolved))
-    if (!restart_may_change_key(key)) lines.push_back(key + " = " + value);
+    if (!restart_may_change_key(key)) {
+      // Config::where names the file alone for a key the case file (or --set) does not give.
+      const bool at_default = config.where(key) == config.file().string();
+      lines.push_back(key + " = " + value + (at_default ? std::string(default_marker) : std::string()));
+    }
   std::sort(lines.begin(), lines.end());
   std::string record;
   for (const auto& line : lines) record += line + '\n';
@@ -196,7 +232,7 @@ std::filesystem::path Checkpoints::write(const CheckpointHeader& header,
     file.write_attribute("step", static_cast<double>(header.step));
     file.write_attribute("time", header.time);
     file.write_attribute("timeseries_rows", static_cast<double>(header.timeseries_rows));
-    file.write_string_attribute("case", settings_.case_record);
+    file.write_string_attribute("case", without_default_marks(settings_.case_record));
     // The seal: the checksum of everything stored, then `complete` (a file without it was not
     // finished). Rank 0 hashes what it built; the other ranks' value is not used.
     file.write_string_attribute("checksum", hex(file.content_hash(unhashed_attributes)));

@@ -36,7 +36,10 @@ inline constexpr const char* restart_may_change[] = {"name", "time.end", "time.c
                                                      "log.", "report.",  "checkpoint.", "petsc.options"};
 
 /// The case as a checkpoint records it: one `key = value` line per key of the resolved configuration
-/// (every default written out), in key order, without the keys of restart_may_change.
+/// (every default written out), in key order, without the keys of restart_may_change. The keys the
+/// case file leaves at their default are marked "  (default)" for the comparison and stored without
+/// the mark. A restart refuses a checkpoint whose record differs in any value, except a key the
+/// checkpoint does not record at all (its build did not have it) that is at its default here.
 std::string case_record(const Config& config);
 
 /// Adds `<prefix>.every` and `<prefix>.keep` to a model's schema.

@@ -1,7 +1,8 @@
 // Checkpoints (io/checkpoint.hpp): a distributed state written by every rank reads back bit for bit;
 // the newest complete checkpoint is found and a torn file or an unfinished temporary is passed over;
 // only the newest `keep` survive; a time series is cut back to the rows a checkpoint recorded; a
-// checkpoint whose content no longer matches its checksum is passed over, one of another case refused.
+// checkpoint whose content no longer matches its checksum is passed over, one of another case refused,
+// and one of an older build that lacked a key continues only while that key is at its default.
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -139,6 +140,55 @@ TEST(Checkpoints, AChangedValueIsPassedOverAndAnotherCaseIsRefused)
     EXPECT_NE(message.find("step_000000030.h5"), std::string::npos) << message;
     EXPECT_NE(message.find("valve.max_area_fraction is 0.5 there but 0.6 here"), std::string::npos)
         << message;
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(dir);
+}
+
+TEST(Checkpoints, TheRecordMarksTheKeysLeftAtTheirDefault)
+{
+  Schema schema;
+  schema.add_string("model", "model").required().example(std::string("lumped"));
+  schema.add_real("valve.max_area_fraction", "largest area").defaults(0.6);
+  schema.add_real("valve.min_area_fraction", "smallest area").defaults(0.01);
+  toml::table table = toml::parse("model = 'lumped'\nvalve.max_area_fraction = 0.5\n");
+  const Config config = Config::validate(std::move(table), "case.toml", schema);
+  EXPECT_EQ(case_record(config), "model = 'lumped'\nvalve.max_area_fraction = 0.5\n"
+                                 "valve.min_area_fraction = 0.01  (default)\n");
+}
+
+TEST(Checkpoints, AKeyANewerBuildAddedContinuesAnOlderRunOnlyAtItsDefault)
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto dir = shared_run_directory("newkey");
+  // Written by a build without valve.min_area_fraction (and without default marks).
+  const std::string older = "model = 'lumped'\nvalve.max_area_fraction = 0.6\n";
+  const Checkpoints writer(MPI_COMM_WORLD, dir, CheckpointSettings{10, 3, older});
+  writer.write({10, 0.01, 10}, [&](Hdf5File& h5) { save_block(h5, rank, size, block_of(rank, 5, 10.0)); });
+
+  // The newer build's record of the same case: the new key at its default, the old one marked too.
+  const Checkpoints at_default(
+      MPI_COMM_WORLD, dir,
+      CheckpointSettings{10, 3,
+                         "model = 'lumped'\nvalve.max_area_fraction = 0.6  (default)\n"
+                         "valve.min_area_fraction = 0.01  (default)\n"});
+  ASSERT_TRUE(at_default.latest().has_value());
+  EXPECT_EQ(at_default.latest()->filename().string(), "step_000000010.h5");
+
+  // The new key set away from its default changes the case: refused, naming it.
+  const Checkpoints set(MPI_COMM_WORLD, dir,
+                        CheckpointSettings{10, 3,
+                                           "model = 'lumped'\nvalve.max_area_fraction = 0.6  (default)\n"
+                                           "valve.min_area_fraction = 0.02\n"});
+  try {
+    set.latest();
+    ADD_FAILURE() << "a checkpoint of another case was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("valve.min_area_fraction is not set there but 0.02 here"),
+              std::string::npos)
+        << e.what();
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0) std::filesystem::remove_all(dir);
