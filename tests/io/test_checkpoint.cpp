@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -35,6 +36,15 @@ std::filesystem::path shared_run_directory(const std::string& name)
   return dir;
 }
 
+/// This rank and the number of ranks of MPI_COMM_WORLD.
+std::pair<int, int> world()
+{
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return {rank, size};
+}
+
 /// Each rank's block of a global state: values that are not short binary fractions, so a lossy
 /// round trip would show.
 std::vector<double> block_of(int rank, std::size_t n, double seed)
@@ -53,9 +63,7 @@ void save_block(Hdf5File& h5, int rank, int size, const std::vector<double>& blo
 
 TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = world();
   const auto dir = shared_run_directory("roundtrip");
   const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 2, {}});
   EXPECT_FALSE(checkpoints.latest().has_value());
@@ -98,9 +106,7 @@ TEST(Checkpoints, DistributedStateRoundTripsExactlyAndTheNewestGoodOneIsFound)
 
 TEST(Checkpoints, AChangedValueIsPassedOverAndAnotherCaseIsRefused)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = world();
   const auto dir = shared_run_directory("validate");
   const std::string record = "model = 'lumped'\nvalve.max_area_fraction = 0.6\n";
   const Checkpoints checkpoints(MPI_COMM_WORLD, dir, CheckpointSettings{10, 3, record});
@@ -159,9 +165,7 @@ TEST(Checkpoints, TheRecordMarksTheKeysLeftAtTheirDefault)
 
 TEST(Checkpoints, AKeyANewerBuildAddedContinuesAnOlderRunOnlyAtItsDefault)
 {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = world();
   const auto dir = shared_run_directory("newkey");
   // Written by a build without valve.min_area_fraction (and without default marks).
   const std::string older = "model = 'lumped'\nvalve.max_area_fraction = 0.6\n";
