@@ -30,6 +30,7 @@
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
+#include "app/step_schedule.hpp"
 #include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
@@ -68,7 +69,8 @@ constexpr int leaflet_count = 3;
 struct AorticValveKeys {
   std::int64_t cycles = 2, every = 10;
   std::optional<double> end;
-  double step = 0, pressure_ramp = 0, fields_interval = 0;
+  double step = 0, coaptation_step = 0, pressure_ramp = 0, fields_interval = 0;
+  std::vector<double> coaptation_window;
   std::vector<std::int64_t> cells;
   std::vector<double> lower, upper;
   fluid::FluidSettings fluid;
@@ -104,6 +106,19 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .unit("s")
       .defaults(3e-5)
       .positive();
+  keys.real("time.coaptation_step",
+            "a finer step over the coaptation window of each cycle, where the leaflets meet and the "
+            "explicit coupling needs it (the FD2 fiber field: docs/aortic-valve-history-2026-12-02.md); "
+            "0 = one step throughout",
+            k.coaptation_step)
+      .unit("s")
+      .defaults(0.0)
+      .non_negative();
+  keys.reals("time.coaptation_window", "start and end, within each cycle, of the coaptation step",
+             k.coaptation_window)
+      .unit("s")
+      .size(2)
+      .defaults(std::vector<double>{0.37, 0.47});
   keys.real("time.pressure_ramp",
             "the inlet and outlet pressures rise from zero to their values over this time, as "
             "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
@@ -378,7 +393,17 @@ class AorticValveRun : public PreparedRun {
     period_ = lv_.period();
     if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
       keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
-    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
+    if (k.coaptation_step > 0.0) {
+      const double a = k.coaptation_window[0], b = k.coaptation_window[1];
+      if (!(a >= 0.0 && a < b && b <= period_))
+        keys_.fail(k.coaptation_window,
+                   fmt::format("must be a start and a later end within the cycle [0, {}] s",
+                               hemodynamics::format_value(period_)));
+      schedule_ = StepSchedule(period_, k.step, k.coaptation_step, {a, b});
+    } else {
+      schedule_ = StepSchedule(period_, k.step);
+    }
+    steps_per_cycle_ = static_cast<long>(schedule_.steps_per_cycle());
     read_end();
     fields_every_ = k.fields_interval > 0
                         ? std::max<long>(1, std::lround(k.fields_interval *
@@ -395,7 +420,8 @@ class AorticValveRun : public PreparedRun {
   RunSummary run(const RunContext& context) override
   {
     auto& log = base::Logger::global();
-    const double dt = period_ / static_cast<double>(steps_per_cycle_);
+    // The mean step: whole cycles end at steps x dt; with a coaptation step the steps differ.
+    const double dt = schedule_.mean_step();
 
     // Fibers (rule FD1/FD2) from each leaflet's groups, computed on the mesh at start-up.
     std::vector<fibers::LeafletSpec> specs;
@@ -454,12 +480,11 @@ class AorticValveRun : public PreparedRun {
     ib::IbfeIntegrator ibfe(*fluid, solid, ib_);
     windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
     const ib::StabilityEstimate stability = ibfe.stability_estimate();
-    log.info(fmt::format("aortic valve: {} elements ({} in the leaflets), {} nodes; {}; dt {} s (the "
+    log.info(fmt::format("aortic valve: {} elements ({} in the leaflets), {} nodes; {}; dt {} (the "
                          "stability estimate {} s), {} steps to t = {} s; leaflets {}; fibers {}",
                          mesh_.num_elements(), leaflet_elements.size(), mesh_.num_nodes(), fluid->describe(),
-                         hemodynamics::format_value(dt), hemodynamics::format_value(stability.dt), steps_,
-                         hemodynamics::format_value(static_cast<double>(steps_) * dt),
-                         leaflet_material_.describe(),
+                         describe_steps(), hemodynamics::format_value(stability.dt), steps_,
+                         hemodynamics::format_value(schedule_.time_of(steps_)), leaflet_material_.describe(),
                          std::string(k_.rule == fibers::FiberRule::FD1 ? "FD1" : "FD2")));
 
     // Probes from the geometry: the pressures half a level-0 cell inside the inlet and outlet sides,
@@ -512,7 +537,7 @@ class AorticValveRun : public PreparedRun {
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
     loop.advance = [&](std::int64_t n) {
       try {
-        ibfe.step(dt);
+        ibfe.step(schedule_.step(n));
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
         throw RunError(
@@ -520,7 +545,7 @@ class AorticValveRun : public PreparedRun {
                         ibfe.time(), e.what(), keys_.key_of(k_.step)));
       }
       outlet_flow = fluid->flux(outlet_plane);
-      outlet_pressure = outlet.advance(dt, outlet_flow);
+      outlet_pressure = outlet.advance(schedule_.step(n), outlet_flow);
     };
     loop.row = [&](std::int64_t) {
       const double t = ibfe.time();
@@ -570,12 +595,11 @@ class AorticValveRun : public PreparedRun {
         write_report(context, summary, static_cast<long>(n / steps_per_cycle_));
       } else if (n == steps_ && steps_ < steps_per_cycle_) {
         log.finish_progress();
-        write_report(context, summary, 0, static_cast<double>(steps_) * dt);
+        write_report(context, summary, 0, schedule_.time_of(steps_));
       } else if (n == steps_) {
-        summary.lines.push_back(
-            fmt::format("the last {} s after cycle {} are not a whole cycle: no report of them",
-                        hemodynamics::format_value(static_cast<double>(n % steps_per_cycle_) * dt),
-                        n / steps_per_cycle_));
+        summary.lines.push_back(fmt::format(
+            "the last {} s after cycle {} are not a whole cycle: no report of them",
+            hemodynamics::format_value(schedule_.time_of(n % steps_per_cycle_)), n / steps_per_cycle_));
       }
     };
     loop.finish = [&](RunSummary& summary, bool, std::size_t) {
@@ -595,6 +619,17 @@ class AorticValveRun : public PreparedRun {
  private:
   static std::string leaflet(int k) { return fmt::format("leaflet{}", k); }
 
+  /// "3e-05 s", or "3e-05 s, 2e-05 s over [0.37, 0.47] s of each cycle" with a coaptation step.
+  std::string describe_steps() const
+  {
+    const std::string coarse = hemodynamics::format_value(schedule_.step(1)) + " s";
+    if (schedule_.uniform()) return coarse;
+    return fmt::format("{}, {} s over [{}, {}] s of each cycle", coarse,
+                       hemodynamics::format_value(k_.coaptation_step),
+                       hemodynamics::format_value(k_.coaptation_window[0]),
+                       hemodynamics::format_value(k_.coaptation_window[1]));
+  }
+
   // The run's last step: time.end when given (it wins over time.cycles), else whole cycles. A run
   // shorter than a cycle gets its report over its whole length, which needs rows enough for one.
   void read_end()
@@ -602,8 +637,7 @@ class AorticValveRun : public PreparedRun {
     const long every = static_cast<long>(k_.every);
     steps_ = static_cast<long>(k_.cycles) * steps_per_cycle_;
     if (!k_.end) return;
-    const double dt = period_ / static_cast<double>(steps_per_cycle_);
-    steps_ = std::max<long>(1, std::lround(*k_.end / dt));
+    steps_ = std::max<long>(1, static_cast<long>(schedule_.steps_to(*k_.end)));
     if (steps_ >= steps_per_cycle_) return;
     const long rows = steps_ / every + (steps_ % every != 0 ? 1 : 0) + 1;
     constexpr long report_rows = 11; // hemodynamics::write_report: a window of at least 10 intervals
@@ -698,6 +732,7 @@ class AorticValveRun : public PreparedRun {
     if (t >= k_.pressure_ramp) return 1.0;
     return 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / k_.pressure_ramp));
   }
+  StepSchedule schedule_{1.0, 1.0};
   long steps_per_cycle_ = 1, steps_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   MemoryPart structure_memory_;
