@@ -536,8 +536,9 @@ class AorticValveRun : public PreparedRun {
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
     loop.advance = [&](std::int64_t n) {
+      const double step = schedule_.step(n); // the coupled step's and the Windkessel's
       try {
-        ibfe.step(schedule_.step(n));
+        ibfe.step(step);
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
         throw RunError(
@@ -545,7 +546,7 @@ class AorticValveRun : public PreparedRun {
                         ibfe.time(), e.what(), keys_.key_of(k_.step)));
       }
       outlet_flow = fluid->flux(outlet_plane);
-      outlet_pressure = outlet.advance(schedule_.step(n), outlet_flow);
+      outlet_pressure = outlet.advance(step, outlet_flow);
     };
     loop.row = [&](std::int64_t) {
       const double t = ibfe.time();
