@@ -525,7 +525,7 @@ class AorticValveRun : public PreparedRun {
     TimeLoop loop;
     loop.comm = context.comm;
     loop.steps = steps_;
-    loop.dt = dt;
+    loop.end_time = schedule_.time_of(steps_);
     loop.checkpoints = checkpoint_settings_;
     loop.columns = hemodynamics::standard_columns();
     loop.units = hemodynamics::standard_units();

@@ -255,7 +255,7 @@ class FluidRun : public PreparedRun {
     TimeLoop loop;
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
-    loop.dt = k_.step;
+    loop.end_time = static_cast<double>(loop.steps) * k_.step;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = columns;
     loop.units = column_units;

@@ -316,7 +316,7 @@ class IbfeRun : public PreparedRun {
     TimeLoop loop;
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
-    loop.dt = k_.step;
+    loop.end_time = static_cast<double>(loop.steps) * k_.step;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};

@@ -180,7 +180,7 @@ class LumpedRun : public PreparedRun {
     TimeLoop loop;
     loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
     loop.steps = k_.cycles * steps_per_cycle_;
-    loop.dt = dt;
+    loop.end_time = static_cast<double>(loop.steps) * dt;
     loop.checkpoints = checkpoint_settings_;
     loop.columns = hemodynamics::standard_columns();
     loop.columns.push_back("valve_state");

@@ -108,7 +108,7 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
     loop.advance(n);
     const std::optional<StepFigures> figures = loop.figures ? std::optional(loop.figures()) : std::nullopt;
     outputs(n);
-    const double t = loop.time(n), end = static_cast<double>(steps) * loop.dt;
+    const double t = loop.time(n), end = loop.end_time;
     if (diagnostics) {
       log.progress({n, steps, t, end, diagnostics->write(static_cast<long>(n), t, *figures)});
     } else if (n % loop.progress_every == 0) {

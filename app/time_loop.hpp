@@ -31,7 +31,7 @@ struct TimeLoop {
   /// The ranks that take part: the run's communicator, or MPI_COMM_SELF for a model rank 0 runs alone.
   MPI_Comm comm = MPI_COMM_WORLD;
   std::int64_t steps = 1; // the run's last step
-  double dt = 0.0;        // the step, s: the progress line's end time is steps x dt
+  double end_time = 0.0;  // the simulated time after the last step, s (the progress line's)
   io::CheckpointSettings checkpoints;
 
   std::vector<std::string> columns, units; // timeseries.csv's header and units line
