@@ -13,7 +13,8 @@ Scenarios:
                in order, with its columns; the progress line names the stop of --stop-after-steps;
   valve-end    CASE is the aortic-valve case: a run with --set time.end stopped by --stop-after-steps
                (a checkpoint, no report), restarted to its end: the report is written, the first step
-               says dt is within the stability estimate and which limit binds.
+               says dt is within the stability estimate and which limit binds; with a coaptation step
+               the progress line's end time is time.end.
 Prints what it checked; exits 1 on the first failure.
 """
 import argparse
@@ -168,6 +169,14 @@ def scenario_valve_end(args, run_dir):
     print("aortic valve, time.end = 0.0003 s (15 steps): stopped after 5 without a report, restarted to its end "
           "with a report; the first step says dt is within the estimate and the inertial limit binds; "
           "diagnostics.csv steps 1..15")
+    # With a coaptation step the steps differ: the progress line's end is the run's time.end, not its steps
+    # times the cycle's mean step (20 steps here: 0.0004 s).
+    schedule = ["--set", "time.coaptation_step=1e-5", "--set", "time.coaptation_window=[0.0001, 0.0002]"]
+    third = run_piped(command(args, [str(args.case), "-o", str(run_dir), "--overwrite", "--stop-after-steps", "2"]
+                              + end + schedule))
+    if "step 1/20  t = 2e-05 s / 0.0003 s" not in third:
+        fail(f"the progress line of a run to time.end = 0.0003 s with a coaptation step does not end at 0.0003 s:\n{third}")
+    print("with a coaptation step over [0.0001, 0.0002] s: 20 steps, the progress line ends at 0.0003 s")
 
 
 def main():
