@@ -1,7 +1,9 @@
 #include "app/ibfe_fields.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
+#include <memory>
 #include <span>
 #include <sstream>
 #include <vector>
@@ -9,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "app/fftw_plans.hpp"
+#include "base/logger.hpp"
 #include "fe/element.hpp"
 #include "io/collective.hpp"
 #include "io/petsc_check.hpp"
@@ -121,11 +124,37 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
   series.add_step(ibfe.time(), grids);
 }
 
-StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt)
+void InversionWatch::observe(double t, const fe::SmallestJacobian& smallest)
+{
+  const bool inverted = smallest.element >= 0 && smallest.J <= 0.0;
+  if (inverted && !inverted_) {
+    const fe::Mesh& mesh = solid_.mesh();
+    fe::Vec3 centre = fe::Vec3::Zero();
+    const auto element = mesh.element(static_cast<std::size_t>(smallest.element));
+    for (int node : element) centre += mesh.nodes()[node];
+    centre /= static_cast<double>(element.size());
+    std::string part = "no part";
+    for (const fe::BodyPart& p : solid_.parts())
+      if (std::find(p.elements.begin(), p.elements.end(), smallest.element) != p.elements.end())
+        part = p.name;
+    base::Logger::global().warn(fmt::format(
+        "t = {:.6g} s: element {} ({}, reference centre ({:.4g}, {:.4g}, {:.4g}) cm) is inverted at a "
+        "quadrature point, J = {:.3g}; a run usually blows up within some steps of this (docs/fe.md, "
+        "\"Inverted element corners\"; diagnostics.csv's smallest_J follows it)",
+        t, smallest.element, part, centre.x(), centre.y(), centre.z(), smallest.J));
+  }
+  inverted_ = inverted;
+}
+
+StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt,
+                              InversionWatch* watch)
 {
   StepFigures f = fluid_step_figures(fluid, dt);
   f.solver.push_back(
       {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+  const fe::SmallestJacobian smallest = ibfe.solid().smallest_point_jacobian(ibfe.displacement());
+  f.solver.push_back({"smallest_J", smallest.J, "min J"});
+  if (watch) watch->observe(ibfe.time(), smallest);
   return f;
 }
 
@@ -150,7 +179,8 @@ void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& m
     coupled->restore(h5, "ibfe");
   };
   loop.before_save = [run] { save_fftw_plans(*run); };
-  loop.figures = [=] { return ibfe_step_figures(*flow, *coupled, dt); };
+  auto watch = std::make_shared<InversionWatch>(ibfe.solid());
+  loop.figures = [=] { return ibfe_step_figures(*flow, *coupled, dt, watch.get()); };
 }
 
 std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,

@@ -43,14 +43,33 @@ void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io
                        const fe::Mesh& mesh, const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe,
                        long step);
 
-/// The figures of a coupled step: the fluid's (fluid_step_figures) and the structure's projection
-/// iterations (0 for the default direct solves). Collective.
-StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt);
+/// Watches the structure's smallest quadrature-point J step by step and warns (rank 0, log.txt too) on
+/// each step where it goes from above zero to zero or below: an inverted element corner, after which a
+/// run usually blows up within some steps (docs/fe.md, "Inverted element corners"). The warning names
+/// the time, J, the element, its body part and where the element sits in the reference mesh.
+class InversionWatch {
+ public:
+  /// Keeps a reference to `solid`, which must outlive the watch.
+  explicit InversionWatch(const fe::SolidModel& solid) : solid_(solid) {}
+  void observe(double t, const fe::SmallestJacobian& smallest);
+
+ private:
+  const fe::SolidModel& solid_;
+  bool inverted_ = false;
+};
+
+/// The figures of a coupled step: the fluid's (fluid_step_figures), the structure's projection
+/// iterations (0 for the default direct solves) and its smallest quadrature-point J
+/// (fe::SolidModel::smallest_point_jacobian; column smallest_J, "min J" on the progress line), which
+/// `watch`, when given, observes. Collective.
+StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, double dt,
+                              InversionWatch* watch = nullptr);
 
 /// The hooks every IB/FE run gives the time loop (app/time_loop.hpp): the time, the field snapshots, a
 /// checkpoint of the fluid (`fluid/`, first: restoring it refills what the structure reads) and the
 /// structure (`ibfe/`), the FFTW plans beside each checkpoint, and the step's figures. A model with more
-/// state wraps save and restore. `context`, `mesh`, `fluid` and `ibfe` must outlive the loop's run.
+/// state wraps save and restore. The figures carry an InversionWatch. `context`, `mesh`, `fluid` and `ibfe`
+/// must outlive the loop's run.
 void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& mesh, fluid::FlowSolver& fluid,
                     ib::IbfeIntegrator& ibfe, double dt);
 

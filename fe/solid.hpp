@@ -73,6 +73,12 @@ struct PointFields {
   std::vector<double> fiber_stress;
 };
 
+/// The smallest J = det F over the points of the full rule, and the element it is in.
+struct SmallestJacobian {
+  double J = 0.0;
+  int element = -1; ///< the lowest index among equal minima; -1 for a solid with no elements
+};
+
 class SolidModel {
  public:
   /// Keeps a reference to `mesh`, which must outlive the model.
@@ -109,6 +115,11 @@ class SolidModel {
   ElementFields element_fields(std::span<const double> u) const;
   /// J, fiber strain and fiber stress at every quadrature point (replicated).
   PointFields point_fields(std::span<const double> u) const;
+  /// The smallest J over every point of the full rule (the same on every rank; collective). A penalty
+  /// integrated once per element holds each element's mean volume, not each point's, so a corner can
+  /// collapse or invert (J <= 0) while the element's mean J stays near 1 (docs/fe.md, "Inverted
+  /// element corners"): this is the figure that shows it.
+  SmallestJacobian smallest_point_jacobian(std::span<const double> u) const;
 
   /// The (part, element) pairs this rank works on.
   std::span<const std::pair<int, int>> local_items() const { return local_items_; }

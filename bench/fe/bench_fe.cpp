@@ -1,4 +1,5 @@
-// fe/ benchmark: nodal-force assembly throughput (elements per second), and tangent assembly, for each
+// fe/ benchmark: nodal-force assembly throughput (elements per second), tangent assembly and the
+// smallest quadrature-point J (the figure a coupled step adds to diagnostics.csv), for each
 // law of materials/ (with a log volumetric penalty), on hexahedra and tetrahedra. The mesh is
 // replicated and the elements split over the ranks (docs/fe.md): run under `mpiexec -n 1` and `-n 2`
 // and compare. Prints figures only (median of several repetitions), never fails on time.
@@ -53,8 +54,8 @@ int main(int argc, char** argv)
     std::printf("fe assembly benchmark: %d rank(s), box of %d^3 cells, quadrature degree 2, log penalty\n",
                 size, n);
   if (rank == 0)
-    std::printf("%-12s %-6s %9s %6s %14s %14s %16s\n", "law", "cells", "elements", "points", "forces [ms]",
-                "Melem/s", "tangent [ms]");
+    std::printf("%-12s %-6s %9s %6s %14s %14s %16s %12s\n", "law", "cells", "elements", "points",
+                "forces [ms]", "Melem/s", "tangent [ms]", "min J [ms]");
   for (fe::CellShape shape : {fe::CellShape::hexahedron, fe::CellShape::tetrahedron}) {
     const int cells = shape == fe::CellShape::hexahedron ? n : std::max(1, n / 2);
     fe::Mesh mesh = fe::box_mesh(shape, fe::Vec3(0, 0, 0), fe::Vec3(1, 1, 1), {cells, cells, cells});
@@ -79,7 +80,7 @@ int main(int argc, char** argv)
       frame.f0 = fe::Vec3(1, 1, 0).normalized();
       frame.s0 = fe::Vec3(1, -1, 0).normalized();
       solid.set_fibers(std::vector<materials::FiberFrame>(mesh.num_elements(), frame));
-      std::vector<double> force_times, tangent_times;
+      std::vector<double> force_times, tangent_times, jacobian_times;
       fe::NodalSystem system(mesh, 3, PETSC_COMM_WORLD);
       const petsc::OwnedMat K = system.create_matrix();
       for (int repeat = 0; repeat < 5; ++repeat) {
@@ -96,12 +97,18 @@ int main(int argc, char** argv)
         MatAssemblyEnd(K, MAT_FINAL_ASSEMBLY);
         tangent_times.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        MPI_Barrier(PETSC_COMM_WORLD);
+        start = std::chrono::steady_clock::now();
+        (void)solid.smallest_point_jacobian(u); // diagnostics.csv's smallest_J, once a coupled step
+        jacobian_times.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
       const double force_time = median(force_times), tangent_time = median(tangent_times);
       if (rank == 0)
-        std::printf("%-12s %-6s %9zu %6d %14.2f %14.3f %16.2f\n", law.label, mesh.type().name().c_str(),
-                    mesh.num_elements(), solid.quadrature().points_per_element(), 1e3 * force_time,
-                    mesh.num_elements() / force_time / 1e6, 1e3 * tangent_time);
+        std::printf("%-12s %-6s %9zu %6d %14.2f %14.3f %16.2f %12.3f\n", law.label,
+                    mesh.type().name().c_str(), mesh.num_elements(), solid.quadrature().points_per_element(),
+                    1e3 * force_time, mesh.num_elements() / force_time / 1e6, 1e3 * tangent_time,
+                    1e3 * median(jacobian_times));
     }
   }
   PetscFinalize();

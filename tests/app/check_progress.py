@@ -163,9 +163,12 @@ def scenario_valve_end(args, run_dir):
     columns, rows = read_diagnostics(run_dir)
     if [int(r[0]) for r in rows] != list(range(1, 16)):
         fail(f"diagnostics.csv has steps {[r[0] for r in rows]}, expected 1..15")
-    for c in ("fluid_iterations", "structure_iterations", "max_velocity", "cfl"):
+    for c in ("fluid_iterations", "structure_iterations", "smallest_J", "max_velocity", "cfl"):
         if c not in columns:
             fail(f"diagnostics.csv has no column {c}: {columns}")
+    smallest = [float(r[columns.index("smallest_J")]) for r in rows]
+    if not all(0.99 < j <= 1.0 for j in smallest):
+        fail(f"the valve's smallest quadrature-point J over its first 15 steps from rest is {smallest}, expected just below 1")
     print("aortic valve, time.end = 0.0003 s (15 steps): stopped after 5 without a report, restarted to its end "
           "with a report; the first step says dt is within the estimate and the inertial limit binds; "
           "diagnostics.csv steps 1..15")
