@@ -93,7 +93,8 @@ InvariantLaw::InvariantLaw(LawKind kind, std::vector<double> parameters, LawOpti
   for (std::size_t i = 0; i < parameters_.size(); ++i)
     if (!(parameters_[i] >= 0.0) || parameters_[i] > info.parameters[i].upper)
       throw std::invalid_argument(info.name + ": parameter " + info.parameters[i].name + " out of range");
-  if (options_.reference_state == ReferenceState::pressure_like)
+  if (options_.reference_state == ReferenceState::pressure_like &&
+      options_.isotropic_invariant == IsotropicInvariant::I1)
     reference_d1_ = evaluate_invariants<double>(kind_, parameters_.data(), 3.0, 1.0, 1.0, true).d1;
 }
 
@@ -105,7 +106,9 @@ std::string InvariantLaw::name() const
 InvariantResponse<double> InvariantLaw::invariants(const Mat3& F, const FiberFrame& fibers) const
 {
   const Mat3 C = F.transpose() * F;
-  const double I1 = C.trace();
+  double I1 = C.trace();
+  if (options_.isotropic_invariant == IsotropicInvariant::isochoric)
+    I1 *= std::pow(F.determinant(), -2.0 / 3.0);
   const double I4 = fibers.f0.dot(C * fibers.f0);
   const double I6 = fibers.s0.dot(C * fibers.s0);
   return evaluate_invariants<double>(kind_, parameters_.data(), I1, I4, I6,
@@ -119,11 +122,19 @@ double InvariantLaw::energy(const Mat3& F, const FiberFrame& fibers) const
   return W;
 }
 
+Mat3 InvariantLaw::first_invariant_gradient(const Mat3& F) const
+{
+  if (options_.isotropic_invariant == IsotropicInvariant::I1) return 2.0 * F;
+  // d(J^{-2/3} tr C)/dF = J^{-2/3} (2 F - 2/3 tr C F^{-T}).
+  const Mat3 H = F.inverse().transpose();
+  return std::pow(F.determinant(), -2.0 / 3.0) * (2.0 * F - (2.0 / 3.0) * (F.transpose() * F).trace() * H);
+}
+
 Mat3 InvariantLaw::invariant_stress(const Mat3& F, const FiberFrame& fibers) const
 {
   const auto r = invariants(F, fibers);
   // dI1/dF = 2 F, dI4/dF = 2 F f0 (x) f0, dI6/dF = 2 F s0 (x) s0.
-  Mat3 P = 2.0 * r.d1 * F;
+  Mat3 P = r.d1 * first_invariant_gradient(F);
   if (r.d4 != 0.0) P.noalias() += (2.0 * r.d4) * (F * fibers.f0) * fibers.f0.transpose();
   if (r.d6 != 0.0) P.noalias() += (2.0 * r.d6) * (F * fibers.s0) * fibers.s0.transpose();
   return P;
@@ -176,16 +187,33 @@ void InvariantLaw::invariant_stress_and_tangent(const Mat3& F, const FiberFrame&
   const auto r = invariants(F, fibers);
   const Mat3 A = fibers.f0 * fibers.f0.transpose();
   const Mat3 B = fibers.s0 * fibers.s0.transpose();
-  const Mat3 G1 = 2.0 * F, G4 = 2.0 * F * A, G6 = 2.0 * F * B; // dI_k/dF
+  const Mat3 G1 = first_invariant_gradient(F), G4 = 2.0 * F * A, G6 = 2.0 * F * B; // dI_k/dF
   P = r.d1 * G1 + r.d4 * G4 + r.d6 * G6;
 
   // T = sum_k d_k d2I_k/dF2 + sum_kl d_kl dI_k/dF (x) dI_l/dF, with (column-major flattening)
   // d2I1/dF2 = 2 I_9, d2I4/dF2 = 2 A (x)_kron I_3 (entry (a+3b, c+3d) = 2 delta_ac A_bd).
   T.setZero();
-  const Mat3 M = r.d1 * Mat3::Identity() + r.d4 * A + r.d6 * B;
+  const bool isochoric = options_.isotropic_invariant == IsotropicInvariant::isochoric;
+  const double scale = isochoric ? std::pow(F.determinant(), -2.0 / 3.0) : 1.0; // d2I1bar/dF2's 2 I_9 part
+  const Mat3 M = (r.d1 * scale) * Mat3::Identity() + r.d4 * A + r.d6 * B;
   for (int d = 0; d < 3; ++d)
     for (int b = 0; b < 3; ++b)
       for (int a = 0; a < 3; ++a) T(a + 3 * b, a + 3 * d) = 2.0 * M(b, d);
+  if (isochoric && r.d1 != 0.0) {
+    // I1bar = j I1, j = J^{-2/3}, H = F^{-T}: dI1bar/dF = j (2 F - 2/3 I1 H) and
+    // d2I1bar/dF_ab dF_cd = j [2 d_ac d_bd - 4/3 (F_ab H_cd + H_ab F_cd) + 4/9 I1 H_ab H_cd
+    //                          + 2/3 I1 H_ad H_cb]; the first term is in M above.
+    const Mat3 H = F.inverse().transpose();
+    const double I1 = (F.transpose() * F).trace();
+    const Vec9 f = flat(F), h = flat(H);
+    const double c = r.d1 * scale;
+    T.noalias() +=
+        c * (-4.0 / 3.0 * (f * h.transpose() + h * f.transpose()) + 4.0 / 9.0 * I1 * h * h.transpose());
+    for (int d = 0; d < 3; ++d)
+      for (int c2 = 0; c2 < 3; ++c2)
+        for (int b = 0; b < 3; ++b)
+          for (int a = 0; a < 3; ++a) T(a + 3 * b, c2 + 3 * d) += c * 2.0 / 3.0 * I1 * H(a, d) * H(c2, b);
+  }
   const Vec9 g1 = flat(G1), g4 = flat(G4), g6 = flat(G6);
   T.noalias() += r.d11 * g1 * g1.transpose();
   if (r.d44 != 0.0 || r.d14 != 0.0) {

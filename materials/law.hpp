@@ -35,9 +35,24 @@ enum class ReferenceState {
   as_written     ///< the law as written; P(I) = 2 d1_ref I (only for analysis, e.g. biaxial fits)
 };
 
+/// Which first invariant the isotropic part (and HGO's dispersion term) reads.
+///  - `I1`: I1 = tr C, the law as the study writes it.
+///  - `isochoric`: I1bar = J^{-2/3} tr C, the isochoric invariant of the decoupled (Flory) split used for
+///    nearly incompressible solids with a separate volumetric penalty (Simo & Taylor 1991, CMAME
+///    85:273; FEBio's "uncoupled" materials). For an incompressible tissue I1bar = I1, so the law, its
+///    fits and every biaxial result are unchanged; the fiber invariant stays I4 = f0.C f0, as Nolan et
+///    al. 2014 (J. Mech. Behav. Biomed. Mater. 39:48) recommend for anisotropic soft tissue (the
+///    isochoric I4bar gives a fiber no stress under hydrostatic stretch). Where J departs from 1 the
+///    isotropic energy grows without bound as a point is flattened (I1bar -> infinity as J -> 0 at a
+///    bounded shape), so the tissue itself resists the collapse of an element corner that a penalty
+///    integrated once per element leaves free (docs/fe.md, "Inverted element corners"). P(I) = 0
+///    holds exactly, so no reference term is added.
+enum class IsotropicInvariant { I1, isochoric };
+
 struct LawOptions {
   FiberCompression fiber_compression = FiberCompression::excluded;
   ReferenceState reference_state = ReferenceState::pressure_like;
+  IsotropicInvariant isotropic_invariant = IsotropicInvariant::I1;
 };
 
 struct ParameterInfo {
@@ -75,7 +90,8 @@ class InvariantLaw : public StrainEnergy {
   LawKind kind() const { return kind_; }
   std::span<const double> parameters() const { return parameters_; }
   const LawOptions& options() const { return options_; }
-  /// dPsi/dI1 at C = I: the coefficient of the pressure-like reference term.
+  /// dPsi/dI1 at C = I: the coefficient of the pressure-like reference term (0 with the isochoric
+  /// invariant, which needs none).
   double reference_d1() const { return reference_d1_; }
   /// Psi and its invariant derivatives at F (without the reference term).
   InvariantResponse<double> invariants(const Mat3& F, const FiberFrame& fibers) const;
@@ -85,6 +101,9 @@ class InvariantLaw : public StrainEnergy {
   void invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const;
 
  private:
+  /// dI1/dF = 2 F, or with the isochoric invariant dI1bar/dF.
+  Mat3 first_invariant_gradient(const Mat3& F) const;
+
   LawKind kind_;
   std::vector<double> parameters_;
   LawOptions options_;

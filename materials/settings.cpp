@@ -140,6 +140,13 @@ io::Schema material_schema(const std::string& prefix)
                   "\"pressure-like\": adds -2 dW/dI1(I) ln J so that P(I) = 0; \"as-written\": the law alone")
       .choices({"pressure-like", "as-written"})
       .defaults(std::string("pressure-like"));
+  schema
+      .add_string(p + "isotropic_invariant",
+                  "\"I1\": the isotropic part reads tr C, as the law is written; \"isochoric\": it reads "
+                  "J^(-2/3) tr C (the same for incompressible tissue; resists the collapse of an element "
+                  "corner, docs/materials.md)")
+      .choices({"I1", "isochoric"})
+      .defaults(std::string("I1"));
   std::vector<std::string> penalty_choices;
   for (const auto kind :
        {PenaltyKind::none, PenaltyKind::log, PenaltyKind::quadratic_log, PenaltyKind::quadratic})
@@ -201,6 +208,9 @@ MaterialSettings read_material(const io::Config& config, const std::string& pref
   s.options.reference_state = config.string(p + "reference_state") == "as-written"
                                   ? ReferenceState::as_written
                                   : ReferenceState::pressure_like;
+  s.options.isotropic_invariant = config.string(p + "isotropic_invariant") == "isochoric"
+                                      ? IsotropicInvariant::isochoric
+                                      : IsotropicInvariant::I1;
   s.penalty = *find_penalty(config.string(p + "penalty"));
   s.bulk_modulus = config.real(p + "bulk_modulus");
   return s;
@@ -218,7 +228,10 @@ std::string MaterialSettings::describe() const
   if (!preset.empty()) text += " from preset " + preset;
   text += options.fiber_compression == FiberCompression::excluded ? ", fibers in tension only"
                                                                   : ", fibers in tension and compression";
-  if (options.reference_state == ReferenceState::as_written) text += ", reference term off";
+  if (options.isotropic_invariant == IsotropicInvariant::isochoric)
+    text += ", isotropic part in J^(-2/3) I1";
+  else if (options.reference_state == ReferenceState::as_written)
+    text += ", reference term off";
   if (penalty == PenaltyKind::none)
     text += ", no volumetric penalty";
   else

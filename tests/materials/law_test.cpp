@@ -70,6 +70,24 @@ std::vector<LawCase> cases()
     out.push_back({"hgo_dispersed" + suffix, law(LawKind::hgo, {7.64 * kPa, 996.6 * kPa, 524.6, 0.226}, fc),
                    two_families(49.98), 996.6 * kPa});
   }
+  // The isochoric first invariant J^(-2/3) I1 (LawOptions::isotropic_invariant), each law, fibers in
+  // tension only.
+  const LawOptions isochoric{FiberCompression::excluded, ReferenceState::pressure_like,
+                             IsotropicInvariant::isochoric};
+  auto isochoric_law = [&](LawKind kind, std::vector<double> p) {
+    return std::make_shared<InvariantLaw>(kind, std::move(p), isochoric);
+  };
+  out.push_back({"neo_hookean_isochoric", isochoric_law(LawKind::neo_hookean, {50.0 * kPa}), oblique_fiber(),
+                 50 * kPa});
+  out.push_back({"W1_isochoric", isochoric_law(LawKind::W1, {1.21 * kPa, 7.99, 24.23 * kPa, 57.62}),
+                 oblique_fiber(), 24.23 * kPa});
+  out.push_back({"W2_isochoric", isochoric_law(LawKind::W2, {1.18 * kPa, 55.04 * kPa, 8.08, 54.0}),
+                 oblique_fiber(), 55.04 * kPa});
+  out.push_back({"W3_isochoric", isochoric_law(LawKind::W3, {19.59 * kPa, 12.94 * kPa, 77.79}),
+                 oblique_fiber(), 19.59 * kPa});
+  out.push_back({"hgo_dispersed_isochoric",
+                 isochoric_law(LawKind::hgo, {7.64 * kPa, 996.6 * kPa, 524.6, 0.226}), two_families(49.98),
+                 996.6 * kPa});
   // Each penalty on W1 (the composite Material).
   for (const auto kind : {PenaltyKind::log, PenaltyKind::quadratic_log, PenaltyKind::quadratic}) {
     auto w1 = law(LawKind::W1, {1.21 * kPa, 7.99, 24.23 * kPa, 57.62}, FiberCompression::excluded);
@@ -215,6 +233,54 @@ TEST(ReferenceState, AsWrittenTheIsotropicPartsCarryTheHydrostaticStressTheCorre
     const double J = F.determinant();
     const Mat3 dsigma = (w1c.stress(F, frame) - w1.stress(F, frame)) * F.transpose() / J;
     EXPECT_LT((dsigma + 2 * w1c.reference_d1() / J * I).norm(), 1e-9 * w1c.reference_d1());
+  }
+}
+
+TEST(IsotropicInvariant, IsochoricEqualsTheLawAsWrittenOnIsochoricMotions)
+{
+  // J = 1: I1bar = I1, so energy and deviatoric stress are the law's; only the hydrostatic part
+  // differs (the reference term of the I1 form, -2 d1_ref I, against none), which the fluid's pressure
+  // takes in an incompressible model. Every biaxial fit and result is therefore the same.
+  const LawOptions isochoric{FiberCompression::excluded, ReferenceState::pressure_like,
+                             IsotropicInvariant::isochoric};
+  const FiberFrame frame = oblique_fiber();
+  for (const auto kind : {LawKind::W1, LawKind::W2, LawKind::W3}) {
+    const std::vector<double> p = kind == LawKind::W1   ? std::vector{1.21 * kPa, 7.99, 24.23 * kPa, 57.62}
+                                  : kind == LawKind::W2 ? std::vector{1.18 * kPa, 55.04 * kPa, 8.08, 54.0}
+                                                        : std::vector{19.59 * kPa, 12.94 * kPa, 77.79};
+    const InvariantLaw as_written(kind, p), bar(kind, p, isochoric);
+    EXPECT_EQ(bar.reference_d1(), 0.0);
+    for (const Mat3& F0 : sample_deformations(frame)) {
+      const Mat3 F = F0 / std::cbrt(F0.determinant()); // J = 1
+      EXPECT_NEAR(bar.energy(F, frame), as_written.energy(F, frame),
+                  1e-9 * std::abs(as_written.energy(F, frame)));
+      const Mat3 s1 = bar.stress(F, frame) * F.transpose(), s2 = as_written.stress(F, frame) * F.transpose();
+      const Mat3 d1 = s1 - s1.trace() / 3.0 * Mat3::Identity(), d2 = s2 - s2.trace() / 3.0 * Mat3::Identity();
+      EXPECT_LT((d1 - d2).norm(), 1e-9 * d2.norm());
+    }
+  }
+}
+
+TEST(IsotropicInvariant, IsochoricResistsTheFlatteningOfAPoint)
+{
+  // F = diag(1, 1, e), fibers along x (unstretched, so the fiber term is off): as e -> 0 the I1 form's
+  // isotropic energy falls (I1 = 2 + e^2 < 3) and only its reference term -2 d1_ref ln e rises, while
+  // J^(-2/3) I1 = e^(-2/3) (2 + e^2) makes W1's exponential grow without bound.
+  FiberFrame frame;
+  frame.f0 = Vec3::UnitX();
+  const std::vector<double> w1{1.21 * kPa, 7.99, 24.23 * kPa, 57.62};
+  const InvariantLaw as_written(LawKind::W1, w1),
+      bar(LawKind::W1, w1,
+          {FiberCompression::excluded, ReferenceState::pressure_like, IsotropicInvariant::isochoric});
+  // (e = 0.5: 115 against 12 kPa; e = 0.3: 7e5 against 22 kPa.)
+  for (const double e : {0.5, 0.3, 0.1}) {
+    const Mat3 F = Eigen::Vector3d(1.0, 1.0, e).asDiagonal();
+    const double c10 = w1[0], c01 = w1[1];
+    EXPECT_NEAR(bar.energy(F, frame), c10 * std::expm1(c01 * (std::pow(e, -2.0 / 3.0) * (2.0 + e * e) - 3.0)),
+                1e-9 * bar.energy(F, frame));
+    EXPECT_NEAR(as_written.energy(F, frame),
+                c10 * std::expm1(c01 * (e * e - 1.0)) - 2.0 * c10 * c01 * std::log(e), 1e-6 * c10);
+    EXPECT_GT(bar.energy(F, frame), 5.0 * as_written.energy(F, frame)) << "e = " << e;
   }
 }
 
