@@ -286,7 +286,7 @@ PointFields SolidModel::point_fields(std::span<const double> u) const
 
 SmallestJacobian SolidModel::smallest_point_jacobian(std::span<const double> u) const
 {
-  // MPI_MINLOC over (J, element) pairs: the smallest J, and among equal ones the lowest element.
+  // MPI_MINLOC over (J, element) pairs; a rank without elements offers (+inf, INT_MAX).
   struct {
     double J;
     int element;

@@ -76,7 +76,7 @@ struct PointFields {
 /// The smallest J = det F over the points of the full rule, and the element it is in.
 struct SmallestJacobian {
   double J = 0.0;
-  int element = -1; ///< the lowest index among equal minima; -1 for a solid with no elements
+  int element = -1; ///< one element where J is smallest; -1 for a solid with no elements
 };
 
 class SolidModel {
