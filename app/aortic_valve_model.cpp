@@ -202,6 +202,14 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .unit("cm")
       .defaults(d.commissure_height)
       .positive();
+  keys.real("mesh.commissure_strip",
+            "height of the attachment strip up the wall at each commissure, where a leaflet's attachment and "
+            "free edge meet: the height of the leaflet's end columns of elements (docs/fe.md, \"The "
+            "aortic-valve mesh\")",
+            g.commissure_strip)
+      .unit("cm")
+      .defaults(d.commissure_strip)
+      .positive();
   keys.real("mesh.sag", "belly depth toward the ventricle", g.sag).unit("cm").defaults(d.sag).non_negative();
   keys.real("mesh.free_edge_drop",
             "how far the free edge descends from the commissures to the valve centre (slack for opening)",

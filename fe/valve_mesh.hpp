@@ -12,7 +12,9 @@
 //     attachment A(u): on the tube's inner wall (the mid-surface meets the wall, so the leaflet's
 //       outer half overlaps the tube, as an attached leaflet in the IB method may), z = base +
 //       (commissure_height - commissure_strip) u^2 (a scallop with its nadir at the leaflet's centre), plus a
-//       short strip up the wall at each commissure (u = +-1) so that no element degenerates;
+//       strip up the wall at each commissure (u = +-1) so that no element degenerates: the leaflet's end
+//       columns are that strip's height from attachment to free edge (0.1 cm made slivers whose
+//       corners folded: docs/fe.md, "The aortic-valve mesh");
 //     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
 //       a coaptation line (theta_k +- 60 degrees) in projection and free_edge_gap / 2 away from it,
 //       descending from the commissures' height by free_edge_drop (1 - |u|) toward the centre (0 by
@@ -47,9 +49,10 @@ struct ValveMeshParameters {
   double tube_wall = 0.15;
   double tube_length = 13.0;
   double leaflet_thickness = 0.04;
-  double valve_base = 5.0;         ///< z of the attachment's nadir (leaflet centre), from the inlet
-  double commissure_height = 1.2;  ///< z of the commissures (and the closed free edge) above the nadir
-  double commissure_strip = 0.1;   ///< height of the attachment strip up the wall at each commissure
+  double valve_base = 5.0;        ///< z of the attachment's nadir (leaflet centre), from the inlet
+  double commissure_height = 1.2; ///< z of the commissures (and the closed free edge) above the nadir
+  /// Height of the attachment strip up the wall at each commissure (see above).
+  double commissure_strip = 0.3;
   double sag = 0.25;               ///< belly depth toward the ventricle
   double free_edge_drop = 0.0;     ///< how far the free edge descends from the commissures to the centre
   double free_edge_gap = 0.02;     ///< distance between neighbouring closed free edges (mid-surface)

@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include "fe/quadrature_data.hpp"
 #include "fe/valve_mesh.hpp"
 
 namespace ibvalve::fe {
@@ -37,6 +38,44 @@ TEST(AorticValveMesh, EveryElementIsPositivelyOriented)
   const Mesh mesh = aortic_valve_mesh({});
   for (std::size_t e = 0; e < mesh.num_elements(); ++e)
     ASSERT_GT(smallest_corner_jacobian(mesh, e), 0.0) << e;
+}
+
+/// min / max of det(dX/dxi) over the 2 x 2 x 2 Gauss points of element e (1 for a parallelepiped): how far
+/// a hexahedron tapers. Its Gauss-point weights are equal, so JxW's ratio is the Jacobians'.
+double gauss_jacobian_ratio(const QuadratureData& rule, std::size_t e)
+{
+  double lo = INFINITY, hi = 0.0;
+  for (int q = 0; q < rule.points_per_element(); ++q) {
+    lo = std::min(lo, rule.JxW(e, q));
+    hi = std::max(hi, rule.JxW(e, q));
+  }
+  return lo / hi;
+}
+
+TEST(AorticValveMesh, NoLeafletElementIsATaperedSliver)
+{
+  // A leaflet's end columns span the commissure strip's height from attachment to free edge, so their
+  // elements are strip / leaflet_radial tall against about 0.2 cm across, and taper toward the
+  // commissure. With the strip of 0.1 cm they were 0.01 cm tall (aspect 19-21, Gauss-point Jacobian
+  // ratio 0.15-0.22 against a median 0.9), and in the valve's closures these are the corners that
+  // collapse and invert (docs/aortic-valve-study-2026-12-03.md). The default strip keeps every
+  // leaflet element's ratio above 0.45 at the default, the valve case's and a finer resolution.
+  for (const auto& [across, radial] : {std::pair{32, 12}, std::pair{24, 10}, std::pair{48, 20}}) {
+    ValveMeshParameters p;
+    p.leaflet_across = across;
+    p.leaflet_radial = radial;
+    p.free_edge_drop = 0.5;
+    p.include_tube = false;
+    const Mesh mesh = aortic_valve_mesh(p);
+    const QuadratureData rule(mesh, 2);
+    double worst = 1.0;
+    for (int k = 1; k <= 3; ++k)
+      for (int e : mesh.group(fmt::format("leaflet{}", k)).elements)
+        worst = std::min(worst, gauss_jacobian_ratio(rule, static_cast<std::size_t>(e)));
+    std::printf("leaflets %d x %d, commissure strip %g cm: smallest Gauss-point Jacobian ratio %.3f\n",
+                across, radial, p.commissure_strip, worst);
+    EXPECT_GT(worst, 0.45) << across << " x " << radial;
+  }
 }
 
 TEST(AorticValveMesh, HasTheGroupsTheFiberRulesAndTheRunNeed)
