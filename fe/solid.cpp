@@ -291,18 +291,11 @@ SmallestJacobian SolidModel::smallest_point_jacobian(std::span<const double> u) 
     double J;
     int element;
   } local{std::numeric_limits<double>::infinity(), -1}, global{};
-  for (const auto& [p, e] : local_items_) {
-    const auto element = mesh_.element(e);
+  for (const auto& [p, e] : local_items_)
     for (int q = 0; q < quadrature_.points_per_element(); ++q) {
-      const auto gradients = quadrature_.gradients(e, q);
-      Mat3 F = Mat3::Identity();
-      for (std::size_t a = 0; a < element.size(); ++a)
-        F.noalias() +=
-            Vec3(u[3 * element[a]], u[3 * element[a] + 1], u[3 * element[a] + 2]) * gradients[a].transpose();
-      const double J = F.determinant();
+      const double J = deformation_gradient(u, e, q).determinant();
       if (J < local.J) local = {J, e};
     }
-  }
   if (local.element < 0) local.element = std::numeric_limits<int>::max();
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE_INT, MPI_MINLOC, comm_);
   if (global.element == std::numeric_limits<int>::max()) return {};
