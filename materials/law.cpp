@@ -103,16 +103,34 @@ std::string InvariantLaw::name() const
   return law_info(kind_).name;
 }
 
-InvariantResponse<double> InvariantLaw::invariants(const Mat3& F, const FiberFrame& fibers) const
+InvariantLaw::Kinematics InvariantLaw::kinematics(const Mat3& F) const
 {
-  const Mat3 C = F.transpose() * F;
-  double I1 = C.trace();
-  if (options_.isotropic_invariant == IsotropicInvariant::isochoric)
-    I1 *= std::pow(F.determinant(), -2.0 / 3.0);
-  const double I4 = fibers.f0.dot(C * fibers.f0);
-  const double I6 = fibers.s0.dot(C * fibers.s0);
+  Kinematics k;
+  k.C = F.transpose() * F;
+  k.trace_C = k.C.trace();
+  if (options_.isotropic_invariant == IsotropicInvariant::I1) {
+    k.gradient = 2.0 * F;
+    return k;
+  }
+  // d(J^{-2/3} tr C)/dF = J^{-2/3} (2 F - 2/3 tr C F^{-T}).
+  k.j = std::pow(F.determinant(), -2.0 / 3.0);
+  k.H = F.inverse().transpose();
+  k.gradient = k.j * (2.0 * F - (2.0 / 3.0) * k.trace_C * k.H);
+  return k;
+}
+
+InvariantResponse<double> InvariantLaw::invariants(const Kinematics& k, const FiberFrame& fibers) const
+{
+  const double I1 = options_.isotropic_invariant == IsotropicInvariant::I1 ? k.trace_C : k.trace_C * k.j;
+  const double I4 = fibers.f0.dot(k.C * fibers.f0);
+  const double I6 = fibers.s0.dot(k.C * fibers.s0);
   return evaluate_invariants<double>(kind_, parameters_.data(), I1, I4, I6,
                                      options_.fiber_compression == FiberCompression::included);
+}
+
+InvariantResponse<double> InvariantLaw::invariants(const Mat3& F, const FiberFrame& fibers) const
+{
+  return invariants(kinematics(F), fibers);
 }
 
 double InvariantLaw::energy(const Mat3& F, const FiberFrame& fibers) const
@@ -122,19 +140,12 @@ double InvariantLaw::energy(const Mat3& F, const FiberFrame& fibers) const
   return W;
 }
 
-Mat3 InvariantLaw::first_invariant_gradient(const Mat3& F) const
-{
-  if (options_.isotropic_invariant == IsotropicInvariant::I1) return 2.0 * F;
-  // d(J^{-2/3} tr C)/dF = J^{-2/3} (2 F - 2/3 tr C F^{-T}).
-  const Mat3 H = F.inverse().transpose();
-  return std::pow(F.determinant(), -2.0 / 3.0) * (2.0 * F - (2.0 / 3.0) * (F.transpose() * F).trace() * H);
-}
-
 Mat3 InvariantLaw::invariant_stress(const Mat3& F, const FiberFrame& fibers) const
 {
-  const auto r = invariants(F, fibers);
-  // dI1/dF = 2 F, dI4/dF = 2 F f0 (x) f0, dI6/dF = 2 F s0 (x) s0.
-  Mat3 P = r.d1 * first_invariant_gradient(F);
+  const Kinematics k = kinematics(F);
+  const auto r = invariants(k, fibers);
+  // dI1/dF = 2 F (or dI1bar/dF), dI4/dF = 2 F f0 (x) f0, dI6/dF = 2 F s0 (x) s0.
+  Mat3 P = r.d1 * k.gradient;
   if (r.d4 != 0.0) P.noalias() += (2.0 * r.d4) * (F * fibers.f0) * fibers.f0.transpose();
   if (r.d6 != 0.0) P.noalias() += (2.0 * r.d6) * (F * fibers.s0) * fibers.s0.transpose();
   return P;
@@ -184,18 +195,19 @@ void InvariantLaw::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, M
 void InvariantLaw::invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P,
                                                 Tangent& T) const
 {
-  const auto r = invariants(F, fibers);
+  const Kinematics k = kinematics(F);
+  const auto r = invariants(k, fibers);
   const Mat3 A = fibers.f0 * fibers.f0.transpose();
   const Mat3 B = fibers.s0 * fibers.s0.transpose();
-  const Mat3 G1 = first_invariant_gradient(F), G4 = 2.0 * F * A, G6 = 2.0 * F * B; // dI_k/dF
+  const Mat3& G1 = k.gradient;
+  const Mat3 G4 = 2.0 * F * A, G6 = 2.0 * F * B; // dI_k/dF
   P = r.d1 * G1 + r.d4 * G4 + r.d6 * G6;
 
   // T = sum_k d_k d2I_k/dF2 + sum_kl d_kl dI_k/dF (x) dI_l/dF, with (column-major flattening)
   // d2I1/dF2 = 2 I_9, d2I4/dF2 = 2 A (x)_kron I_3 (entry (a+3b, c+3d) = 2 delta_ac A_bd).
   T.setZero();
   const bool isochoric = options_.isotropic_invariant == IsotropicInvariant::isochoric;
-  const double scale = isochoric ? std::pow(F.determinant(), -2.0 / 3.0) : 1.0; // d2I1bar/dF2's 2 I_9 part
-  const Mat3 M = (r.d1 * scale) * Mat3::Identity() + r.d4 * A + r.d6 * B;
+  const Mat3 M = (r.d1 * k.j) * Mat3::Identity() + r.d4 * A + r.d6 * B; // j: d2I1bar/dF2's 2 I_9 part
   for (int d = 0; d < 3; ++d)
     for (int b = 0; b < 3; ++b)
       for (int a = 0; a < 3; ++a) T(a + 3 * b, a + 3 * d) = 2.0 * M(b, d);
@@ -203,10 +215,10 @@ void InvariantLaw::invariant_stress_and_tangent(const Mat3& F, const FiberFrame&
     // I1bar = j I1, j = J^{-2/3}, H = F^{-T}: dI1bar/dF = j (2 F - 2/3 I1 H) and
     // d2I1bar/dF_ab dF_cd = j [2 d_ac d_bd - 4/3 (F_ab H_cd + H_ab F_cd) + 4/9 I1 H_ab H_cd
     //                          + 2/3 I1 H_ad H_cb]; the first term is in M above.
-    const Mat3 H = F.inverse().transpose();
-    const double I1 = (F.transpose() * F).trace();
+    const Mat3& H = k.H;
+    const double I1 = k.trace_C;
     const Vec9 f = flat(F), h = flat(H);
-    const double c = r.d1 * scale;
+    const double c = r.d1 * k.j;
     T.noalias() +=
         c * (-4.0 / 3.0 * (f * h.transpose() + h * f.transpose()) + 4.0 / 9.0 * I1 * h * h.transpose());
     for (int d = 0; d < 3; ++d)

@@ -101,8 +101,18 @@ class InvariantLaw : public StrainEnergy {
   void invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const;
 
  private:
-  /// dI1/dF = 2 F, or with the isochoric invariant dI1bar/dF.
-  Mat3 first_invariant_gradient(const Mat3& F) const;
+  /// What the invariants and their derivatives need at F, computed once a call: C, tr C, the factor j
+  /// of the isotropic invariant j tr C (J^{-2/3} with the isochoric invariant, else 1), F^{-T} (isochoric
+  /// only) and d(j tr C)/dF.
+  struct Kinematics {
+    Mat3 C;
+    double trace_C = 0.0;
+    double j = 1.0;
+    Mat3 H;
+    Mat3 gradient;
+  };
+  Kinematics kinematics(const Mat3& F) const;
+  InvariantResponse<double> invariants(const Kinematics& k, const FiberFrame& fibers) const;
 
   LawKind kind_;
   std::vector<double> parameters_;
