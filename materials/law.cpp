@@ -121,7 +121,7 @@ InvariantLaw::Kinematics InvariantLaw::kinematics(const Mat3& F) const
 
 InvariantResponse<double> InvariantLaw::invariants(const Kinematics& k, const FiberFrame& fibers) const
 {
-  const double I1 = options_.isotropic_invariant == IsotropicInvariant::I1 ? k.trace_C : k.trace_C * k.j;
+  const double I1 = k.j * k.trace_C; // j = 1 for the invariant I1
   const double I4 = fibers.f0.dot(k.C * fibers.f0);
   const double I6 = fibers.s0.dot(k.C * fibers.s0);
   return evaluate_invariants<double>(kind_, parameters_.data(), I1, I4, I6,
