@@ -34,15 +34,6 @@ def tolerances_of(list_file, case_id):
     sys.exit(f"{list_file}: no case '{case_id}'")
 
 
-def metric_tolerance(words):
-    """--metrics-rtol, else --rtol, as compare_runs.py reads them."""
-    value = {"--rtol": 1e-6, "--metrics-rtol": None}
-    for i, w in enumerate(words[:-1]):
-        if w in value:
-            value[w] = float(words[i + 1])
-    return value["--rtol"] if value["--metrics-rtol"] is None else value["--metrics-rtol"]
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("list", type=Path)
@@ -50,9 +41,12 @@ def main():
     parser.add_argument("compare_runs", type=Path)
     parser.add_argument("--move", type=float, default=0.01)
     args = parser.parse_args()
+    sys.path.insert(0, str(args.compare_runs.parent))
+    import compare_runs
+
     reference = args.list.parent / "reference" / args.id
     words = tolerances_of(args.list, args.id)
-    metrics_rtol = metric_tolerance(words)
+    metrics_rtol = compare_runs.metrics_tolerance(compare_runs.argument_parser().parse_args([".", "."] + words))
     series_text = (reference / "timeseries.csv").read_text()
     metrics_doc = json.loads((reference / "metrics.json").read_text())
     failures = []
@@ -72,8 +66,8 @@ def main():
     if code != 0:
         failures.append("the reference does not pass against itself")
 
-    numeric = [k for k, e in metrics_doc["metrics"].items()
-               if isinstance(e, dict) and isinstance(e.get("value"), (int, float)) and not isinstance(e.get("value"), bool)]
+    numeric = [k for k in compare_runs.read_metrics(reference / "metrics.json")
+               if isinstance(metrics_doc["metrics"][k], dict)]
     for key in numeric:
         value = metrics_doc["metrics"][key]["value"]
         if value == 0:

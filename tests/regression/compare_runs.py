@@ -40,7 +40,7 @@ def read_metrics(path):
     return out
 
 
-def main():
+def argument_parser():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("reference", type=Path)
     parser.add_argument("run", type=Path)
@@ -48,8 +48,17 @@ def main():
     parser.add_argument("--atol", type=float, default=1e-12)
     parser.add_argument("--metrics-rtol", type=float, default=None, help="metrics (default: --rtol)")
     parser.add_argument("--series-only", action="store_true", help="do not compare metrics.json")
-    args = parser.parse_args()
-    metrics_rtol = args.rtol if args.metrics_rtol is None else args.metrics_rtol
+    return parser
+
+
+def metrics_tolerance(args):
+    """The metrics' relative tolerance: --metrics-rtol, else --rtol."""
+    return args.rtol if args.metrics_rtol is None else args.metrics_rtol
+
+
+def main():
+    args = argument_parser().parse_args()
+    metrics_rtol = metrics_tolerance(args)
     failures = []
 
     ref_header, ref, ref_rows = read_series(args.reference / "timeseries.csv")
