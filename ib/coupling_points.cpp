@@ -10,7 +10,8 @@
 namespace ibvalve::ib {
 
 CouplingPoints::CouplingPoints(const fe::Mesh& mesh, CouplingPointSettings settings)
-    : mesh_(mesh), settings_(settings), per_direction_(mesh.num_elements(), 1)
+    : mesh_(mesh), settings_(settings), per_direction_(mesh.num_elements(), 1),
+      weight_cache_(mesh.num_elements())
 {
   if (!(settings.spacing > 0.0) || settings.min_points < 1 || settings.max_points < settings.min_points)
     throw std::invalid_argument(
@@ -43,10 +44,13 @@ const CouplingPoints::Rule& CouplingPoints::rule(int n)
   return rules_.emplace(n, std::move(r)).first->second;
 }
 
-std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h)
+std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h,
+                                   std::span<const std::uint8_t> placed)
 {
   const std::size_t elements = mesh_.num_elements();
   const int nodes = mesh_.nodes_per_element();
+  if (!placed.empty() && placed.size() != elements)
+    throw std::invalid_argument("ib: one placement flag per element is needed");
   std::size_t capped = 0;
   std::size_t total = 0;
   bool rules_changed = position_.empty();
@@ -64,35 +68,60 @@ std::size_t CouplingPoints::update(std::span<const Vec3> positions, double h)
     total += rule(n).rule.size();
   }
   if (rules_changed) {
-    // The points' elements, shape values and reference weights depend on the rules alone: computed
-    // again only when an element's rule changed (rarely: most steps only move the points).
+    // The points' elements, shape values and reference weights depend on the rules alone: laid out
+    // again only when an element's rule changed. On a deforming valve that is most placements (some
+    // leaflet element's longest edge is always near a multiple of the spacing), so each element's
+    // reference weights are computed once per rule it takes and then copied (reference_weights).
     position_.resize(total);
+    first_point_.resize(elements + 1);
     element_.resize(total);
     weight_.resize(total);
     values_.resize(total);
-    const auto& X = mesh_.nodes();
     std::size_t q = 0;
     for (std::size_t e = 0; e < elements; ++e) {
-      const Rule& r = rules_.at(per_direction_[e]);
-      const auto element = mesh_.element(e);
+      const int n = per_direction_[e];
+      const Rule& r = rules_.at(n);
+      const std::size_t weights = reference_weights(e, n);
+      first_point_[e] = q;
       for (std::size_t p = 0; p < r.rule.size(); ++p, ++q) {
-        const fe::Vec3* dN = r.gradients.data() + p * nodes;
-        Eigen::Matrix3d dXdxi = Eigen::Matrix3d::Zero();
-        for (int a = 0; a < nodes; ++a) dXdxi += X[element[a]] * dN[a].transpose();
         element_[q] = e;
-        weight_[q] = r.rule.weights[p] * dXdxi.determinant();
+        weight_[q] = weight_pool_[weights + p];
         values_[q] = r.values.data() + p * nodes;
       }
     }
+    first_point_[elements] = q;
   }
-  for (std::size_t q = 0; q < total; ++q) {
-    const auto element = mesh_.element(element_[q]);
-    const double* N = values_[q];
-    Vec3 x = Vec3::Zero();
-    for (int a = 0; a < nodes; ++a) x += N[a] * positions[element[a]];
-    position_[q] = x;
+  for (std::size_t e = 0; e < elements; ++e) {
+    if (!placed.empty() && placed[e] == 0) continue;
+    const auto element = mesh_.element(e);
+    for (std::size_t q = first_point_[e]; q < first_point_[e + 1]; ++q) {
+      const double* N = values_[q];
+      Vec3 x = Vec3::Zero();
+      for (int a = 0; a < nodes; ++a) x += N[a] * positions[element[a]];
+      position_[q] = x;
+    }
   }
   return capped;
+}
+
+std::size_t CouplingPoints::reference_weights(std::size_t e, int n)
+{
+  for (const auto& [rule_points, offset] : weight_cache_[e])
+    if (rule_points == n) return offset;
+  // w_q det(dX/dxi) at the rule's points, from the element's reference nodes.
+  const Rule& r = rule(n);
+  const auto element = mesh_.element(e);
+  const auto& X = mesh_.nodes();
+  const int nodes = mesh_.nodes_per_element();
+  const std::size_t offset = weight_pool_.size();
+  for (std::size_t p = 0; p < r.rule.size(); ++p) {
+    const fe::Vec3* dN = r.gradients.data() + p * nodes;
+    Eigen::Matrix3d dXdxi = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < nodes; ++a) dXdxi += X[element[a]] * dN[a].transpose();
+    weight_pool_.push_back(r.rule.weights[p] * dXdxi.determinant());
+  }
+  weight_cache_[e].emplace_back(n, offset);
+  return offset;
 }
 
 std::span<const double> CouplingPoints::shape_values(std::size_t q) const

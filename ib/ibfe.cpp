@@ -144,7 +144,23 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
   std::vector<Vec3> x(X.size());
   for (std::size_t n = 0; n < X.size(); ++n)
     x[n] = X[n] + Vec3(displacement[3 * n], displacement[3 * n + 1], displacement[3 * n + 2]);
-  const std::size_t capped = points_.update(x, h_min_);
+  // Each rank places and prepares only the points of elements whose nodes' bounding box meets its
+  // cells (a point is a convex combination of its element's nodes): the others are other ranks'.
+  const fe::Mesh& mesh = solid_.mesh();
+  placed_.assign(mesh.num_elements(), 0);
+  for (std::size_t e = 0; e < mesh.num_elements(); ++e) {
+    const auto element = mesh.element(e);
+    Vec3 lower = x[element[0]], upper = x[element[0]];
+    bool finite = true;
+    for (const auto n : element) {
+      lower = lower.cwiseMin(x[n]);
+      upper = upper.cwiseMax(x[n]);
+      finite = finite && x[n].allFinite();
+    }
+    // A non-finite element is placed everywhere, so that every rank raises the same error.
+    placed_[e] = !finite || interaction_.may_hold(lower, upper) ? 1 : 0;
+  }
+  const std::size_t capped = points_.update(x, h_min_, placed_);
   if (capped > 0 && !warned_capped_) {
     warned_capped_ = true;
     base::Logger::global().warn(
@@ -152,7 +168,12 @@ void IbfeIntegrator::place_points(std::span<const double> displacement)
                     "wider than ib.point_spacing grid cells; the fluid may leak through them (shown once)",
                     capped, settings_.points.max_points));
   }
-  interaction_.prepare(points_.positions(), prepared_);
+  candidates_.clear();
+  for (std::size_t e = 0; e < mesh.num_elements(); ++e)
+    if (placed_[e] != 0)
+      for (std::size_t q = points_.first_point(e); q < points_.first_point(e + 1); ++q)
+        candidates_.push_back(q);
+  interaction_.prepare(points_.positions(), candidates_, prepared_);
 }
 
 std::vector<double> IbfeIntegrator::project_velocity(Vec velocity, int guess_slot)

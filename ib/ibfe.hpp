@@ -160,6 +160,8 @@ class IbfeIntegrator {
   std::vector<std::pair<std::vector<double>, Tether>> tethers_; // node weights w_a, settings
   std::vector<double> displacement_, velocity_, forces_;
   GridInteraction::PreparedPoints prepared_; // the coupling points this rank handles, with their stencils
+  std::vector<std::uint8_t> placed_;         // per element: may hold points this rank handles
+  std::vector<std::size_t> candidates_;      // the points of those elements
   petsc::OwnedVec velocity_old_, velocity_mid_;
   IbfeTimings timings_;
   PetscInt projection_iterations_ = 0; // of the step being taken

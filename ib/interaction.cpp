@@ -172,49 +172,80 @@ std::pair<int, int> GridInteraction::valid_range(int component, int e, int first
 
 void GridInteraction::prepare(std::span<const Vec3> points, PreparedPoints& prepared) const
 {
-  const int S = kernel_.support();
   prepared.index.clear();
   prepared.weights.clear();
   prepared.first.clear();
   prepared.inside.clear();
+  for (std::size_t p = 0; p < points.size(); ++p) prepare_point(points[p], p, prepared);
+}
+
+void GridInteraction::prepare(std::span<const Vec3> points, std::span<const std::size_t> candidates,
+                              PreparedPoints& prepared) const
+{
+  prepared.index.clear();
+  prepared.weights.clear();
+  prepared.first.clear();
+  prepared.inside.clear();
+  for (const std::size_t p : candidates) prepare_point(points[p], p, prepared);
+}
+
+bool GridInteraction::may_hold(const Vec3& lower, const Vec3& upper) const
+{
+  const fluid::BoxGeometry& box = grid_.box();
+  for (int d = 0; d < 3; ++d) {
+    if (grid_.periodic(d)) continue;
+    if (!(lower[d] >= box.lower[d] && upper[d] <= box.upper[d])) return true; // outside, or not finite
+    // Widened by a millionth of a cell: a point summed from the nodes may round just past them.
+    const double margin = 1e-6 * grid_.h(d);
+    auto cell = [&](double x) {
+      return std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((x - box.lower[d]) / grid_.h(d))), 0,
+                                  grid_.cells(d) - 1);
+    };
+    const PetscInt first = cell(lower[d] - margin), last = cell(upper[d] + margin);
+    if (last < grid_.begin(d) || first >= grid_.begin(d) + grid_.count(d)) return false;
+  }
+  return true;
+}
+
+void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints& prepared) const
+{
+  const int S = kernel_.support();
   const fluid::BoxGeometry& box = grid_.box();
   std::array<double, max_kernel_support> w{};
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const Vec3 y = wrap(points[p]);
-    // The point's grid coordinate per direction (faces normal to e sit at s = i), computed once for
-    // the ownership test (as owns_wrapped) and both stencils.
-    std::array<double, 3> s{};
-    bool mine = true;
-    for (int d = 0; d < 3 && mine; ++d) {
-      s[static_cast<std::size_t>(d)] = (y[d] - box.lower[d]) / grid_.h(d);
-      const auto cell = std::clamp<PetscInt>(
-          static_cast<PetscInt>(std::floor(s[static_cast<std::size_t>(d)])), 0, grid_.cells(d) - 1);
-      mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
-    }
-    if (!mine) continue;
-    prepared.index.push_back(p);
-    const std::size_t offset = prepared.weights.size();
-    prepared.weights.resize(offset + 6 * static_cast<std::size_t>(S));
-    double* out = prepared.weights.data() + offset;
-    std::array<int, 6> first{};
-    for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
-      for (int e = 0; e < 3; ++e) {
-        const double t = s[static_cast<std::size_t>(e)] - (set == 1 ? 0.5 : 0.0);
-        first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
-        std::copy(w.begin(), w.begin() + S, out + (3 * set + e) * S);
-      }
-    std::uint8_t inside = 0;
-    for (int d = 0; d < 3; ++d) {
-      bool all = true;
-      for (int e = 0; e < 3; ++e) {
-        const auto [lo, hi] = valid_range(d, e, first[static_cast<std::size_t>(e == d ? e : 3 + e)]);
-        all = all && lo == 0 && hi == S;
-      }
-      if (all) inside = static_cast<std::uint8_t>(inside | (1u << d));
-    }
-    prepared.first.push_back(first);
-    prepared.inside.push_back(inside);
+  const Vec3 y = wrap(x);
+  // The point's grid coordinate per direction (faces normal to e sit at s = i), computed once for
+  // the ownership test (as owns_wrapped) and both stencils.
+  std::array<double, 3> s{};
+  bool mine = true;
+  for (int d = 0; d < 3 && mine; ++d) {
+    s[static_cast<std::size_t>(d)] = (y[d] - box.lower[d]) / grid_.h(d);
+    const auto cell = std::clamp<PetscInt>(static_cast<PetscInt>(std::floor(s[static_cast<std::size_t>(d)])),
+                                           0, grid_.cells(d) - 1);
+    mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
   }
+  if (!mine) return;
+  prepared.index.push_back(p);
+  const std::size_t offset = prepared.weights.size();
+  prepared.weights.resize(offset + 6 * static_cast<std::size_t>(S));
+  double* out = prepared.weights.data() + offset;
+  std::array<int, 6> first{};
+  for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
+    for (int e = 0; e < 3; ++e) {
+      const double t = s[static_cast<std::size_t>(e)] - (set == 1 ? 0.5 : 0.0);
+      first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
+      std::copy(w.begin(), w.begin() + S, out + (3 * set + e) * S);
+    }
+  std::uint8_t inside = 0;
+  for (int d = 0; d < 3; ++d) {
+    bool all = true;
+    for (int e = 0; e < 3; ++e) {
+      const auto [lo, hi] = valid_range(d, e, first[static_cast<std::size_t>(e == d ? e : 3 + e)]);
+      all = all && lo == 0 && hi == S;
+    }
+    if (all) inside = static_cast<std::uint8_t>(inside | (1u << d));
+  }
+  prepared.first.push_back(first);
+  prepared.inside.push_back(inside);
 }
 
 void GridInteraction::gather_velocity(Vec velocity)

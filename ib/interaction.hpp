@@ -74,6 +74,17 @@ class GridInteraction {
 
   /// Finds the points this rank handles and computes their stencils (RunError as owns()).
   void prepare(std::span<const Vec3> points, PreparedPoints& prepared) const;
+  /// The same for the listed points only (ascending indices into `points`); the others are taken to
+  /// be other ranks' (see may_hold).
+  void prepare(std::span<const Vec3> points, std::span<const std::size_t> candidates,
+               PreparedPoints& prepared) const;
+
+  /// False only when no point inside the axis-aligned box [lower, upper] is one this rank handles:
+  /// in some non-periodic direction the cells the box spans (counted as owns() counts them) miss this
+  /// rank's. A box that reaches outside a non-periodic side, or is not finite, may hold anything (its
+  /// points then raise owns()'s RunError on every rank). Points of an element interpolated with
+  /// non-negative shape values lie in its nodes' bounding box.
+  bool may_hold(const Vec3& lower, const Vec3& upper) const;
   /// interpolate() for prepared points: values[i] belongs to prepared point i. Collective.
   void interpolate(Vec velocity, const PreparedPoints& points, std::span<Vec3> values);
   /// spread() for prepared points: forces[i] belongs to prepared point i. Collective.
@@ -91,6 +102,8 @@ class GridInteraction {
   void gather_velocity(Vec velocity);
   /// Adds local_'s ghost parts to their owners and writes the owned faces into `force`.
   void scatter_force(Vec force, bool add);
+  /// prepare()'s work for point p: adds it with its stencils when this rank handles it.
+  void prepare_point(const Vec3& x, std::size_t p, PreparedPoints& prepared) const;
   /// Index range [lo, hi) of kernel offsets m that land on grid points inside the box.
   std::pair<int, int> valid_range(int component, int e, int first) const;
 

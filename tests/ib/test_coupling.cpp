@@ -3,6 +3,8 @@
 // to the nodes reproduces a linear velocity field exactly with the consistent mass (a constant one
 // with the lumped mass).
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -35,6 +37,33 @@ TEST(CouplingPoints, RuleFollowsTheDeformedElementSizeAndWeightsIntegrateTheVolu
   for (const auto& p : points.positions()) largest_x = std::max(largest_x, p[0]);
   EXPECT_GT(largest_x, 0.4);
   EXPECT_LT(largest_x, 0.64);
+}
+
+// A rank places only the elements it may need (ib/ibfe.cpp): the flagged elements' points are where a
+// full placement puts them, and each element's points are the range first_point(e) .. first_point(e+1).
+TEST(CouplingPoints, PlacingSomeElementsPlacesTheirPointsAsAFullPlacementDoes)
+{
+  const fe::Mesh mesh =
+      fe::box_mesh(fe::CellShape::hexahedron, fe::Vec3(0, 0, 0), fe::Vec3(0.4, 0.2, 0.2), {4, 2, 2});
+  std::vector<ib::Vec3> x(mesh.nodes().begin(), mesh.nodes().end());
+  for (auto& p : x) p += ib::Vec3(0.01 * std::sin(7.0 * p[1]), 0.02 * p[0] * p[2], 0.0);
+  ib::CouplingPoints all(mesh, {}), some(mesh, {});
+  const double h = 0.07;
+  all.update(x, h);
+  std::vector<std::uint8_t> placed(mesh.num_elements(), 0);
+  for (std::size_t e = 0; e < placed.size(); e += 3) placed[e] = 1;
+  some.update(x, h, placed);
+  ASSERT_EQ(all.size(), some.size());
+  EXPECT_EQ(some.first_point(0), 0u);
+  EXPECT_EQ(some.first_point(mesh.num_elements()), some.size());
+  for (std::size_t e = 0; e < mesh.num_elements(); ++e)
+    for (std::size_t q = some.first_point(e); q < some.first_point(e + 1); ++q) {
+      EXPECT_EQ(some.element(q), e);
+      if (placed[e] != 0) {
+        EXPECT_EQ(some.positions()[q], all.positions()[q]);
+      }
+    }
+  EXPECT_THROW(some.update(x, h, std::vector<std::uint8_t>(2, 1)), std::invalid_argument);
 }
 
 TEST(CouplingPoints, TetrahedraGetConicalRulesThatIntegrateTheVolume)

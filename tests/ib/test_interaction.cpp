@@ -182,3 +182,71 @@ TEST(Interaction, APointOutsideAWalledBoxIsARunErrorNamingTheDirection)
   x[1] = Vec3(0.0, std::nan(""), 0.5);
   EXPECT_THROW(interaction.interpolate(u, x, v), RunError);
 }
+
+// A rank places only the points of elements whose nodes' bounding box may hold points it handles
+// (GridInteraction::may_hold): no point inside a box it rules out may be one it owns, on walled and
+// periodic boxes alike, and a box reaching outside a walled side is kept on every rank so that the
+// point's error reaches all of them.
+TEST(Interaction, ABoxRuledOutHoldsNoPointThisRankHandles)
+{
+  for (const bool periodic : {false, true}) {
+    const fluid::BoxGeometry b = box(periodic);
+    fluid::StaggeredGrid grid(PETSC_COMM_WORLD, b);
+    ib::GridInteraction interaction(grid);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int ruled_out = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+      Vec3 lower, upper;
+      for (int d = 0; d < 3; ++d) {
+        const double a = b.lower[d] + unit(random) * b.length(d), size = 0.3 * unit(random) * b.length(d);
+        lower[d] = std::max(b.lower[d], a - size);
+        upper[d] = std::min(b.upper[d], a + size);
+      }
+      if (interaction.may_hold(lower, upper)) continue;
+      ++ruled_out;
+      // Corners, faces and the inside of the box, as an element's points would lie.
+      for (int m = 0; m < 64; ++m) {
+        Vec3 x;
+        for (int d = 0; d < 3; ++d) {
+          const double t = m < 8 ? double((m >> d) & 1) : unit(random);
+          x[d] = lower[d] + t * (upper[d] - lower[d]);
+        }
+        ASSERT_FALSE(interaction.owns(x)) << "a point of a ruled-out box is this rank's: " << x.transpose();
+      }
+    }
+    int size = 1;
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    if (size > 1 && !periodic) {
+      EXPECT_GT(ruled_out, 100); // the test tested something
+    }
+    // Outside a walled side, or not finite: kept everywhere.
+    if (!periodic) {
+      EXPECT_TRUE(interaction.may_hold(Vec3(0.0, 0.5, 0.5), Vec3(0.1, 1.01, 0.6)));
+      EXPECT_TRUE(interaction.may_hold(Vec3(0.0, std::nan(""), 0.5), Vec3(0.1, 0.6, 0.6)));
+    }
+  }
+}
+
+// Preparing the listed candidates gives the same points, in the same order, with the same stencils
+// as preparing every point, when the candidates include every point this rank handles.
+TEST(Interaction, PreparingCandidatesEqualsPreparingEveryPoint)
+{
+  const fluid::BoxGeometry b = box(false);
+  fluid::StaggeredGrid grid(PETSC_COMM_WORLD, b);
+  ib::GridInteraction interaction(grid);
+  const std::vector<Vec3> x = points(b, false);
+  std::vector<std::size_t> candidates;
+  for (std::size_t p = 0; p < x.size(); ++p)
+    if (interaction.owns(x[p]) || p % 3 == 0) candidates.push_back(p);
+  ib::GridInteraction::PreparedPoints all, listed;
+  interaction.prepare(x, all);
+  interaction.prepare(x, candidates, listed);
+  EXPECT_EQ(all.index, listed.index);
+  const petsc::OwnedVec u = grid.create_local();
+  fill_faces(grid, u, face_value);
+  std::vector<Vec3> from_all(all.size()), from_listed(listed.size());
+  interaction.interpolate(u, all, from_all);
+  interaction.interpolate(u, listed, from_listed);
+  for (std::size_t i = 0; i < from_all.size(); ++i) EXPECT_EQ(from_all[i], from_listed[i]);
+}
