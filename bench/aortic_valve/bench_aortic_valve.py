@@ -2,9 +2,13 @@
 """The aortic-valve case's first steps: time a coupled step and its parts, solver iterations, memory.
 
   bench_aortic_valve.py IBVALVE [--case default.toml ...] [--steps 400] [--ranks 1 2] [--repeat 3]
+  bench_aortic_valve.py IBVALVE --from RUN_DIR [--steps 300] [--ranks 2] [--repeat 3]
 
 For each case (default: examples/aortic_valve/default.toml and paper.toml) and rank count, runs the
-case for --steps steps and for 1 step, --repeat times each, and prints the medians of:
+case for --steps steps and for 1 step, --repeat times each, and prints the medians of the figures below.
+A case's first steps are its start from rest (more Stokes iterations than mid-cycle); --from RUN_DIR
+instead continues a copy of that run from its newest checkpoint (`ibvalve run --restart`), fresh for
+every run, so that a valve open or closed mid-cycle is measured. The medians:
   - the marginal wall time a step, (wall(N steps) - wall(1 step)) / (N - 1): the cost of a step with
     the set-up (mesh, fibers, factorizations, FFTW planning, the first step's solver set-ups) taken out;
   - the parts of a step as the run reports them (IbfeTimings: fluid, interpolation, L2 projections,
@@ -17,6 +21,7 @@ import argparse
 import os
 import pathlib
 import re
+import shutil
 import statistics
 import sys
 import tempfile
@@ -58,18 +63,39 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--mpiexec", default="mpiexec")
     parser.add_argument("--set", action="append", default=[], help="a case override, as ibvalve run --set")
+    parser.add_argument("--from", dest="source", type=pathlib.Path,
+                        help="a run folder with checkpoints: continue copies of it instead of running --case")
     args = parser.parse_args()
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     overrides = [item for s in args.set for item in ("--set", s)]
 
+    if args.source and overrides:
+        sys.exit("--set does not apply to --from: a restart continues the run's own case")
+    petsc = ["--", "-fluid_stokes_ksp_converged_reason"]
+
+    def copy_of_source(scratch):
+        """A fresh copy of the --from run: its record, series and newest checkpoint (no fields)."""
+        checkpoints = sorted((args.source / "checkpoints").glob("step_*.h5"))
+        if not checkpoints:
+            sys.exit(f"{args.source}: no checkpoints to continue from")
+        target = pathlib.Path(scratch) / "run"
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.copytree(args.source, target, ignore=shutil.ignore_patterns("fields", "checkpoints", "report"))
+        (target / "checkpoints").mkdir()
+        shutil.copy2(checkpoints[-1], target / "checkpoints")
+        return target
+
     with tempfile.TemporaryDirectory() as scratch:
-        for case in args.case:
+        for case in [args.source] if args.source else args.case:
             for ranks in args.ranks:
                 def command(steps):
-                    return [args.mpiexec, "--oversubscribe", "-n", str(ranks), args.ibvalve, "run", str(case), "-o",
-                            f"{scratch}/run", "--overwrite", "--stop-after-steps", str(steps), "--set",
-                            "checkpoint.every=0", "--set", "output.fields_interval=0", *overrides, "--",
-                            "-fluid_stokes_ksp_converged_reason"]
+                    launch = [args.mpiexec, "--oversubscribe", "-n", str(ranks), args.ibvalve, "run"]
+                    if args.source:
+                        return [*launch, "--restart", str(copy_of_source(scratch)), "--stop-after-steps", str(steps),
+                                *petsc]
+                    return [*launch, str(case), "-o", f"{scratch}/run", "--overwrite", "--stop-after-steps",
+                            str(steps), "--set", "checkpoint.every=0", "--set", "output.fields_interval=0",
+                            *overrides, *petsc]
                 walls, firsts, peaks, reported, out = [], [], [], [], ""
                 for _ in range(args.repeat):
                     _, first, _ = run(command(1), env)
