@@ -83,6 +83,13 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
   PETSC_CHECK(VecGetSubVector(global, pressure, &codes_p));
   build(pressure_, axes, codes_p, codes_p, cell_kind, nullptr);
   PETSC_CHECK(VecRestoreSubVector(global, pressure, &codes_p));
+  // -fluid_poisson_capacitance false: the uncorrected transform solve (a preconditioner only, for
+  // comparison).
+  PetscBool capacitance = PETSC_TRUE;
+  PETSC_CHECK(PetscOptionsGetBool(nullptr, "fluid_poisson_", "-capacitance", &capacitance, nullptr));
+  if (capacitance) capacitance_ = WalledSideCapacitance::make(grid, bc, *pressure_.solver);
+  for (int s = 0; s < 4; ++s)
+    if (bc.side(s).kind == SideKind::traction && bc.side(s).wall) poisson_exact_ = false;
 
   Vec codes_u;
   PETSC_CHECK(VecGetSubVector(global, velocity, &codes_u));
@@ -163,7 +170,10 @@ void TransformSubsolvers::solve_poisson(Vec r, Vec phi)
 {
   PETSC_CHECK(VecScatterBegin(pressure_.scatter, r, pressure_.transformed, INSERT_VALUES, SCATTER_FORWARD));
   PETSC_CHECK(VecScatterEnd(pressure_.scatter, r, pressure_.transformed, INSERT_VALUES, SCATTER_FORWARD));
-  pressure_.solver->solve(0.0, 1.0); // K = -L
+  if (capacitance_)
+    capacitance_->solve(*pressure_.solver);
+  else
+    pressure_.solver->solve(0.0, 1.0); // K = -L
   PETSC_CHECK(VecScatterBegin(pressure_.scatter, pressure_.transformed, phi, INSERT_VALUES, SCATTER_REVERSE));
   PETSC_CHECK(VecScatterEnd(pressure_.scatter, pressure_.transformed, phi, INSERT_VALUES, SCATTER_REVERSE));
 }

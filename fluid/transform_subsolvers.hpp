@@ -5,7 +5,10 @@
 //
 // - Pressure Poisson K = -D G on cell centres, exactly: a velocity side holds the boundary normal
 //   velocity fixed, so G has no row there and K is closed by a homogeneous Neumann condition; a
-//   traction side's gradient (p_in - p_b)/(h/2) makes it a Dirichlet condition at the side.
+//   traction side's gradient (p_in - p_b)/(h/2) makes it a Dirichlet condition at the side. Where a
+//   z side is a traction side walled in part, a capacitance-matrix correction keeps the solve exact
+//   (fluid/walled_side_capacitance.hpp); walled parts of x or y sides are not corrected (the solve is
+//   then a preconditioner there).
 // - Helmholtz H = rho/dt - mu/2 L for each velocity component. Along the component's own direction
 //   the discretisation is separable (velocity side: a fixed boundary node whose value moves to the
 //   right side, Dirichlet; traction side: the even ghost, Neumann), so that part is exact. Along
@@ -26,6 +29,7 @@
 #include "fluid/boundary.hpp"
 #include "fluid/grid.hpp"
 #include "fluid/transform_solver.hpp"
+#include "fluid/walled_side_capacitance.hpp"
 
 namespace ibvalve::fluid {
 
@@ -45,6 +49,10 @@ class TransformSubsolvers {
 
   /// True when the Helmholtz transform solve is exact (no velocity component has a tangential wall).
   bool helmholtz_exact() const { return helmholtz_exact_; }
+  /// True when the Poisson solve is exact (no x or y side is walled in part).
+  bool poisson_exact() const { return poisson_exact_; }
+  /// The walled-z-side correction of the Poisson solve (null without walled z sides).
+  const WalledSideCapacitance* capacitance() const { return capacitance_.get(); }
 
  private:
   struct Problem {
@@ -57,9 +65,11 @@ class TransformSubsolvers {
 
   const StaggeredGrid& grid_;
   Problem pressure_;
+  std::unique_ptr<WalledSideCapacitance> capacitance_;
   std::array<Problem, 3> velocity_;
   petsc::OwnedVec dirichlet_, fixed_, work_;
   bool helmholtz_exact_ = true;
+  bool poisson_exact_ = true;
 };
 
 } // namespace ibvalve::fluid

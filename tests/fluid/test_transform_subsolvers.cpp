@@ -1,7 +1,8 @@
 // The FFTW real-to-real transform sub-solves of the Krylov Stokes solver (fluid/transform_subsolvers.hpp),
 // on 2 ranks and on 1 rank (a sub-communicator):
 // - the transform Poisson solve solves the assembled pressure operator K = -D G to round-off for every
-//   kind of direction (periodic; velocity or traction at each end);
+//   kind of direction (periodic; velocity or traction at each end), and with z traction sides walled
+//   outside a disk (the capacitance correction, fluid/walled_side_capacitance.hpp);
 // - the transform Helmholtz solve is exact for a velocity component without a tangential wall;
 // - walled-box Navier–Stokes steps with the transform sub-solves give the AMG sub-solves' answer to
 //   solver tolerance, and the FGMRES iteration count stays bounded as the grid is refined;
@@ -138,6 +139,48 @@ TEST(TransformPoisson, SolvesTheAssembledOperatorForEverySideKind)
   MPI_Comm alone;
   MPI_Comm_split(PETSC_COMM_WORLD, rank_of(PETSC_COMM_WORLD), 0, &alone);
   check_poisson_on(alone, "1 rank");
+  MPI_Comm_free(&alone);
+}
+
+void check_walled_poisson_on(MPI_Comm comm, const char* ranks)
+{
+  // z traction sides that are walls outside a disk (the valve case's inlet and outlet), at one end or
+  // both, with each kind of x and y direction.
+  const std::array<Ends, 3> boxes[] = {
+      {Ends::traction_traction, Ends::traction_traction, Ends::traction_traction},
+      {Ends::velocity_velocity, Ends::traction_traction, Ends::traction_traction},
+      {Ends::periodic, Ends::velocity_traction, Ends::traction_velocity},
+      {Ends::traction_velocity, Ends::periodic, Ends::velocity_traction},
+  };
+  for (const auto& ends : boxes) {
+    Setup s = make_setup(ends, {12, 9, 10});
+    for (int upper = 0; upper < 2; ++upper)
+      if (s.bc.side(2, upper).kind == SideKind::traction)
+        s.bc.side(2, upper).wall = [upper](const Real3& x) {
+          const double r = upper ? 0.25 : 0.3;
+          return (x[0] - 0.5) * (x[0] - 0.5) + (x[1] - 0.15) * (x[1] - 0.15) >= r * r;
+        };
+    StaggeredGrid grid(comm, s.box, {}, 3);
+    KrylovStokesSolver solver(grid, s.bc, transform_settings());
+    solver.set_parameters({1.0, 0.01, 0.01});
+    const double residual = relative_residual(comm, solver.poisson_matrix(), solver.poisson_ksp(), false);
+    const WalledSideCapacitance* capacitance = solver.transforms()->capacitance();
+    ASSERT_NE(capacitance, nullptr) << s.name;
+    if (rank_of(comm) == 0 && rank_of(PETSC_COMM_WORLD) == 0)
+      std::printf("Poisson %-10s z walled outside a disk (%s): |K phi - r| / |r| = %.2e (%zu walled cells, "
+                  "%d CG iterations)\n",
+                  s.name.c_str(), ranks, residual, capacitance->size(), capacitance->last_iterations());
+    EXPECT_LT(residual, 1e-12) << s.name << " on " << ranks;
+    EXPECT_TRUE(solver.transforms()->poisson_exact());
+  }
+}
+
+TEST(TransformPoisson, SolvesTheAssembledOperatorWithZSidesWalledInPart)
+{
+  check_walled_poisson_on(PETSC_COMM_WORLD, "2 ranks");
+  MPI_Comm alone;
+  MPI_Comm_split(PETSC_COMM_WORLD, rank_of(PETSC_COMM_WORLD), 0, &alone);
+  check_walled_poisson_on(alone, "1 rank");
   MPI_Comm_free(&alone);
 }
 
