@@ -82,40 +82,29 @@ SeparableTransformSolver::SeparableTransformSolver(MPI_Comm comm, const std::arr
     // The slab is the whole box: serial transforms, coefficients in the data layout [z][y][x].
     local_n0_ = n[0];
     local_n1_ = n[1];
-    data_ = fftw_alloc_real(static_cast<std::size_t>(n[0] * n[1] * n[2]));
+    data_ = make_fftw_buffer(static_cast<std::size_t>(n[0] * n[1] * n[2]));
     const int m[3] = {static_cast<int>(n[0]), static_cast<int>(n[1]), static_cast<int>(n[2])};
-    forward_ = fftw_plan_r2r(3, m, data_, data_, forward, fftw_planner_flags());
-    backward_ = fftw_plan_r2r(3, m, data_, data_, backward, fftw_planner_flags());
+    forward_.reset(fftw_plan_r2r(3, m, data_.get(), data_.get(), forward, fftw_planner_flags()));
+    backward_.reset(fftw_plan_r2r(3, m, data_.get(), data_.get(), backward, fftw_planner_flags()));
   } else {
     // Coefficients stay in the transposed layout [y local][z][x] (y split, z whole): one global
     // transpose saved each way.
     transposed_ = true;
     const ptrdiff_t alloc =
         fftw_mpi_local_size_transposed(3, n, comm, &local_n0_, &local_0_start_, &local_n1_, &local_1_start_);
-    data_ = fftw_alloc_real(static_cast<std::size_t>(alloc > 0 ? alloc : 1));
-    forward_ =
-        fftw_mpi_plan_r2r(3, n, data_, data_, comm, forward, fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT);
-    backward_ =
-        fftw_mpi_plan_r2r(3, n, data_, data_, comm, backward, fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN);
+    data_ = make_fftw_buffer(static_cast<std::size_t>(alloc));
+    forward_.reset(fftw_mpi_plan_r2r(3, n, data_.get(), data_.get(), comm, forward,
+                                     fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT));
+    backward_.reset(fftw_mpi_plan_r2r(3, n, data_.get(), data_.get(), comm, backward,
+                                      fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN));
   }
-  if (!forward_ || !backward_) {
-    this->~SeparableTransformSolver();
+  if (!forward_ || !backward_)
     throw std::runtime_error("transform solver: FFTW could not plan the real-to-real transforms");
-  }
-}
-
-SeparableTransformSolver::~SeparableTransformSolver()
-{
-  if (forward_) fftw_destroy_plan(forward_);
-  if (backward_) fftw_destroy_plan(backward_);
-  if (data_) fftw_free(data_);
-  forward_ = backward_ = nullptr;
-  data_ = nullptr;
 }
 
 void SeparableTransformSolver::solve(double a, double b)
 {
-  fftw_execute(forward_);
+  fftw_execute(forward_.get());
   const double scale = 1.0 / (axes_[0].normalisation * axes_[1].normalisation * axes_[2].normalisation);
   const ptrdiff_t nz = axes_[2].unknowns, nx = axes_[0].unknowns;
   const double* lx = axes_[0].eigenvalues.data();
@@ -124,14 +113,14 @@ void SeparableTransformSolver::solve(double a, double b)
   const ptrdiff_t ny = axes_[1].unknowns;
   for (ptrdiff_t jy = 0; jy < local_n1_; ++jy)
     for (ptrdiff_t jz = 0; jz < nz; ++jz) {
-      double* row = data_ + (transposed_ ? (jy * nz + jz) * nx : (jz * ny + jy) * nx);
+      double* row = data_.get() + (transposed_ ? (jy * nz + jz) * nx : (jz * ny + jy) * nx);
       const double ayz = a + b * (ly[jy + local_1_start_] + lz[jz]);
       for (ptrdiff_t jx = 0; jx < nx; ++jx) {
         const double factor = ayz + b * lx[jx];
         row[jx] = factor != 0.0 ? row[jx] * scale / factor : 0.0;
       }
     }
-  fftw_execute(backward_);
+  fftw_execute(backward_.get());
 }
 
 } // namespace ibvalve::fluid

@@ -28,6 +28,8 @@
 
 #include <fftw3-mpi.h>
 
+#include "fluid/fftw_handles.hpp"
+
 namespace ibvalve::fluid {
 
 enum class EndCondition { periodic, dirichlet, neumann };
@@ -51,7 +53,6 @@ class SeparableTransformSolver {
  public:
   /// `axes` in x, y, z order. Collective on `comm`; z is split over its ranks in FFTW's blocks.
   SeparableTransformSolver(MPI_Comm comm, const std::array<TransformAxis, 3>& axes);
-  ~SeparableTransformSolver();
   SeparableTransformSolver(const SeparableTransformSolver&) = delete;
   SeparableTransformSolver& operator=(const SeparableTransformSolver&) = delete;
 
@@ -62,7 +63,7 @@ class SeparableTransformSolver {
 
   /// The local slab of f / x: z_count() planes from z_begin(), each unknowns(1) rows of unknowns(0)
   /// values (x fastest).
-  double* data() const { return data_; }
+  double* data() const { return data_.get(); }
   std::ptrdiff_t local_size() const { return local_n0_ * axes_[1].unknowns * axes_[0].unknowns; }
   std::ptrdiff_t z_begin() const { return local_0_start_; }
   std::ptrdiff_t z_count() const { return local_n0_; }
@@ -71,9 +72,9 @@ class SeparableTransformSolver {
  private:
   std::array<TransformAxis, 3> axes_;
   std::ptrdiff_t local_n0_ = 0, local_0_start_ = 0, local_n1_ = 0, local_1_start_ = 0;
-  double* data_ = nullptr;
+  FftwBuffer data_;
   bool transposed_ = false; // coefficients in FFTW-MPI's transposed layout (more than one rank)
-  fftw_plan forward_ = nullptr, backward_ = nullptr;
+  FftwPlan forward_, backward_;
 };
 
 } // namespace ibvalve::fluid

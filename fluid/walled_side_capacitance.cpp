@@ -139,33 +139,23 @@ WalledSideCapacitance::WalledSideCapacitance(const StaggeredGrid& grid,
   const std::size_t n = mask_.size();
   rhs_.resize(static_cast<std::size_t>(poisson.local_size()));
   for (std::vector<double>* v : {&g_, &s_, &r_, &p_, &q_}) v->assign(n, 0.0);
-  buffer_ = fftw_alloc_real(n);
+  buffer_ = make_fftw_buffer(n);
   const int dims[2] = {static_cast<int>(ny_), static_cast<int>(nx_)};
   const fftw_r2r_kind forward[2] = {y.forward, x.forward}, backward[2] = {y.backward, x.backward};
   const int howmany = static_cast<int>(planes_.size()), dist = static_cast<int>(plane);
-  forward_ = fftw_plan_many_r2r(2, dims, howmany, buffer_, nullptr, 1, dist, buffer_, nullptr, 1, dist,
-                                forward, fftw_planner_flags());
-  backward_ = fftw_plan_many_r2r(2, dims, howmany, buffer_, nullptr, 1, dist, buffer_, nullptr, 1, dist,
-                                 backward, fftw_planner_flags());
-  if (!forward_ || !backward_) {
-    this->~WalledSideCapacitance();
+  double* data = buffer_.get();
+  forward_.reset(fftw_plan_many_r2r(2, dims, howmany, data, nullptr, 1, dist, data, nullptr, 1, dist, forward,
+                                    fftw_planner_flags()));
+  backward_.reset(fftw_plan_many_r2r(2, dims, howmany, data, nullptr, 1, dist, data, nullptr, 1, dist,
+                                     backward, fftw_planner_flags()));
+  if (!forward_ || !backward_)
     throw std::runtime_error("walled-side capacitance: FFTW could not plan the plane transforms");
-  }
-}
-
-WalledSideCapacitance::~WalledSideCapacitance()
-{
-  if (forward_) fftw_destroy_plan(forward_);
-  if (backward_) fftw_destroy_plan(backward_);
-  if (buffer_) fftw_free(buffer_);
-  forward_ = backward_ = nullptr;
-  buffer_ = nullptr;
 }
 
 void WalledSideCapacitance::apply_plane_green(const std::vector<double>& v, std::vector<double>& out)
 {
-  std::copy(v.begin(), v.end(), buffer_);
-  fftw_execute(forward_);
+  std::copy(v.begin(), v.end(), buffer_.get());
+  fftw_execute(forward_.get());
   const auto plane = static_cast<std::size_t>(nx_ * ny_);
   const double scale = 1.0 / normalisation_;
   if (planes_.size() == 2) {
@@ -178,7 +168,7 @@ void WalledSideCapacitance::apply_plane_green(const std::vector<double>& v, std:
     const std::vector<double>& g = planes_[0] == 0 ? g00_ : g11_;
     for (std::size_t m = 0; m < plane; ++m) buffer_[m] *= g[m] * scale;
   }
-  fftw_execute(backward_);
+  fftw_execute(backward_.get());
   for (std::size_t m = 0; m < out.size(); ++m) out[m] = mask_[m] * buffer_[m];
 }
 

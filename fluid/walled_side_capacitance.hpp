@@ -35,6 +35,7 @@
 #include <mpi.h>
 
 #include "fluid/boundary.hpp"
+#include "fluid/fftw_handles.hpp"
 #include "fluid/grid.hpp"
 #include "fluid/transform_solver.hpp"
 
@@ -48,7 +49,6 @@ class WalledSideCapacitance {
                                                      const SeparableTransformSolver& poisson);
   WalledSideCapacitance(const StaggeredGrid& grid, const SeparableTransformSolver& poisson,
                         std::array<std::vector<double>, 2> walled);
-  ~WalledSideCapacitance();
   WalledSideCapacitance(const WalledSideCapacitance&) = delete;
   WalledSideCapacitance& operator=(const WalledSideCapacitance&) = delete;
 
@@ -74,8 +74,8 @@ class WalledSideCapacitance {
   double normalisation_ = 1.0;                  // of the x and y transform pairs
   std::vector<double> g00_, g01_, g11_;         // per (kx, ky): the end block of (T + mu I)^-1
   std::vector<double> rhs_, g_, s_, r_, p_, q_; // slab copy of r; CG vectors on the planes
-  double* buffer_ = nullptr;                    // the planes for the 2-D transforms
-  fftw_plan forward_ = nullptr, backward_ = nullptr;
+  FftwBuffer buffer_;                           // the planes for the 2-D transforms
+  FftwPlan forward_, backward_;
   int last_iterations_ = 0;
 };
 
