@@ -88,8 +88,10 @@ TransformSubsolvers::TransformSubsolvers(const StaggeredGrid& grid, const Bounda
   PetscBool capacitance = PETSC_TRUE;
   PETSC_CHECK(PetscOptionsGetBool(nullptr, "fluid_poisson_", "-capacitance", &capacitance, nullptr));
   if (capacitance) capacitance_ = WalledSideCapacitance::make(grid, bc, *pressure_.solver);
-  for (int s = 0; s < 4; ++s)
-    if (bc.side(s).kind == SideKind::traction && bc.side(s).wall) poisson_exact_ = false;
+  // x and y sides walled in part are not corrected; z sides only with the correction on.
+  for (int s = 0; s < 6; ++s)
+    if (bc.side(s).kind == SideKind::traction && bc.side(s).wall && (s < 4 || !capacitance))
+      poisson_exact_ = false;
 
   Vec codes_u;
   PETSC_CHECK(VecGetSubVector(global, velocity, &codes_u));

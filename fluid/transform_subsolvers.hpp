@@ -49,7 +49,8 @@ class TransformSubsolvers {
 
   /// True when the Helmholtz transform solve is exact (no velocity component has a tangential wall).
   bool helmholtz_exact() const { return helmholtz_exact_; }
-  /// True when the Poisson solve is exact (no x or y side is walled in part).
+  /// True when the Poisson solve is exact (no x or y traction side is walled in part, and z sides walled
+  /// in part are corrected: not with -fluid_poisson_capacitance false).
   bool poisson_exact() const { return poisson_exact_; }
   /// The walled-z-side correction of the Poisson solve (null without walled z sides).
   const WalledSideCapacitance* capacitance() const { return capacitance_.get(); }

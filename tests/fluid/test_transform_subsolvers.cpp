@@ -172,6 +172,15 @@ void check_walled_poisson_on(MPI_Comm comm, const char* ranks)
                   s.name.c_str(), ranks, residual, capacitance->size(), capacitance->last_iterations());
     EXPECT_LT(residual, 1e-12) << s.name << " on " << ranks;
     EXPECT_TRUE(solver.transforms()->poisson_exact());
+
+    // Without the correction the same solve is a preconditioner only, and says so.
+    PETSC_CHECK(PetscOptionsSetValue(nullptr, "-fluid_poisson_capacitance", "false"));
+    KrylovStokesSolver uncorrected(grid, s.bc, transform_settings());
+    uncorrected.set_parameters({1.0, 0.01, 0.01});
+    PETSC_CHECK(PetscOptionsClearValue(nullptr, "-fluid_poisson_capacitance"));
+    ASSERT_NE(uncorrected.transforms(), nullptr) << s.name;
+    EXPECT_EQ(uncorrected.transforms()->capacitance(), nullptr) << s.name;
+    EXPECT_FALSE(uncorrected.transforms()->poisson_exact()) << s.name;
   }
 }
 
