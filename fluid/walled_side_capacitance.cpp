@@ -187,18 +187,11 @@ void WalledSideCapacitance::solve(SeparableTransformSolver& poisson)
 
   // g = U^T phi0: the owning ranks' planes, summed onto every rank.
   const auto plane = static_cast<std::size_t>(nx_ * ny_);
-  const std::ptrdiff_t z0 = poisson.z_begin(), zn = poisson.z_count();
   std::fill(g_.begin(), g_.end(), 0.0);
-  for (std::size_t p = 0; p < planes_.size(); ++p) {
-    const std::ptrdiff_t k = planes_[p] == 0 ? 0 : nz_ - 1;
-    if (k < z0 || k >= z0 + zn) continue;
-    const double* slab_plane = data + static_cast<std::size_t>(k - z0) * plane;
-    for (std::size_t m = 0; m < plane; ++m) g_[p * plane + m] = mask_[p * plane + m] * slab_plane[m];
-  }
-  int ranks = 1;
-  MPI_Comm_size(comm_, &ranks);
-  if (ranks > 1)
-    MPI_Allreduce(MPI_IN_PLACE, g_.data(), static_cast<int>(g_.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  for (std::size_t p = 0; p < planes_.size(); ++p)
+    if (const double* slab = slab_plane(poisson, p))
+      for (std::size_t m = 0; m < plane; ++m) g_[p * plane + m] = mask_[p * plane + m] * slab[m];
+  MPI_Allreduce(MPI_IN_PLACE, g_.data(), static_cast<int>(g_.size()), MPI_DOUBLE, MPI_SUM, comm_);
 
   // C s = g by conjugate gradients (C symmetric positive definite), to round-off: the solve is meant to
   // be exact, so FGMRES around it sees K^-1.
@@ -225,13 +218,18 @@ void WalledSideCapacitance::solve(SeparableTransformSolver& poisson)
 
   // phi = K0^-1 (r + U s).
   std::copy(rhs_.begin(), rhs_.end(), data);
-  for (std::size_t p = 0; p < planes_.size(); ++p) {
-    const std::ptrdiff_t k = planes_[p] == 0 ? 0 : nz_ - 1;
-    if (k < z0 || k >= z0 + zn) continue;
-    double* slab_plane = data + static_cast<std::size_t>(k - z0) * plane;
-    for (std::size_t m = 0; m < plane; ++m) slab_plane[m] += s_[p * plane + m];
-  }
+  for (std::size_t p = 0; p < planes_.size(); ++p)
+    if (double* slab = slab_plane(poisson, p))
+      for (std::size_t m = 0; m < plane; ++m) slab[m] += s_[p * plane + m];
   poisson.solve(0.0, 1.0);
+}
+
+double* WalledSideCapacitance::slab_plane(SeparableTransformSolver& poisson, std::size_t p) const
+{
+  const std::ptrdiff_t k = planes_[p] == 0 ? 0 : nz_ - 1;
+  if (k < poisson.z_begin() || k >= poisson.z_begin() + poisson.z_count()) return nullptr;
+  return poisson.data() +
+         static_cast<std::size_t>(k - poisson.z_begin()) * static_cast<std::size_t>(nx_ * ny_);
 }
 
 } // namespace ibvalve::fluid

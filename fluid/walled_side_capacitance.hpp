@@ -64,6 +64,8 @@ class WalledSideCapacitance {
   void apply_capacitance(const std::vector<double>& v, std::vector<double>& out);
   /// v -> U^T K0^-1 U v on the corrected planes (v zero off the walled cells).
   void apply_plane_green(const std::vector<double>& v, std::vector<double>& out);
+  /// Corrected plane p in `poisson`'s local slab, or null where another rank holds it.
+  double* slab_plane(SeparableTransformSolver& poisson, std::size_t p) const;
 
   MPI_Comm comm_;
   std::ptrdiff_t nx_ = 0, ny_ = 0, nz_ = 0;
