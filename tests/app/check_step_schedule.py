@@ -20,7 +20,7 @@ def main():
     command = [mpiexec, "--oversubscribe", "-n", "1", ibvalve, "run",
                str(pathlib.Path(source) / "examples/aortic_valve/default.toml"), "-o", str(run), "--overwrite",
                "-q", "--stop-after-steps", "14", "--set", "output.every=1", "--set", "report.plots=false",
-               "--set", "time.coaptation_step=1.5e-5", "--set", "time.coaptation_window=[1.5e-4, 2.4e-4]",
+               "--set", "time.step=3e-5", "--set", "time.coaptation_step=1.5e-5", "--set", "time.coaptation_window=[1.5e-4, 2.4e-4]",
                "--set", 'petsc.options="-fluid_fftw_planner estimate"']
     result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if result.returncode != 0:
