@@ -189,10 +189,10 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
   // Convection stencils: for face (l, d, I) and each direction e, the d-values at I +- e and the e-values
   // at the edges +- e/2 (faces I + e, I + e - e_d and I, I - e_d normal to e).
   std::unordered_map<std::uint64_t, std::int32_t> slot;
+  std::vector<const FaceValue*> read;
   auto slot_of = [&](const FaceKey& key) {
-    const auto [it, inserted] =
-        slot.try_emplace(pack(key), static_cast<std::int32_t>(convection_values_.size()));
-    if (inserted) convection_values_.push_back(&value(key)); // memoised: the reference stays valid
+    const auto [it, inserted] = slot.try_emplace(pack(key), static_cast<std::int32_t>(read.size()));
+    if (inserted) read.push_back(&value(key)); // memoised: the reference stays valid
     return it->second;
   };
   for (const FaceKey& k : owned_keys_) {
@@ -211,6 +211,8 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     }
     convection_stencils_.push_back(s);
   }
+  convection_values_ = FaceValueTable(read);
+  convection_buffer_.resize(convection_values_.size());
 
   const petsc::OwnedVec probe = operators.create_face_vector();
   PETSC_CHECK(VecScatterCreateToAll(probe, gather_.out(), gathered_.out()));
@@ -469,20 +471,35 @@ double CompositeVelocity::evaluate(const FaceValue& value, const std::vector<dou
   return s;
 }
 
+void CompositeVelocity::evaluate(const FaceValueTable& table, Vec u, std::span<const double> data,
+                                 std::span<double> out) const
+{
+  PETSC_CHECK(VecScatterBegin(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt n = 0;
+  PETSC_CHECK(VecGetLocalSize(gathered_, &n));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(gathered_, &a));
+  table.evaluate({a, static_cast<std::size_t>(n)}, data, out);
+  PETSC_CHECK(VecRestoreArrayRead(gathered_, &a));
+}
+
 void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec out,
                                    ConvectionScheme scheme) const
 {
-  const std::vector<double> all = gather(u);
-  std::vector<double> v(convection_values_.size());
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = evaluate(*convection_values_[i], all, data);
+  std::vector<double>& v = convection_buffer_;
+  evaluate(convection_values_, u, data, v);
   const GridHierarchy& h = hierarchy();
   const bool limited = scheme == ConvectionScheme::limited_upwind;
+  // The owned faces' own values (the local part of u, in the order of owned_keys_).
+  const PetscScalar* own = nullptr;
+  PETSC_CHECK(VecGetArrayRead(u, &own));
   PetscScalar* a = nullptr;
   PETSC_CHECK(VecGetArray(out, &a));
   for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
     const FaceKey& k = owned_keys_[f];
     const auto& s = convection_stencils_[f];
-    const double self = all[static_cast<std::size_t>(index(k))];
+    const double self = own[f];
     double n = 0.0;
     for (int e = 0; e < 3; ++e) {
       const auto at = [&](int j) { return v[static_cast<std::size_t>(s[8 * e + j])]; };
@@ -500,6 +517,43 @@ void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec o
     a[f] = n;
   }
   PETSC_CHECK(VecRestoreArray(out, &a));
+  PETSC_CHECK(VecRestoreArrayRead(u, &own));
+}
+
+FaceValueTable::FaceValueTable(std::span<const FaceValue* const> values)
+{
+  unknown_begin_.reserve(values.size() + 1);
+  data_begin_.reserve(values.size() + 1);
+  unknown_begin_.push_back(0);
+  data_begin_.push_back(0);
+  for (const FaceValue* v : values) {
+    if (v) {
+      for (const auto& [i, w] : v->unknowns) {
+        unknown_index_.push_back(i);
+        unknown_weight_.push_back(w);
+      }
+      for (const auto& [i, w] : v->data) {
+        data_index_.push_back(i);
+        data_weight_.push_back(w);
+      }
+    }
+    unknown_begin_.push_back(unknown_index_.size());
+    data_begin_.push_back(data_index_.size());
+  }
+}
+
+void FaceValueTable::evaluate(std::span<const double> all, std::span<const double> data,
+                              std::span<double> out) const
+{
+  if (out.size() != size()) throw std::logic_error("FaceValueTable: the output does not fit the table");
+  for (std::size_t r = 0; r < size(); ++r) {
+    double s = 0.0;
+    for (std::size_t t = unknown_begin_[r]; t < unknown_begin_[r + 1]; ++t)
+      s += unknown_weight_[t] * all[static_cast<std::size_t>(unknown_index_[t])];
+    for (std::size_t t = data_begin_[r]; t < data_begin_[r + 1]; ++t)
+      s += data_weight_[t] * data[static_cast<std::size_t>(data_index_[t])];
+    out[r] = s;
+  }
 }
 
 } // namespace ibvalve::fluid

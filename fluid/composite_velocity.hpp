@@ -27,9 +27,11 @@
 // conserved exactly by the projection (fluid/nested_navier_stokes.hpp).
 //
 // The ghost maps are replicated on every rank (like CompositeCells): convection gathers the whole
-// composite velocity on each rank (interim, see docs/nested.md).
+// composite velocity on each rank (interim, see docs/nested.md) and reads its ghost values from a
+// FaceValueTable made once.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -56,6 +58,24 @@ struct FaceValue {
   void add(const FaceValue& other, double weight);
   /// Sorts the terms and merges repeated indices.
   void compress();
+};
+
+/// A list of FaceValues flattened for evaluation in one pass (compressed rows of unknown and data terms),
+/// so that a step's many evaluations read two contiguous arrays instead of chasing a FaceValue each. A
+/// null entry evaluates to zero. The terms are summed in the FaceValue's order (unknowns, then data),
+/// so the result equals CompositeVelocity::evaluate bit for bit.
+class FaceValueTable {
+ public:
+  FaceValueTable() = default;
+  explicit FaceValueTable(std::span<const FaceValue* const> values);
+  std::size_t size() const { return unknown_begin_.empty() ? 0 : unknown_begin_.size() - 1; }
+  /// out[i] = value i for the whole face vector `all` (every rank's copy) and the wall data.
+  void evaluate(std::span<const double> all, std::span<const double> data, std::span<double> out) const;
+
+ private:
+  std::vector<std::size_t> unknown_begin_, data_begin_;
+  std::vector<PetscInt> unknown_index_, data_index_;
+  std::vector<double> unknown_weight_, data_weight_;
 };
 
 /// Candidate windows of consecutive sample indices in [0, top] for interpolating at position s (in sample
@@ -108,6 +128,10 @@ class CompositeVelocity {
                      const std::array<Vec, 3>& out) const;
   /// Every rank's copy of the whole face vector `u` (collective).
   std::vector<double> gather(Vec u) const;
+  /// out = `table` evaluated for the face vector `u` (gathered from every rank into a vector kept for the
+  /// purpose, read in place) and the wall data. Collective.
+  void evaluate(const FaceValueTable& table, Vec u, std::span<const double> data,
+                std::span<double> out) const;
   /// Evaluates a FaceValue against a gathered vector and wall data.
   static double evaluate(const FaceValue& value, const std::vector<double>& all,
                          const std::vector<double>& data);
@@ -126,9 +150,10 @@ class CompositeVelocity {
   std::vector<FaceKey> owned_keys_;
   petsc::OwnedMat laplacian_;
   std::vector<std::vector<std::pair<PetscInt, double>>> laplacian_data_;
-  // Convection: for each owned face, the 24 positions (into convection_values_) it reads.
-  std::vector<const FaceValue*> convection_values_;
+  // Convection: the face values it reads, and for each owned face the 24 positions among them it reads.
+  FaceValueTable convection_values_;
   std::vector<std::array<std::int32_t, 24>> convection_stencils_;
+  mutable std::vector<double> convection_buffer_; // the values of convection_values_, made once
   petsc::OwnedVecScatter gather_;
   petsc::OwnedVec gathered_;
 };

@@ -705,21 +705,28 @@ void NestedNavierStokes::build_finest_level()
   finest_ = std::make_unique<StaggeredGrid>(comm_, geometry, Decomposition{}, 2);
   const StaggeredGrid& g = *finest_;
   const Index3& n = h.domain_cells(f);
+  std::vector<const FaceValue*> values;
   for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
     for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
-      for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i)
+      for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i) {
+        const Index3 cell{box.lower[0] + i, box.lower[1] + j, box.lower[2] + k};
         for (int d = 0; d < 3; ++d) {
-          const FaceKey key{f, d, {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k}};
+          const FaceKey key{f, d, cell};
           bool inside = true;
           for (int e = 0; e < 3; ++e) {
             const PetscInt low = e == d ? 0 : -1, high = e == d ? n[e] : n[e];
             inside = inside && key.index[e] >= low && key.index[e] <= high;
           }
-          finest_values_.push_back(inside ? &velocity_ops_->value(key) : nullptr);
+          values.push_back(inside ? &velocity_ops_->value(key) : nullptr);
           const bool owned = i >= g.begin(0) && i < g.face_end(d, 0) && j >= g.begin(1) &&
                              j < g.face_end(d, 1) && k >= g.begin(2) && k < g.face_end(d, 2);
           finest_owned_index_.push_back(owned ? velocity_ops_->index(key) : -1);
         }
+        finest_cells_.push_back(operators_->cells().index(f, cell));
+      }
+  finest_values_ = FaceValueTable(values);
+  finest_buffer_.resize(finest_values_.size());
+  PETSC_CHECK(VecScatterCreateToAll(p_, pressure_gather_.out(), pressure_gathered_.out()));
 }
 
 const StaggeredGrid& NestedNavierStokes::finest_level_grid() const
@@ -732,43 +739,46 @@ const StaggeredGrid& NestedNavierStokes::finest_level_grid() const
 void NestedNavierStokes::velocity_to_finest(Vec local) const
 {
   const StaggeredGrid& g = finest_level_grid();
-  const std::vector<double> all = velocity_ops_->gather(u_);
-  const std::vector<double> data = velocity_ops_->data_values(wall_velocity_, time_);
+  velocity_ops_->evaluate(finest_values_, u_, velocity_ops_->data_values(wall_velocity_, time_),
+                          finest_buffer_);
   // The pressure of the owned finest cells (all composite cells of the finest level are uncovered).
-  const std::vector<double> p = gather_to_all(p_);
-  const GridHierarchy& h = *hierarchy_;
-  const IndexBox& box = h.boxes(h.finest())[0];
+  PETSC_CHECK(VecScatterBegin(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  const PetscScalar* p = nullptr;
+  PETSC_CHECK(VecGetArrayRead(pressure_gathered_, &p));
   {
     StagArray a(g, local);
-    std::size_t slot = 0;
+    std::size_t slot = 0, cell = 0;
     for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
       for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
-        for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i) {
-          for (int d = 0; d < 3; ++d, ++slot) {
-            const FaceValue* v = finest_values_[slot];
-            a(i, j, k, g.face_slot(d)) = v ? CompositeVelocity::evaluate(*v, all, data) : 0.0;
-          }
-          const PetscInt c =
-              operators_->cells().index(h.finest(), {box.lower[0] + i, box.lower[1] + j, box.lower[2] + k});
-          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[static_cast<std::size_t>(c)] : 0.0;
+        for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i, ++cell) {
+          for (int d = 0; d < 3; ++d, ++slot) a(i, j, k, g.face_slot(d)) = finest_buffer_[slot];
+          const PetscInt c = finest_cells_[cell];
+          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
         }
   }
+  PETSC_CHECK(VecRestoreArrayRead(pressure_gathered_, &p));
 }
 
 void NestedNavierStokes::add_force_from_finest(Vec local)
 {
   const StaggeredGrid& g = finest_level_grid();
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> values;
   {
     StagArray a(g, local, true);
     std::size_t slot = 0;
     for (PetscInt k = g.ghost_begin(2); k < g.ghost_end(2); ++k)
       for (PetscInt j = g.ghost_begin(1); j < g.ghost_end(1); ++j)
         for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i)
-          for (int d = 0; d < 3; ++d, ++slot) {
-            const PetscInt n = finest_owned_index_[slot];
-            if (n >= 0) PETSC_CHECK(VecSetValue(force_, n, a(i, j, k, g.face_slot(d)), ADD_VALUES));
-          }
+          for (int d = 0; d < 3; ++d, ++slot)
+            if (const PetscInt n = finest_owned_index_[slot]; n >= 0) {
+              rows.push_back(n);
+              values.push_back(a(i, j, k, g.face_slot(d)));
+            }
   }
+  PETSC_CHECK(
+      VecSetValues(force_, static_cast<PetscInt>(rows.size()), rows.data(), values.data(), ADD_VALUES));
   PETSC_CHECK(VecAssemblyBegin(force_));
   PETSC_CHECK(VecAssemblyEnd(force_));
 }

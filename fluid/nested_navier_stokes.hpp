@@ -174,9 +174,13 @@ class NestedNavierStokes final : public FlowSolver {
   StepStatistics stats_;
   PetscInt velocity_iterations_ = 0, pressure_iterations_ = 0;
   std::unique_ptr<StaggeredGrid> finest_;
-  // Finest grid: for each local element and face slot, the composite value; for owned faces the index.
-  std::vector<const FaceValue*> finest_values_;
-  std::vector<PetscInt> finest_owned_index_;
+  // Finest grid: for each local element and face slot, the composite value; for owned faces the index;
+  // for each local element the composite cell (-1 outside the finest level).
+  FaceValueTable finest_values_;
+  std::vector<PetscInt> finest_owned_index_, finest_cells_;
+  mutable std::vector<double> finest_buffer_; // finest_values_ evaluated
+  petsc::OwnedVecScatter pressure_gather_;    // p_ to every rank's copy ...
+  petsc::OwnedVec pressure_gathered_;         // ... held here
 };
 
 } // namespace ibvalve::fluid
