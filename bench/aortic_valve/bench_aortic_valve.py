@@ -46,7 +46,7 @@ def iterations(out, steps):
     counts = [int(n) for n in re.findall(r"Linear fluid_stokes_ solve converged due to \w+ iterations (\d+)", out)]
     if counts:
         return f"{sum(counts) / len(counts):.2f} FGMRES iterations a step ({min(counts)}-{max(counts)})"
-    nested = re.search(r"nested fluid per step: (.*)", out)
+    nested = re.search(r"fluid per step: (.*)", out)
     return nested.group(1) if nested else "?"
 
 
