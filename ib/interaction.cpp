@@ -225,15 +225,13 @@ void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints
   }
   if (!mine) return;
   prepared.index.push_back(p);
-  const std::size_t offset = prepared.weights.size();
-  prepared.weights.resize(offset + 6 * static_cast<std::size_t>(S));
-  double* out = prepared.weights.data() + offset;
   std::array<int, 6> first{};
+  // Appended set by set (not resized and overwritten: the vector's kept capacity is not zeroed first).
   for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
     for (int e = 0; e < 3; ++e) {
       const double t = s[static_cast<std::size_t>(e)] - (set == 1 ? 0.5 : 0.0);
       first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
-      std::copy(w.begin(), w.begin() + S, out + (3 * set + e) * S);
+      prepared.weights.insert(prepared.weights.end(), w.begin(), w.begin() + S);
     }
   std::uint8_t inside = 0;
   for (int d = 0; d < 3; ++d) {
