@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fmt/format.h>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -36,10 +37,8 @@ std::string export_fftw_wisdom()
   // The text's header names FFTW's set of algorithms, which fftw_mpi_init extends: export and import
   // with it called, or FFTW refuses the text of a run that planned nothing (an AMG-only run).
   initialise_fftw_mpi();
-  char* text = fftw_export_wisdom_to_string();
-  std::string wisdom = text ? text : "";
-  fftw_free(text);
-  return wisdom;
+  const std::unique_ptr<char, void (*)(void*)> text(fftw_export_wisdom_to_string(), fftw_free);
+  return text ? std::string(text.get()) : std::string();
 }
 
 bool import_fftw_wisdom(const std::string& wisdom)
@@ -84,13 +83,13 @@ FftStokesSolver::FftStokesSolver(const StaggeredGrid& grid) : grid_(grid)
                                              &local_n1_, &local_1_start_);
   if (local_0_start_ != grid.begin(2) || local_n0_ != grid.count(2))
     throw std::invalid_argument("fluid fft solver: the grid is not in FFTW's slab decomposition");
-  real_ = fftw_alloc_real(static_cast<std::size_t>(2 * alloc_));
-  for (auto& s : spectra_) s = fftw_alloc_complex(static_cast<std::size_t>(alloc_));
-  forward_[0] = fftw_mpi_plan_dft_r2c_3d(nz, ny, nx, real_, spectra_[0], grid.comm(),
-                                         fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT);
-  backward_[0] = fftw_mpi_plan_dft_c2r_3d(nz, ny, nx, spectra_[0], real_, grid.comm(),
-                                          fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN);
-  if (!forward_[0] || !backward_[0]) throw std::runtime_error("fluid fft solver: FFTW could not plan");
+  real_ = make_fftw_buffer(static_cast<std::size_t>(2 * alloc_));
+  for (auto& s : spectra_) s = make_fftw_complex_buffer(static_cast<std::size_t>(alloc_));
+  forward_.reset(fftw_mpi_plan_dft_r2c_3d(nz, ny, nx, real_.get(), spectra_[0].get(), grid.comm(),
+                                          fftw_planner_flags() | FFTW_MPI_TRANSPOSED_OUT));
+  backward_.reset(fftw_mpi_plan_dft_c2r_3d(nz, ny, nx, spectra_[0].get(), real_.get(), grid.comm(),
+                                           fftw_planner_flags() | FFTW_MPI_TRANSPOSED_IN));
+  if (!forward_ || !backward_) throw std::runtime_error("fluid fft solver: FFTW could not plan");
   for (int d = 0; d < 3; ++d) {
     const PetscInt n = grid.cells(d);
     const double h = grid.h(d);
@@ -102,15 +101,6 @@ FftStokesSolver::FftStokesSolver(const StaggeredGrid& grid) : grid_(grid)
       forward_difference_[d][static_cast<std::size_t>(m)] = (std::polar(1.0, theta) - 1.0) / h;
     }
   }
-}
-
-FftStokesSolver::~FftStokesSolver()
-{
-  if (forward_[0]) fftw_destroy_plan(forward_[0]);
-  if (backward_[0]) fftw_destroy_plan(backward_[0]);
-  for (auto& s : spectra_)
-    if (s) fftw_free(s);
-  if (real_) fftw_free(real_);
 }
 
 void FftStokesSolver::load(Vec local, PetscInt slot, double* real) const
@@ -142,13 +132,13 @@ SolveStatistics FftStokesSolver::solve(Vec rhs, Vec solution)
   SolveStatistics stats;
   const double t0 = MPI_Wtime();
   for (int d = 0; d < 3; ++d) {
-    load(rhs, grid_.face_slot(d), real_);
-    fftw_mpi_execute_dft_r2c(forward_[0], real_, spectra_[d]);
+    load(rhs, grid_.face_slot(d), real_.get());
+    fftw_mpi_execute_dft_r2c(forward_.get(), real_.get(), spectra_[static_cast<std::size_t>(d)].get());
   }
   const double t1 = MPI_Wtime();
   using C = std::complex<double>;
   C* s[4];
-  for (int d = 0; d < 4; ++d) s[d] = reinterpret_cast<C*>(spectra_[d]);
+  for (int d = 0; d < 4; ++d) s[d] = reinterpret_cast<C*>(spectra_[static_cast<std::size_t>(d)].get());
   const double rho_dt = parameters_.rho / parameters_.dt, half_mu = 0.5 * parameters_.mu;
   // Spectra in FFTW's transposed layout: [ky local][kz][kx].
   const ptrdiff_t nz = grid_.cells(2);
@@ -177,8 +167,8 @@ SolveStatistics FftStokesSolver::solve(Vec rhs, Vec solution)
   }
   const double t2 = MPI_Wtime();
   for (int d = 0; d < 4; ++d) {
-    fftw_mpi_execute_dft_c2r(backward_[0], spectra_[d], real_);
-    store(real_, solution, d < 3 ? grid_.face_slot(d) : grid_.pressure_slot());
+    fftw_mpi_execute_dft_c2r(backward_.get(), spectra_[static_cast<std::size_t>(d)].get(), real_.get());
+    store(real_.get(), solution, d < 3 ? grid_.face_slot(d) : grid_.pressure_slot());
   }
   const double t3 = MPI_Wtime();
   // Helmholtz: the three velocity transforms each way; Poisson: the pressure transform and the

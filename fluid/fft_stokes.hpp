@@ -1,11 +1,13 @@
 #pragma once
 // The exact Stokes solver for periodic boxes (see fluid/stokes_solver.hpp) by FFTW-MPI.
+#include <array>
 #include <complex>
 #include <string>
 #include <vector>
 
 #include <fftw3-mpi.h>
 
+#include "fluid/fftw_handles.hpp"
 #include "fluid/stokes_solver.hpp"
 
 namespace ibvalve::fluid {
@@ -33,7 +35,6 @@ class FftStokesSolver : public StokesSolver {
  public:
   /// `grid` must be periodic in every direction and decomposed by fft_decomposition().
   explicit FftStokesSolver(const StaggeredGrid& grid);
-  ~FftStokesSolver() override;
   FftStokesSolver(const FftStokesSolver&) = delete;
   FftStokesSolver& operator=(const FftStokesSolver&) = delete;
 
@@ -49,10 +50,11 @@ class FftStokesSolver : public StokesSolver {
   StokesParameters parameters_;
   ptrdiff_t local_n0_ = 0, local_0_start_ = 0, local_n1_ = 0, local_1_start_ = 0, alloc_ = 0, padded_ = 0,
             half_ = 0;
-  double* real_ = nullptr;
-  fftw_complex* spectra_[4] = {nullptr, nullptr, nullptr, nullptr};
-  fftw_plan forward_[3] = {nullptr, nullptr, nullptr};
-  fftw_plan backward_[4] = {nullptr, nullptr, nullptr, nullptr};
+  // Owned, so a constructor that fails after allocating (FFTW returning no plan) frees them. The plans
+  // are declared after the buffers they were made for and so destroyed before them.
+  FftwBuffer real_;
+  std::array<FftwComplexBuffer, 4> spectra_; // the three velocity components and the pressure
+  FftwPlan forward_, backward_;
   // Per direction and wavenumber: the Laplacian eigenvalue (2 cos(theta) - 2)/h^2 and the symbol of
   // the forward difference (e^{i theta} - 1)/h (divergence: face i+1 minus face i of cell i).
   std::vector<double> laplacian_[3];

@@ -1,5 +1,5 @@
 #pragma once
-// Owned FFTW objects: a plan and an FFTW-aligned real buffer that free themselves, so a constructor
+// Owned FFTW objects: a plan and FFTW-aligned real and complex buffers that free themselves, so a constructor
 // that fails after allocating (FFTW returning no plan) throws without leaking or freeing twice.
 #include <cstddef>
 #include <memory>
@@ -19,6 +19,19 @@ struct FftwFree {
   void operator()(double* data) const { fftw_free(data); }
 };
 using FftwBuffer = std::unique_ptr<double[], FftwFree>;
+
+struct FftwComplexFree {
+  void operator()(fftw_complex* data) const { fftw_free(data); }
+};
+using FftwComplexBuffer = std::unique_ptr<fftw_complex[], FftwComplexFree>;
+
+/// `count` complex values aligned for FFTW's SIMD transforms; std::bad_alloc when there is no memory.
+inline FftwComplexBuffer make_fftw_complex_buffer(std::size_t count)
+{
+  FftwComplexBuffer buffer(fftw_alloc_complex(count > 0 ? count : 1));
+  if (!buffer) throw std::bad_alloc();
+  return buffer;
+}
 
 /// `count` doubles aligned for FFTW's SIMD transforms; std::bad_alloc when there is no memory.
 inline FftwBuffer make_fftw_buffer(std::size_t count)
