@@ -14,6 +14,7 @@
 
 #include "base/errors.hpp"
 #include "base/stopwatch.hpp"
+#include "fluid/composite_multigrid.hpp"
 #include "fluid/composite_output.hpp"
 #include "fluid/composite_queries.hpp"
 #include "fluid/jacobi.hpp"
@@ -294,11 +295,22 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
   PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.rtol, 1e-50, PETSC_DEFAULT, 1000));
   PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, (settings.nested_prefix + "pressure_").c_str()));
+  PetscBool multigrid = PETSC_FALSE;
+  PETSC_CHECK(PetscOptionsGetBool(nullptr, (settings.nested_prefix + "pressure_").c_str(),
+                                  "-composite_multigrid", &multigrid, nullptr));
+  if (multigrid) {
+    if (!operators_->any_dirichlet())
+      throw std::invalid_argument("-" + settings.nested_prefix +
+                                  "pressure_composite_multigrid needs a traction side: in a closed box the "
+                                  "projection's operator is singular");
+    set_composite_multigrid(pc, preconditioner, operators_->cells());
+  }
   {
     // Set for this solver only: a closed-box solver made later in the process keeps PETSc's defaults.
-    const std::vector<std::string> added =
-        operators_->any_dirichlet() ? set_default_amg_options("-" + settings.nested_prefix + "pressure_")
-                                    : std::vector<std::string>{};
+    const std::string prefix = "-" + settings.nested_prefix + "pressure_";
+    const std::vector<std::string> added = !multigrid && operators_->any_dirichlet()
+                                               ? set_default_amg_options(prefix)
+                                               : std::vector<std::string>{};
     PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
     for (const std::string& option : added) PETSC_CHECK(PetscOptionsClearValue(nullptr, option.c_str()));
   }
