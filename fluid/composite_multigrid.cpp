@@ -99,10 +99,12 @@ CompositeCoarsening composite_coarsening(MPI_Comm comm, const CompositeCells& ce
           weights[static_cast<std::size_t>(c)] = w;
           all = columns[static_cast<std::size_t>(c)] >= 0;
         }
-        if (all)
+        if (all) {
           count = 8;
-        else
-          columns[0] = own, weights[0] = 1.0;
+        } else { // the first of the eight was the parent itself, at 27/64
+          columns[0] = own;
+          weights[0] = 1.0;
+        }
       }
       PETSC_CHECK(MatSetValues(interpolation, 1, &n, count, columns.data(), weights.data(), INSERT_VALUES));
     }

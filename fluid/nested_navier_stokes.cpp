@@ -330,6 +330,7 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   convection_ = operators_->create_face_vector();
   convection_old_ = operators_->create_face_vector();
   p_ = operators_->create_cell_vector();
+  PETSC_CHECK(VecScatterCreateToAll(p_, pressure_gather_.out(), pressure_gathered_.out()));
   if (hierarchy.boxes(hierarchy.finest()).size() == 1) build_finest_level();
 }
 
@@ -542,23 +543,6 @@ int finest_level_holding(const GridHierarchy& h, const Real3& x)
   return 0;
 }
 
-/// Every rank's copy of the distributed vector v (collective).
-std::vector<double> gather_to_all(Vec v)
-{
-  petsc::OwnedVec all;
-  petsc::OwnedVecScatter scatter;
-  PETSC_CHECK(VecScatterCreateToAll(v, scatter.out(), all.out()));
-  PETSC_CHECK(VecScatterBegin(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(scatter, v, all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscInt n = 0;
-  PETSC_CHECK(VecGetLocalSize(all, &n));
-  const PetscScalar* a = nullptr;
-  PETSC_CHECK(VecGetArrayRead(all, &a));
-  std::vector<double> values(a, a + n);
-  PETSC_CHECK(VecRestoreArrayRead(all, &a));
-  return values;
-}
-
 } // namespace
 
 void NestedNavierStokes::save(io::Hdf5File& file, const std::string& group) const
@@ -625,7 +609,7 @@ std::vector<double> NestedNavierStokes::pressure_at(const std::vector<Real3>& po
 {
   const GridHierarchy& h = *hierarchy_;
   const CompositeCells& cells = operators_->cells();
-  const std::vector<double> p = gather_to_all(p_);
+  const std::vector<double> p = gathered_pressure();
   // The pressure of a cell of any level: its composite value, the mean of its finer cells when covered,
   // its coarser cell's value when outside its level.
   std::function<double(int, const Index3&)> cell_value = [&](int l, const Index3& c) -> double {
@@ -746,7 +730,6 @@ void NestedNavierStokes::build_finest_level()
       }
   finest_values_ = FaceValueTable(values);
   finest_buffer_.resize(finest_values_.size());
-  PETSC_CHECK(VecScatterCreateToAll(p_, pressure_gather_.out(), pressure_gathered_.out()));
 }
 
 const StaggeredGrid& NestedNavierStokes::finest_level_grid() const
@@ -762,10 +745,7 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
   velocity_ops_->evaluate(finest_values_, u_, velocity_ops_->data_values(wall_velocity_, time_),
                           finest_buffer_);
   // The pressure of the owned finest cells (all composite cells of the finest level are uncovered).
-  PETSC_CHECK(VecScatterBegin(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  const PetscScalar* p = nullptr;
-  PETSC_CHECK(VecGetArrayRead(pressure_gathered_, &p));
+  const std::vector<double> p = gathered_pressure();
   {
     StagArray a(g, local);
     std::size_t slot = 0, cell = 0;
@@ -774,10 +754,22 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
         for (PetscInt i = g.ghost_begin(0); i < g.ghost_end(0); ++i, ++cell) {
           for (int d = 0; d < 3; ++d, ++slot) a(i, j, k, g.face_slot(d)) = finest_buffer_[slot];
           const PetscInt c = finest_cells_[cell];
-          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[c] : 0.0;
+          a(i, j, k, g.pressure_slot()) = c >= 0 ? p[static_cast<std::size_t>(c)] : 0.0;
         }
   }
-  PETSC_CHECK(VecRestoreArrayRead(pressure_gathered_, &p));
+}
+
+std::vector<double> NestedNavierStokes::gathered_pressure() const
+{
+  PETSC_CHECK(VecScatterBegin(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt n = 0;
+  PETSC_CHECK(VecGetLocalSize(pressure_gathered_, &n));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(pressure_gathered_, &a));
+  std::vector<double> values(a, a + n);
+  PETSC_CHECK(VecRestoreArrayRead(pressure_gathered_, &a));
+  return values;
 }
 
 void NestedNavierStokes::add_force_from_finest(Vec local)

@@ -152,6 +152,8 @@ class NestedNavierStokes final : public FlowSolver {
   void pressure_boundary_part(double t, Vec out) const;
   void build_helmholtz(double dt);
   void build_finest_level();
+  /// Every rank's copy of p^{n-1/2} in composite order (collective).
+  std::vector<double> gathered_pressure() const;
 
   MPI_Comm comm_;
   const GridHierarchy* hierarchy_;
@@ -168,6 +170,8 @@ class NestedNavierStokes final : public FlowSolver {
   petsc::OwnedKSP velocity_ksp_, pressure_ksp_;
   petsc::OwnedMatNullSpace constants_;
   petsc::OwnedVec u_, p_, force_;
+  petsc::OwnedVecScatter pressure_gather_; // p_ to every rank's copy (gathered_pressure) ...
+  petsc::OwnedVec pressure_gathered_;      // ... held here
   petsc::OwnedVec convection_, convection_old_;
   double time_ = 0.0, pressure_time_ = 0.0, helmholtz_dt_ = 0.0, last_dt_ = 0.0;
   bool have_old_convection_ = false;
@@ -179,8 +183,6 @@ class NestedNavierStokes final : public FlowSolver {
   FaceValueTable finest_values_;
   std::vector<PetscInt> finest_owned_index_, finest_cells_;
   mutable std::vector<double> finest_buffer_; // finest_values_ evaluated
-  petsc::OwnedVecScatter pressure_gather_;    // p_ to every rank's copy ...
-  petsc::OwnedVec pressure_gathered_;         // ... held here
 };
 
 } // namespace ibvalve::fluid
