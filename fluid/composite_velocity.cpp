@@ -449,28 +449,11 @@ void CompositeVelocity::cell_velocity(Vec u, const VelocityFunction& wall_veloci
   }
 }
 
-template <class Use>
-void CompositeVelocity::with_gathered(Vec u, Use&& use) const
-{
-  PETSC_CHECK(VecScatterBegin(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(gather_, u, gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscInt n = 0;
-  PETSC_CHECK(VecGetLocalSize(gathered_, &n));
-  const PetscScalar* a = nullptr;
-  PETSC_CHECK(VecGetArrayRead(gathered_, &a));
-  try {
-    use(std::span<const double>(a, static_cast<std::size_t>(n)));
-  } catch (...) {
-    VecRestoreArrayRead(gathered_, &a);
-    throw;
-  }
-  PETSC_CHECK(VecRestoreArrayRead(gathered_, &a));
-}
-
 std::vector<double> CompositeVelocity::gather(Vec u) const
 {
   std::vector<double> all;
-  with_gathered(u, [&](std::span<const double> a) { all.assign(a.begin(), a.end()); });
+  petsc::with_scattered(gather_, u, gathered_,
+                        [&](std::span<const double> a) { all.assign(a.begin(), a.end()); });
   return all;
 }
 
@@ -486,7 +469,8 @@ double CompositeVelocity::evaluate(const FaceValue& value, const std::vector<dou
 void CompositeVelocity::evaluate(const FaceValueTable& table, Vec u, std::span<const double> data,
                                  std::span<double> out) const
 {
-  with_gathered(u, [&](std::span<const double> all) { table.evaluate(all, data, out); });
+  petsc::with_scattered(gather_, u, gathered_,
+                        [&](std::span<const double> all) { table.evaluate(all, data, out); });
 }
 
 void CompositeVelocity::convection(Vec u, const std::vector<double>& data, Vec out,

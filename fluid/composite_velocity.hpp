@@ -154,10 +154,6 @@ class CompositeVelocity {
   FaceValueTable convection_values_;
   std::vector<std::array<std::int32_t, 24>> convection_stencils_;
   mutable std::vector<double> convection_buffer_; // the values of convection_values_, made once
-  /// Gathers every rank's copy of u into gathered_ and calls use(values) with it, read in place.
-  template <class Use>
-  void with_gathered(Vec u, Use&& use) const;
-
   petsc::OwnedVecScatter gather_;
   petsc::OwnedVec gathered_;
 };

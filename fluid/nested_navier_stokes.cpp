@@ -761,14 +761,9 @@ void NestedNavierStokes::velocity_to_finest(Vec local) const
 
 std::vector<double> NestedNavierStokes::gathered_pressure() const
 {
-  PETSC_CHECK(VecScatterBegin(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  PETSC_CHECK(VecScatterEnd(pressure_gather_, p_, pressure_gathered_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscInt n = 0;
-  PETSC_CHECK(VecGetLocalSize(pressure_gathered_, &n));
-  const PetscScalar* a = nullptr;
-  PETSC_CHECK(VecGetArrayRead(pressure_gathered_, &a));
-  std::vector<double> values(a, a + n);
-  PETSC_CHECK(VecRestoreArrayRead(pressure_gathered_, &a));
+  std::vector<double> values;
+  petsc::with_scattered(pressure_gather_, p_, pressure_gathered_,
+                        [&](std::span<const double> a) { values.assign(a.begin(), a.end()); });
   return values;
 }
 

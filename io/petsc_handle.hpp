@@ -6,6 +6,7 @@
 // One naming scheme: petsc::OwnedVec, petsc::OwnedMat, ... (never petsc::Vec, which would shadow
 // PETSc's own type names inside namespace ibvalve).
 #include <cstddef>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -116,6 +117,26 @@ using OwnedPetscRandom = Owned<PetscRandom, PetscRandomDestroy>;
   handles.reserve(vecs.size());
   for (const OwnedVec& v : vecs) handles.push_back(v.get());
   return handles;
+}
+
+/// Scatters `from` into `to` (forward, inserting) and calls use(values) with `to`'s local values, read in
+/// place; the array is given back also when `use` throws. Collective over the scatter's ranks.
+template <class Use>
+void with_scattered(VecScatter scatter, Vec from, Vec to, Use&& use)
+{
+  PETSC_CHECK(VecScatterBegin(scatter, from, to, INSERT_VALUES, SCATTER_FORWARD));
+  PETSC_CHECK(VecScatterEnd(scatter, from, to, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt n = 0;
+  PETSC_CHECK(VecGetLocalSize(to, &n));
+  const PetscScalar* a = nullptr;
+  PETSC_CHECK(VecGetArrayRead(to, &a));
+  try {
+    use(std::span<const double>(a, static_cast<std::size_t>(n)));
+  } catch (...) {
+    VecRestoreArrayRead(to, &a);
+    throw;
+  }
+  PETSC_CHECK(VecRestoreArrayRead(to, &a));
 }
 
 } // namespace ibvalve::petsc
