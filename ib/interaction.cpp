@@ -9,31 +9,16 @@
 #include <utility>
 
 #include <mpi.h>
+#include <petscdmda.h>
+#include <petscdmstag.h>
 
 #include "base/errors.hpp"
 #include "io/petsc_check.hpp"
+#include "io/petsc_handle.hpp"
 
 namespace ibvalve::ib {
 
 namespace {
-
-// Read-write access to a local vector of the interaction's own DMStag as a[k][j][i][slot].
-class LocalArray {
- public:
-  LocalArray(DM dm, Vec v) : dm_(dm), v_(v) { PETSC_CHECK(DMStagVecGetArray(dm_, v_, &a_)); }
-  ~LocalArray() { DMStagVecRestoreArray(dm_, v_, &a_); }
-  LocalArray(const LocalArray&) = delete;
-  LocalArray& operator=(const LocalArray&) = delete;
-  PetscScalar& operator()(PetscInt i, PetscInt j, PetscInt k, PetscInt slot) const
-  {
-    return a_[k][j][i][slot];
-  }
-
- private:
-  DM dm_;
-  Vec v_;
-  PetscScalar**** a_ = nullptr;
-};
 
 /// The first grid index and the weights per direction of velocity component d at a prepared point:
 /// component d sits on the faces normal to d, so along d the face set (0), across it the cell-centre
@@ -51,34 +36,38 @@ component_stencil(const std::array<int, 6>& first, const double* weights, int su
   return {f, w};
 }
 
-/// Sum over the S^3 grid values around `base` (x entries `sx` apart, y rows `sy`, z planes `sz`) weighted
+/// Sum over the S^3 grid values from `base` (x contiguous, y rows `sy` apart, z planes `sz`) weighted
 /// by w0[m] w1[j] w2[k]: the interpolation of one velocity component at an interior point, with the
-/// kernel's support known at compile time so the loops unroll.
+/// kernel's support known at compile time. The S^2 rows are summed first as S running sums along x
+/// (one vector operation per row), then weighted by w0.
 template <int S>
-double weighted_sum(const PetscScalar* base, PetscInt sx, PetscInt sy, PetscInt sz, const double* w0,
-                    const double* w1, const double* w2)
+double weighted_sum(const PetscScalar* base, PetscInt sy, PetscInt sz, const double* w0, const double* w1,
+                    const double* w2)
 {
-  double sum = 0.0;
+  double along_x[S] = {};
   for (int k = 0; k < S; ++k)
     for (int j = 0; j < S; ++j) {
       const PetscScalar* row = base + k * sz + j * sy;
-      double r = 0.0;
-      for (int m = 0; m < S; ++m) r += w0[m] * row[m * sx];
-      sum += w2[k] * w1[j] * r;
+      const double wjk = w2[k] * w1[j];
+      for (int m = 0; m < S; ++m) along_x[m] += wjk * row[m];
     }
+  double sum = 0.0;
+  for (int m = 0; m < S; ++m) sum += w0[m] * along_x[m];
   return sum;
 }
 
-/// The adjoint of weighted_sum: adds F w0[m] w1[j] w2[k] to the S^3 grid values around `base`.
+/// The adjoint of weighted_sum: adds F w0[m] w1[j] w2[k] to the S^3 grid values from `base`.
 template <int S>
-void weighted_add(PetscScalar* base, PetscInt sx, PetscInt sy, PetscInt sz, const double* w0,
-                  const double* w1, const double* w2, double F)
+void weighted_add(PetscScalar* base, PetscInt sy, PetscInt sz, const double* w0, const double* w1,
+                  const double* w2, double F)
 {
+  double Fw0[S];
+  for (int m = 0; m < S; ++m) Fw0[m] = F * w0[m];
   for (int k = 0; k < S; ++k)
     for (int j = 0; j < S; ++j) {
       PetscScalar* row = base + k * sz + j * sy;
-      const double wjk = F * w2[k] * w1[j];
-      for (int m = 0; m < S; ++m) row[m * sx] += wjk * w0[m];
+      const double wjk = w2[k] * w1[j];
+      for (int m = 0; m < S; ++m) row[m] += wjk * Fw0[m];
     }
 }
 
@@ -87,39 +76,44 @@ void weighted_add(PetscScalar* base, PetscInt sx, PetscInt sy, PetscInt sz, cons
 GridInteraction::GridInteraction(const fluid::StaggeredGrid& grid, KernelKind kernel)
     : grid_(grid), kernel_(kernel)
 {
-  PetscInt ranks[3];
-  PETSC_CHECK(DMStagGetNumRanks(grid.dm(), &ranks[0], &ranks[1], &ranks[2]));
-  const PetscInt *lx = nullptr, *ly = nullptr, *lz = nullptr;
-  PETSC_CHECK(DMStagGetOwnershipRanges(grid.dm(), &lx, &ly, &lz));
-  auto boundary = [&](int d) { return grid.periodic(d) ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_GHOSTED; };
-  // One dof per face, nothing elsewhere; the same ownership as the fluid grid, so owned faces match.
-  PETSC_CHECK(DMStagCreate3d(grid.comm(), boundary(0), boundary(1), boundary(2), grid.cells(0), grid.cells(1),
-                             grid.cells(2), ranks[0], ranks[1], ranks[2], 0, 0, 1, 0, DMSTAG_STENCIL_BOX,
-                             kernel_.ghost_width(), lx, ly, lz, dm_.out()));
-  PETSC_CHECK(DMSetUp(dm_));
-  const DMStagStencilLocation faces[3] = {DMSTAG_LEFT, DMSTAG_DOWN, DMSTAG_BACK};
-  for (int d = 0; d < 3; ++d) PETSC_CHECK(DMStagGetLocationSlot(dm_, faces[d], 0, &slot_[d]));
-  PETSC_CHECK(DMStagGetEntriesPerElement(dm_, &stride_));
-  PETSC_CHECK(DMCreateGlobalVector(dm_, global_.out()));
-  PETSC_CHECK(DMCreateLocalVector(dm_, local_.out()));
-  PetscInt ghost_start[3], ghost_count[3];
-  PETSC_CHECK(DMStagGetGhostCorners(dm_, &ghost_start[0], &ghost_start[1], &ghost_start[2], &ghost_count[0],
-                                    &ghost_count[1], &ghost_count[2]));
-  row_stride_ = ghost_count[0] * stride_;
-  plane_stride_ = ghost_count[1] * row_stride_;
-  {
-    // The unrolled stencils step through the local array by these strides: check them against it.
-    LocalArray a(dm_, local_);
-    const PetscInt i = grid.begin(0), j = grid.begin(1), k = grid.begin(2);
-    if (&a(i, j + 1, k, 0) - &a(i, j, k, 0) != row_stride_ ||
-        &a(i, j, k + 1, 0) - &a(i, j, k, 0) != plane_stride_)
-      throw std::logic_error("ib: unexpected layout of the DMStag local array");
-  }
   for (int d = 0; d < 3; ++d)
     if (grid.count(d) < kernel_.ghost_width())
       throw std::invalid_argument(
           fmt::format("ib: each rank needs at least {} cells per direction for the {} kernel",
                       kernel_.ghost_width(), kernel_.name()));
+  PetscInt ranks[3];
+  PETSC_CHECK(DMStagGetNumRanks(grid.dm(), &ranks[0], &ranks[1], &ranks[2]));
+  const PetscInt* cell_ranges[3] = {nullptr, nullptr, nullptr};
+  PETSC_CHECK(DMStagGetOwnershipRanges(grid.dm(), &cell_ranges[0], &cell_ranges[1], &cell_ranges[2]));
+  auto boundary = [&](int e) { return grid.periodic(e) ? DM_BOUNDARY_PERIODIC : DM_BOUNDARY_GHOSTED; };
+  for (int d = 0; d < 3; ++d) {
+    // The faces normal to d: along d one more than the cells in a walled box, the extra (upper) face
+    // owned by the last rank, as in the fluid grid; across d the cells' layout.
+    std::array<PetscInt, 3> points{};
+    std::array<std::vector<PetscInt>, 3> ranges;
+    for (int e = 0; e < 3; ++e) {
+      const bool extra = e == d && !grid.periodic(e);
+      points[e] = grid.cells(e) + (extra ? 1 : 0);
+      ranges[e].assign(cell_ranges[e], cell_ranges[e] + ranks[e]);
+      if (extra) ++ranges[e].back();
+    }
+    const auto c = static_cast<std::size_t>(d);
+    PETSC_CHECK(DMDACreate3d(grid.comm(), boundary(0), boundary(1), boundary(2), DMDA_STENCIL_BOX, points[0],
+                             points[1], points[2], ranks[0], ranks[1], ranks[2], 1, kernel_.ghost_width(),
+                             ranges[0].data(), ranges[1].data(), ranges[2].data(), dm_[c].out()));
+    PETSC_CHECK(DMSetUp(dm_[c]));
+    PETSC_CHECK(DMCreateGlobalVector(dm_[c], global_[c].out()));
+    PETSC_CHECK(DMCreateLocalVector(dm_[c], local_[c].out()));
+    PetscInt start[3], count[3], ghost_count[3];
+    PETSC_CHECK(DMDAGetCorners(dm_[c], &start[0], &start[1], &start[2], &count[0], &count[1], &count[2]));
+    for (int e = 0; e < 3; ++e)
+      if (start[e] != grid.begin(e) || start[e] + count[e] != grid.face_end(d, e))
+        throw std::logic_error("ib: the interaction's faces are not owned as the fluid grid's");
+    PETSC_CHECK(DMDAGetGhostCorners(dm_[c], &ghost_start_[c][0], &ghost_start_[c][1], &ghost_start_[c][2],
+                                    &ghost_count[0], &ghost_count[1], &ghost_count[2]));
+    row_stride_[c] = ghost_count[0];
+    plane_stride_[c] = ghost_count[0] * ghost_count[1];
+  }
 }
 
 Vec3 GridInteraction::wrap(const Vec3& x) const
@@ -250,31 +244,38 @@ void GridInteraction::gather_velocity(Vec velocity)
 {
   {
     fluid::StagArray u(grid_, velocity, true);
-    LocalArray a(dm_, local_);
-    for (int d = 0; d < 3; ++d)
+    for (int d = 0; d < 3; ++d) {
+      // The global vector holds the owned faces in natural order, x fastest.
+      petsc::VecArray owned(global_[static_cast<std::size_t>(d)]);
+      PetscScalar* g = owned.data();
       for (PetscInt k = grid_.begin(2); k < grid_.face_end(d, 2); ++k)
         for (PetscInt j = grid_.begin(1); j < grid_.face_end(d, 1); ++j)
           for (PetscInt i = grid_.begin(0); i < grid_.face_end(d, 0); ++i)
-            a(i, j, k, slot_[d]) = u(i, j, k, grid_.face_slot(d));
+            *g++ = u(i, j, k, grid_.face_slot(d));
+    }
   }
-  PETSC_CHECK(DMLocalToGlobal(dm_, local_, INSERT_VALUES, global_));
-  PETSC_CHECK(DMGlobalToLocal(dm_, global_, INSERT_VALUES, local_));
+  for (std::size_t c = 0; c < 3; ++c)
+    PETSC_CHECK(DMGlobalToLocalBegin(dm_[c], global_[c], INSERT_VALUES, local_[c]));
+  for (std::size_t c = 0; c < 3; ++c)
+    PETSC_CHECK(DMGlobalToLocalEnd(dm_[c], global_[c], INSERT_VALUES, local_[c]));
 }
 
 void GridInteraction::interpolate(Vec velocity, const PreparedPoints& points, std::span<Vec3> values)
 {
   gather_velocity(velocity);
-  LocalArray a(dm_, local_);
+  const petsc::VecArray ux(local_[0]), uy(local_[1]), uz(local_[2]);
+  const std::array<const PetscScalar*, 3> u{ux.data(), uy.data(), uz.data()};
   const int S = kernel_.support();
   for (std::size_t p = 0; p < points.size(); ++p) {
     const std::array<int, 6>& first = points.first[p];
     const double* weights = points.weights.data() + 6 * S * p;
     for (int d = 0; d < 3; ++d) {
+      const auto c = static_cast<std::size_t>(d);
       const auto [f, w] = component_stencil(first, weights, S, d);
       double sum = 0.0;
       if (S == 4 && (points.inside[p] >> d & 1u)) { // the whole stencil inside the box: unrolled loops
-        sum = weighted_sum<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
-                              w[2]);
+        sum = weighted_sum<4>(u[c] + offset(d, f[0], f[1], f[2]), row_stride_[c], plane_stride_[c], w[0],
+                              w[1], w[2]);
       } else {
         const auto [a0, b0] = valid_range(d, 0, f[0]);
         const auto [a1, b1] = valid_range(d, 1, f[1]);
@@ -283,9 +284,8 @@ void GridInteraction::interpolate(Vec velocity, const PreparedPoints& points, st
           for (int k = a2; k < b2; ++k)
             for (int j = a1; j < b1; ++j) {
               double row = 0.0;
-              // Along x the entries of one (j, k) row are contiguous, `stride_` apart.
-              const PetscScalar* entry = &a(f[0] + a0, f[1] + j, f[2] + k, slot_[d]);
-              for (int m = a0; m < b0; ++m, entry += stride_) row += w[0][m] * *entry;
+              const PetscScalar* entry = u[c] + offset(d, f[0] + a0, f[1] + j, f[2] + k);
+              for (int m = a0; m < b0; ++m, ++entry) row += w[0][m] * *entry;
               sum += w[2][k] * w[1][j] * row;
             }
       }
@@ -306,20 +306,22 @@ void GridInteraction::interpolate(Vec velocity, std::span<const Vec3> points, st
 
 void GridInteraction::spread(const PreparedPoints& points, std::span<const Vec3> forces, Vec force, bool add)
 {
-  PETSC_CHECK(VecZeroEntries(local_));
+  for (const petsc::OwnedVec& local : local_) PETSC_CHECK(VecZeroEntries(local));
   const double inverse_volume = 1.0 / grid_.cell_volume();
   const int S = kernel_.support();
   {
-    LocalArray a(dm_, local_);
+    const petsc::VecArray fx(local_[0]), fy(local_[1]), fz(local_[2]);
+    const std::array<PetscScalar*, 3> a{fx.data(), fy.data(), fz.data()};
     for (std::size_t p = 0; p < points.size(); ++p) {
       const std::array<int, 6>& first = points.first[p];
       const double* weights = points.weights.data() + 6 * S * p;
       for (int d = 0; d < 3; ++d) {
+        const auto c = static_cast<std::size_t>(d);
         const double F = forces[p][d] * inverse_volume;
         if (F == 0.0) continue;
         const auto [f, w] = component_stencil(first, weights, S, d);
         if (S == 4 && (points.inside[p] >> d & 1u)) {
-          weighted_add<4>(&a(f[0], f[1], f[2], slot_[d]), stride_, row_stride_, plane_stride_, w[0], w[1],
+          weighted_add<4>(a[c] + offset(d, f[0], f[1], f[2]), row_stride_[c], plane_stride_[c], w[0], w[1],
                           w[2], F);
           continue;
         }
@@ -330,8 +332,8 @@ void GridInteraction::spread(const PreparedPoints& points, std::span<const Vec3>
         for (int k = a2; k < b2; ++k)
           for (int j = a1; j < b1; ++j) {
             const double wjk = F * w[2][k] * w[1][j];
-            PetscScalar* entry = &a(f[0] + a0, f[1] + j, f[2] + k, slot_[d]);
-            for (int m = a0; m < b0; ++m, entry += stride_) *entry += wjk * w[0][m];
+            PetscScalar* entry = a[c] + offset(d, f[0] + a0, f[1] + j, f[2] + k);
+            for (int m = a0; m < b0; ++m, ++entry) *entry += wjk * w[0][m];
           }
       }
     }
@@ -351,18 +353,23 @@ void GridInteraction::spread(std::span<const Vec3> points, std::span<const Vec3>
 void GridInteraction::scatter_force(Vec force, bool add)
 {
   // Ghost contributions (other ranks' faces, periodic images) go to their owners.
-  PETSC_CHECK(VecZeroEntries(global_));
-  PETSC_CHECK(DMLocalToGlobal(dm_, local_, ADD_VALUES, global_));
-  PETSC_CHECK(DMGlobalToLocal(dm_, global_, INSERT_VALUES, local_));
-  LocalArray a(dm_, local_);
+  for (std::size_t c = 0; c < 3; ++c) {
+    PETSC_CHECK(VecZeroEntries(global_[c]));
+    PETSC_CHECK(DMLocalToGlobalBegin(dm_[c], local_[c], ADD_VALUES, global_[c]));
+  }
+  for (std::size_t c = 0; c < 3; ++c)
+    PETSC_CHECK(DMLocalToGlobalEnd(dm_[c], local_[c], ADD_VALUES, global_[c]));
   fluid::StagArray f(grid_, force);
-  for (int d = 0; d < 3; ++d)
+  for (int d = 0; d < 3; ++d) {
+    const petsc::VecArray owned(global_[static_cast<std::size_t>(d)]);
+    const PetscScalar* g = owned.data();
     for (PetscInt k = grid_.begin(2); k < grid_.face_end(d, 2); ++k)
       for (PetscInt j = grid_.begin(1); j < grid_.face_end(d, 1); ++j)
         for (PetscInt i = grid_.begin(0); i < grid_.face_end(d, 0); ++i) {
           PetscScalar& target = f(i, j, k, grid_.face_slot(d));
-          target = (add ? target : 0.0) + a(i, j, k, slot_[d]);
+          target = (add ? target : 0.0) + *g++;
         }
+  }
 }
 
 double GridInteraction::inner_product(Vec va, Vec vb) const

@@ -10,18 +10,20 @@
 // Parallel layout: every rank is given the same (replicated) list of points; each point is handled by
 // the rank that owns the grid cell holding it. That rank reads velocities from its ghosted copy of the
 // grid and spreads into it; the ghost parts of the spread force are then summed onto their owners
-// (DMLocalToGlobal with ADD_VALUES). The interaction keeps its own DMStag with the same ownership
-// ranges as the fluid grid and as many ghost layers as the kernel needs, so any kernel works on any
-// fluid grid. Periodic directions wrap points into the box; in a non-periodic direction a point must
-// stay inside the box (RunError otherwise), and kernel weights on grid points outside the box are
-// dropped in both operators (which keeps them adjoint).
+// (DMLocalToGlobal with ADD_VALUES). The interaction keeps one DMDA per velocity component, with the
+// same ownership as that component's faces in the fluid grid and as many ghost layers as the kernel
+// needs, so any kernel works on any fluid grid and each component's values lie contiguous along x (a
+// stencil row is one run of memory, which the compiler vectorizes). Periodic directions wrap points
+// into the box; in a non-periodic direction a point must stay inside the box (RunError otherwise), and
+// kernel weights on grid points outside the box are dropped in both operators (which keeps them
+// adjoint).
 #include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
-#include <petscdmstag.h>
+#include <petscdm.h>
 
 #include "fluid/grid.hpp"
 #include "ib/kernels.hpp"
@@ -98,22 +100,31 @@ class GridInteraction {
   Vec3 wrap(const Vec3& x) const;
   /// True when the wrapped point y lies in a cell this rank owns.
   bool owns_wrapped(const Vec3& y) const;
-  /// Copies the owned face values of `velocity` into local_ and exchanges its ghosts.
+  /// Copies the owned face values of `velocity` into the components' global vectors and exchanges
+  /// their ghosts into the local ones.
   void gather_velocity(Vec velocity);
-  /// Adds local_'s ghost parts to their owners and writes the owned faces into `force`.
+  /// Adds the local vectors' ghost parts to their owners and writes the owned faces into `force`.
   void scatter_force(Vec force, bool add);
   /// prepare()'s work for point p: adds it with its stencils when this rank handles it.
   void prepare_point(const Vec3& x, std::size_t p, PreparedPoints& prepared) const;
   /// Index range [lo, hi) of kernel offsets m that land on grid points inside the box.
   std::pair<int, int> valid_range(int component, int e, int first) const;
+  /// Offset of face (i, j, k) of component d in that component's local array.
+  PetscInt offset(int d, PetscInt i, PetscInt j, PetscInt k) const
+  {
+    const auto c = static_cast<std::size_t>(d);
+    return (i - ghost_start_[c][0]) + (j - ghost_start_[c][1]) * row_stride_[c] +
+           (k - ghost_start_[c][2]) * plane_stride_[c];
+  }
 
   const fluid::StaggeredGrid& grid_;
   DeltaKernel kernel_;
-  petsc::OwnedDM dm_;
-  petsc::OwnedVec global_, local_; // after dm_: destroyed before it
-  std::array<PetscInt, 3> slot_{};
-  PetscInt stride_ = 3;                        // entries per element in a local array
-  PetscInt row_stride_ = 0, plane_stride_ = 0; // entries between neighbouring y rows and z planes there
+  // Per velocity component d: a DMDA on the faces normal to d, its global and local vectors, and the
+  // local array's ghost corner and strides (entries between neighbouring y rows and z planes).
+  std::array<petsc::OwnedDM, 3> dm_;
+  std::array<petsc::OwnedVec, 3> global_, local_; // after dm_: destroyed before it
+  std::array<std::array<PetscInt, 3>, 3> ghost_start_{};
+  std::array<PetscInt, 3> row_stride_{}, plane_stride_{};
 };
 
 } // namespace ibvalve::ib

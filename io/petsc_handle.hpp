@@ -119,6 +119,21 @@ using OwnedPetscRandom = Owned<PetscRandom, PetscRandomDestroy>;
   return handles;
 }
 
+/// A Vec's local values, read and written in place while the object lives (VecGetArray), and given
+/// back when it goes (also when the code using them throws).
+class VecArray {
+ public:
+  explicit VecArray(Vec v) : v_(v) { PETSC_CHECK(VecGetArray(v_, &a_)); }
+  ~VecArray() { VecRestoreArray(v_, &a_); }
+  VecArray(const VecArray&) = delete;
+  VecArray& operator=(const VecArray&) = delete;
+  PetscScalar* data() const { return a_; }
+
+ private:
+  Vec v_;
+  PetscScalar* a_ = nullptr;
+};
+
 /// Scatters `from` into `to` (forward, inserting) and calls use(values) with `to`'s local values, read in
 /// place; the array is given back also when `use` throws. Collective over the scatter's ranks.
 template <class Use>
