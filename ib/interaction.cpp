@@ -166,21 +166,26 @@ std::pair<int, int> GridInteraction::valid_range(int component, int e, int first
 
 void GridInteraction::prepare(std::span<const Vec3> points, PreparedPoints& prepared) const
 {
-  prepared.index.clear();
-  prepared.weights.clear();
-  prepared.first.clear();
-  prepared.inside.clear();
+  start_preparing(points.size(), prepared);
   for (std::size_t p = 0; p < points.size(); ++p) prepare_point(points[p], p, prepared);
 }
 
 void GridInteraction::prepare(std::span<const Vec3> points, std::span<const std::size_t> candidates,
                               PreparedPoints& prepared) const
 {
+  start_preparing(candidates.size(), prepared);
+  for (const std::size_t p : candidates) prepare_point(points[p], p, prepared);
+}
+
+void GridInteraction::start_preparing(std::size_t at_most, PreparedPoints& prepared) const
+{
   prepared.index.clear();
-  prepared.weights.clear();
   prepared.first.clear();
   prepared.inside.clear();
-  for (const std::size_t p : candidates) prepare_point(points[p], p, prepared);
+  // The kernel writes each point's weights in place: room for every candidate, grown (zeroed) only
+  // when a placement has more than any before it.
+  const std::size_t needed = at_most * 6 * static_cast<std::size_t>(kernel_.support());
+  if (prepared.weights.size() < needed) prepared.weights.resize(needed);
 }
 
 bool GridInteraction::may_hold(const Vec3& lower, const Vec3& upper) const
@@ -205,7 +210,6 @@ void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints
 {
   const int S = kernel_.support();
   const fluid::BoxGeometry& box = grid_.box();
-  std::array<double, max_kernel_support> w{};
   const Vec3 y = wrap(x);
   // The point's grid coordinate per direction (faces normal to e sit at s = i), computed once for
   // the ownership test (as owns_wrapped) and both stencils.
@@ -218,14 +222,13 @@ void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints
     mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
   }
   if (!mine) return;
+  double* weights = prepared.weights.data() + prepared.index.size() * 6 * static_cast<std::size_t>(S);
   prepared.index.push_back(p);
   std::array<int, 6> first{};
-  // Appended set by set (not resized and overwritten: the vector's kept capacity is not zeroed first).
   for (int set = 0; set < 2; ++set) // faces normal to e sit at t = i, cell centres at t = i + 1/2
-    for (int e = 0; e < 3; ++e) {
+    for (int e = 0; e < 3; ++e, weights += S) {
       const double t = s[static_cast<std::size_t>(e)] - (set == 1 ? 0.5 : 0.0);
-      first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, w);
-      prepared.weights.insert(prepared.weights.end(), w.begin(), w.begin() + S);
+      first[static_cast<std::size_t>(3 * set + e)] = kernel_.weights(t, weights);
     }
   std::uint8_t inside = 0;
   for (int d = 0; d < 3; ++d) {

@@ -69,7 +69,8 @@ class GridInteraction {
     // Per point, compact (a step holds one set for all its points): the support() weights per
     // direction on the face grid and on the cell centres, each set's first grid index, and a bit per
     // component whose whole stencil lies inside the box.
-    std::vector<double> weights;           // 6 support() per point: face x, y, z, centre x, y, z
+    std::vector<double> weights;           // 6 support() per point: face x, y, z, centre x, y, z (and
+                                           // room for more: only the first size() points' are set)
     std::vector<std::array<int, 6>> first; // first_face[3], first_center[3]
     std::vector<std::uint8_t> inside;      // bit d: component d needs no clipping
   };
@@ -105,6 +106,8 @@ class GridInteraction {
   void gather_velocity(Vec velocity);
   /// Adds the local vectors' ghost parts to their owners and writes the owned faces into `force`.
   void scatter_force(Vec force, bool add);
+  /// Empties `prepared` and makes room for the weights of `at_most` points.
+  void start_preparing(std::size_t at_most, PreparedPoints& prepared) const;
   /// prepare()'s work for point p: adds it with its stencils when this rank handles it.
   void prepare_point(const Vec3& x, std::size_t p, PreparedPoints& prepared) const;
   /// Index range [lo, hi) of kernel offsets m that land on grid points inside the box.

@@ -1,5 +1,7 @@
 #include "ib/kernels.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -138,13 +140,15 @@ double DeltaKernel::phi(double r) const
   return 0.0;
 }
 
-int DeltaKernel::weights_of_other_kernels(double s, std::array<double, max_kernel_support>& w) const
+int DeltaKernel::weights_of_other_kernels(double s, double* w) const
 {
   // The grid points within half the support of s: first = floor(s - support/2) + 1.
   const int first = static_cast<int>(std::floor(s - 0.5 * support_)) + 1;
   if (kind_ == KernelKind::ib_6) {
     // first = floor(s) - 2 and the weights are the six pieces at r = s - floor(s) directly.
-    ib6_pieces(s - std::floor(s), w);
+    std::array<double, max_kernel_support> pieces{};
+    ib6_pieces(s - std::floor(s), pieces);
+    std::copy(pieces.begin(), pieces.end(), w);
     return first;
   }
   for (int m = 0; m < support_; ++m) w[m] = phi(s - static_cast<double>(first + m));

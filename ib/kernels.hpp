@@ -57,14 +57,15 @@ class DeltaKernel {
   double phi(double r) const;
 
   /// The support() weights phi(s - (first + m)), m = 0 .. support()-1, for a point at grid coordinate
-  /// s (index units: grid point i sits at s = i). Returns `first`. The weights are evaluated per
-  /// piece so that their sum and moments hold to round-off.
-  int weights(double s, std::array<double, max_kernel_support>& w) const
+  /// s (index units: grid point i sits at s = i), written to w[0 .. support()-1]. Returns `first`. The
+  /// weights are evaluated per piece so that their sum and moments hold to round-off.
+  int weights(double s, double* w) const
   {
     if (kind_ != KernelKind::ib_4) return weights_of_other_kernels(s, w);
     // With r = s - floor(s) the four distances are 1 + r, r, 1 - r and 2 - r, and both pieces of
-    // Peskin (2002), eq. (6.27), take the same root sqrt(1 + 4r - 4r^2) there: one square root. Inline:
-    // the default kernel's weights are evaluated 24 times per coupling point and placement.
+    // Peskin (2002), eq. (6.27), take the same root sqrt(1 + 4r - 4r^2) there: one square root. Inline,
+    // and written where the caller keeps them: the default kernel's weights are evaluated 24 times per
+    // coupling point and placement.
     const double f = std::floor(s), r = s - f;
     const double q = std::sqrt(1.0 + 4.0 * r - 4.0 * r * r);
     w[0] = (3.0 - 2.0 * r - q) / 8.0;
@@ -73,9 +74,10 @@ class DeltaKernel {
     w[3] = (1.0 + 2.0 * r - q) / 8.0;
     return static_cast<int>(f) - 1;
   }
+  int weights(double s, std::array<double, max_kernel_support>& w) const { return weights(s, w.data()); }
 
  private:
-  int weights_of_other_kernels(double s, std::array<double, max_kernel_support>& w) const;
+  int weights_of_other_kernels(double s, double* w) const;
 
   KernelKind kind_;
   int support_;
