@@ -5,11 +5,13 @@
 // constant field; the consistent one for every field in the finite-element space.
 //
 // The mesh is replicated and the right-hand sides are summed over the ranks before a solve, so each
-// rank solves the same small system by itself (PETSC_COMM_SELF): by default a sparse Cholesky
-// factorization (nested-dissection ordering) made once, then two triangular solves per component,
-// with no communication. The options prefix (e.g. -ib_velocity_mass_ksp_type cg
-// -ib_velocity_mass_pc_type jacobi) selects an iterative solve instead, which then starts from the
-// last solution of the same field (its "guess slot"), since that changes little from step to step.
+// rank solves the same small system by itself (PETSC_COMM_SELF), with no communication. By default a
+// sparse Cholesky factorization made once (CHOLMOD through PETSc, simplicial, with CHOLMOD's own
+// fill-reducing ordering), and the three components of a field solved as the three columns of one
+// right-hand side, carried through the factor together (KSPMatSolve). The options prefix selects any
+// other PETSc solve (-ib_velocity_mass_pc_factor_mat_solver_type petsc, or -ib_velocity_mass_ksp_type cg
+// -ib_velocity_mass_pc_type jacobi); an iterative one solves component by component, each starting from
+// the last solution of the same field (its "guess slot"), since that changes little from step to step.
 #include <span>
 #include <string>
 #include <vector>
@@ -33,10 +35,11 @@ class NodalMass {
   fe::MassKind kind() const { return kind_; }
   /// int N_a dX, replicated.
   const std::vector<double>& lumped() const { return lumped_; }
-  /// v with M v = b, both replicated and interlaced (3 per node). A consistent solve starts from the
-  /// last solution stored in `guess_slot` (0, 1, 2, ...) and stores its own there. Collective.
+  /// v with M v = b, both replicated and interlaced (3 per node). An iterative consistent solve starts
+  /// from the last solution stored in `guess_slot` (0, 1, 2, ...); every consistent solve stores its own
+  /// there. Every rank solves the same system and stops alike when it fails.
   std::vector<double> solve(std::span<const double> b, int guess_slot = 0) const;
-  /// Krylov iterations of the last consistent solve (summed over the components).
+  /// Krylov iterations of the last consistent solve, summed over the components (1 each when direct).
   PetscInt last_iterations() const { return iterations_; }
 
   /// Writes the stored solutions the iterative solves start from (the guess slots) into `group` of a
@@ -47,14 +50,14 @@ class NodalMass {
  private:
   const fe::Mesh& mesh_;
   fe::MassKind kind_;
-  MPI_Comm comm_; // the ranks that share out the component solves
   fe::QuadratureData quadrature_;
   fe::NodalSystem system_;
   std::vector<double> lumped_;
   petsc::OwnedMat mass_;
   petsc::OwnedKSP ksp_;
-  petsc::OwnedVec b_;
-  mutable std::vector<petsc::OwnedVec> guesses_;
+  bool direct_ = true;  // a factorization (KSPPREONLY), solved for the three columns at once
+  petsc::OwnedMat rhs_; // dense, nodes x 3: the components as columns
+  mutable std::vector<petsc::OwnedMat> guesses_; // per slot: dense, nodes x 3
   mutable PetscInt iterations_ = 0;
 };
 
