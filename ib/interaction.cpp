@@ -147,7 +147,7 @@ bool GridInteraction::owns(const Vec3& x) const
 bool GridInteraction::owns_wrapped(const Vec3& y) const
 {
   for (int d = 0; d < 3; ++d) {
-    auto cell = static_cast<PetscInt>(std::floor((y[d] - grid_.box().lower[d]) / grid_.h(d)));
+    auto cell = static_cast<PetscInt>(grid_floor((y[d] - grid_.box().lower[d]) / grid_.h(d)));
     cell = std::clamp<PetscInt>(cell, 0, grid_.cells(d) - 1); // x == upper belongs to the last cell
     if (cell < grid_.begin(d) || cell >= grid_.begin(d) + grid_.count(d)) return false;
   }
@@ -197,7 +197,7 @@ bool GridInteraction::may_hold(const Vec3& lower, const Vec3& upper) const
     // Widened by a millionth of a cell: a point summed from the nodes may round just past them.
     const double margin = 1e-6 * grid_.h(d);
     auto cell = [&](double x) {
-      return std::clamp<PetscInt>(static_cast<PetscInt>(std::floor((x - box.lower[d]) / grid_.h(d))), 0,
+      return std::clamp<PetscInt>(static_cast<PetscInt>(grid_floor((x - box.lower[d]) / grid_.h(d))), 0,
                                   grid_.cells(d) - 1);
     };
     const PetscInt first = cell(lower[d] - margin), last = cell(upper[d] + margin);
@@ -217,7 +217,7 @@ void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints
   bool mine = true;
   for (int d = 0; d < 3 && mine; ++d) {
     s[static_cast<std::size_t>(d)] = (y[d] - box.lower[d]) / grid_.h(d);
-    const auto cell = std::clamp<PetscInt>(static_cast<PetscInt>(std::floor(s[static_cast<std::size_t>(d)])),
+    const auto cell = std::clamp<PetscInt>(static_cast<PetscInt>(grid_floor(s[static_cast<std::size_t>(d)])),
                                            0, grid_.cells(d) - 1);
     mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
   }

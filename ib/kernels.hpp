@@ -18,6 +18,7 @@
 // invariance matters less than cost for valve runs; docs/ib.md).
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -39,6 +40,15 @@ std::vector<KernelKind> every_kernel();
 std::string kernel_names();
 inline constexpr KernelKind default_kernel = KernelKind::ib_4;
 
+/// floor(s) for a finite s with |s| < 2^62 (a grid coordinate), the same value as std::floor: the
+/// baseline x86-64 instruction set has no rounding instruction, so std::floor is a library call, nine
+/// per coupling point and placement.
+inline double grid_floor(double s)
+{
+  const auto truncated = static_cast<double>(static_cast<std::int64_t>(s));
+  return truncated > s ? truncated - 1.0 : truncated;
+}
+
 class DeltaKernel {
  public:
   explicit DeltaKernel(KernelKind kind = default_kernel);
@@ -57,8 +67,8 @@ class DeltaKernel {
   double phi(double r) const;
 
   /// The support() weights phi(s - (first + m)), m = 0 .. support()-1, for a point at grid coordinate
-  /// s (index units: grid point i sits at s = i), written to w[0 .. support()-1]. Returns `first`. The
-  /// weights are evaluated per piece so that their sum and moments hold to round-off.
+  /// s (index units: grid point i sits at s = i; finite), written to w[0 .. support()-1]. Returns `first`.
+  /// The weights are evaluated per piece so that their sum and moments hold to round-off.
   int weights(double s, double* w) const
   {
     if (kind_ != KernelKind::ib_4) return weights_of_other_kernels(s, w);
@@ -66,7 +76,7 @@ class DeltaKernel {
     // Peskin (2002), eq. (6.27), take the same root sqrt(1 + 4r - 4r^2) there: one square root. Inline,
     // and written where the caller keeps them: the default kernel's weights are evaluated 24 times per
     // coupling point and placement.
-    const double f = std::floor(s), r = s - f;
+    const double f = grid_floor(s), r = s - f;
     const double q = std::sqrt(1.0 + 4.0 * r - 4.0 * r * r);
     w[0] = (3.0 - 2.0 * r - q) / 8.0;
     w[1] = (3.0 - 2.0 * r + q) / 8.0;

@@ -130,3 +130,17 @@ TEST(Kernels, NamesRoundTripAndDefaultIsIb4)
   EXPECT_EQ(DeltaKernel(KernelKind::ib_6).ghost_width(), 3);
   EXPECT_EQ(DeltaKernel(KernelKind::ib_4).ghost_width(), 2);
 }
+
+// grid_floor, which the stencils use instead of the library's floor, is floor: the same value at
+// integers, just beside them and between them, negative and positive (the sign of a zero aside).
+TEST(Kernels, GridFloorIsFloor)
+{
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> coordinate(-50.0, 1000.0);
+  for (int n = 0; n < 100000; ++n) {
+    const double s = coordinate(random);
+    for (const double t :
+         {s, std::round(s), std::nextafter(std::round(s), -1e9), std::nextafter(std::round(s), 1e9)})
+      ASSERT_EQ(grid_floor(t), std::floor(t)) << "at " << t;
+  }
+}
