@@ -21,6 +21,7 @@
 #include "fluid/solver_clock.hpp"
 #include "io/petsc_check.hpp"
 #include "io/petsc_handle.hpp"
+#include "io/petsc_options.hpp"
 
 namespace ibvalve::fluid {
 
@@ -44,12 +45,7 @@ std::vector<std::string> set_default_amg_options(const std::string& prefix)
   std::vector<std::string> added;
   for (const auto& [name, value] : defaults) {
     const std::string option = prefix + "pc_hypre_boomeramg_" + name;
-    PetscBool set = PETSC_FALSE;
-    PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, option.c_str(), &set));
-    if (!set) {
-      PETSC_CHECK(PetscOptionsSetValue(nullptr, option.c_str(), value.c_str()));
-      added.push_back(option);
-    }
+    if (petsc::set_option_unless_given(option, value)) added.push_back(option);
   }
   return added;
 }

@@ -7,6 +7,7 @@
 
 #include "base/errors.hpp"
 #include "io/petsc_check.hpp"
+#include "io/petsc_options.hpp"
 
 namespace ibvalve::ib {
 
@@ -85,11 +86,7 @@ NodalMass::NodalMass(const fe::Mesh& mesh, fe::MassKind kind, MPI_Comm comm, con
   PETSC_CHECK(PCFactorGetMatSolverType(pc, &solver));
   PetscBool cholmod = PETSC_FALSE;
   if (solver) PETSC_CHECK(PetscStrcmp(solver, MATSOLVERCHOLMOD, &cholmod));
-  const std::string factor_option = "-" + prefix + "mat_cholmod_factor";
-  PetscBool set = PETSC_FALSE;
-  PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, factor_option.c_str(), &set));
-  if (direct_ && cholmod && !set)
-    PETSC_CHECK(PetscOptionsSetValue(nullptr, factor_option.c_str(), "simplicial"));
+  if (direct_ && cholmod) petsc::set_option_unless_given("-" + prefix + "mat_cholmod_factor", "simplicial");
   if (!direct_) PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
   rhs_ = dense_columns(mesh_.num_nodes());
 }
