@@ -56,6 +56,17 @@ double weighted_sum(const PetscScalar* base, PetscInt sy, PetscInt sz, const dou
   return sum;
 }
 
+/// Calls visit(i, j, k) for every face of component d this rank owns, in the order of that component's
+/// global vector (x fastest, then y, then z): the one order in which gather_velocity fills the vector
+/// and scatter_force reads it back.
+template <class Visit>
+void for_each_owned_face(const fluid::StaggeredGrid& grid, int d, Visit&& visit)
+{
+  for (PetscInt k = grid.begin(2); k < grid.face_end(d, 2); ++k)
+    for (PetscInt j = grid.begin(1); j < grid.face_end(d, 1); ++j)
+      for (PetscInt i = grid.begin(0); i < grid.face_end(d, 0); ++i) visit(i, j, k);
+}
+
 /// The adjoint of weighted_sum: adds F w0[m] w1[j] w2[k] to the S^3 grid values from `base`.
 template <int S>
 void weighted_add(PetscScalar* base, PetscInt sy, PetscInt sz, const double* w0, const double* w1,
@@ -248,13 +259,10 @@ void GridInteraction::gather_velocity(Vec velocity)
   {
     fluid::StagArray u(grid_, velocity, true);
     for (int d = 0; d < 3; ++d) {
-      // The global vector holds the owned faces in natural order, x fastest.
       petsc::VecArray owned(global_[static_cast<std::size_t>(d)]);
       PetscScalar* g = owned.data();
-      for (PetscInt k = grid_.begin(2); k < grid_.face_end(d, 2); ++k)
-        for (PetscInt j = grid_.begin(1); j < grid_.face_end(d, 1); ++j)
-          for (PetscInt i = grid_.begin(0); i < grid_.face_end(d, 0); ++i)
-            *g++ = u(i, j, k, grid_.face_slot(d));
+      const PetscInt slot = grid_.face_slot(d);
+      for_each_owned_face(grid_, d, [&](PetscInt i, PetscInt j, PetscInt k) { *g++ = u(i, j, k, slot); });
     }
   }
   for (std::size_t c = 0; c < 3; ++c)
@@ -366,12 +374,11 @@ void GridInteraction::scatter_force(Vec force, bool add)
   for (int d = 0; d < 3; ++d) {
     const petsc::VecArray owned(global_[static_cast<std::size_t>(d)]);
     const PetscScalar* g = owned.data();
-    for (PetscInt k = grid_.begin(2); k < grid_.face_end(d, 2); ++k)
-      for (PetscInt j = grid_.begin(1); j < grid_.face_end(d, 1); ++j)
-        for (PetscInt i = grid_.begin(0); i < grid_.face_end(d, 0); ++i) {
-          PetscScalar& target = f(i, j, k, grid_.face_slot(d));
-          target = (add ? target : 0.0) + *g++;
-        }
+    const PetscInt slot = grid_.face_slot(d);
+    for_each_owned_face(grid_, d, [&](PetscInt i, PetscInt j, PetscInt k) {
+      PetscScalar& target = f(i, j, k, slot);
+      target = (add ? target : 0.0) + *g++;
+    });
   }
 }
 
@@ -379,11 +386,11 @@ double GridInteraction::inner_product(Vec va, Vec vb) const
 {
   fluid::StagArray a(grid_, va, true), b(grid_, vb, true);
   double sum = 0.0;
-  for (int d = 0; d < 3; ++d)
-    for (PetscInt k = grid_.begin(2); k < grid_.face_end(d, 2); ++k)
-      for (PetscInt j = grid_.begin(1); j < grid_.face_end(d, 1); ++j)
-        for (PetscInt i = grid_.begin(0); i < grid_.face_end(d, 0); ++i)
-          sum += a(i, j, k, grid_.face_slot(d)) * b(i, j, k, grid_.face_slot(d));
+  for (int d = 0; d < 3; ++d) {
+    const PetscInt slot = grid_.face_slot(d);
+    for_each_owned_face(
+        grid_, d, [&](PetscInt i, PetscInt j, PetscInt k) { sum += a(i, j, k, slot) * b(i, j, k, slot); });
+  }
   double total = 0.0;
   MPI_Allreduce(&sum, &total, 1, MPI_DOUBLE, MPI_SUM, grid_.comm());
   return total * grid_.cell_volume();
