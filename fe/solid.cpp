@@ -104,17 +104,16 @@ Mat3 SolidModel::deformation_gradient(const QuadratureData& rule, std::span<cons
   return F;
 }
 
+template <int N>
 void SolidModel::add_element_forces(const QuadratureData& rule, const Laws& laws, std::size_t e,
-                                    const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
-                                    Eigen::Matrix<double, 3, Eigen::Dynamic>& element_forces) const
+                                    const NodalMatrix<N>& U, NodalMatrix<N>& element_forces) const
 {
   if (laws.empty()) return;
   const int n = mesh_.nodes_per_element();
   // Per point F = I + U G^T and f_e -= P G w det J with G the 3 x n matrix of grad_X N_a (stored
   // contiguously).
   for (int q = 0; q < rule.points_per_element(); ++q) {
-    const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> G(rule.gradients(e, q).data()->data(), 3,
-                                                                       n);
+    const Eigen::Map<const NodalMatrix<N>> G(rule.gradients(e, q).data()->data(), 3, n);
     const Mat3 F = Mat3::Identity() + U * G.transpose();
     Mat3 P = Mat3::Zero();
     for (const auto& law : laws) P += law->stress(F, frame(rule, e, q));
@@ -122,12 +121,12 @@ void SolidModel::add_element_forces(const QuadratureData& rule, const Laws& laws
   }
 }
 
-void SolidModel::forces(std::span<const double> u, std::span<double> forces) const
+template <int N>
+void SolidModel::add_forces(std::span<const double> u, std::span<double> forces) const
 {
-  std::fill(forces.begin(), forces.end(), 0.0);
   const int n = mesh_.nodes_per_element();
   // Per element: gather the nodal displacements once (3 x n), sum both rules, scatter once.
-  Eigen::Matrix<double, 3, Eigen::Dynamic> U(3, n), element_forces(3, n);
+  NodalMatrix<N> U(3, n), element_forces(3, n);
   for (const auto& [p, e] : local_items_) {
     const auto element = mesh_.element(e);
     for (int a = 0; a < n; ++a)
@@ -138,6 +137,17 @@ void SolidModel::forces(std::span<const double> u, std::span<double> forces) con
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] += element_forces(i, a);
   }
+}
+
+void SolidModel::forces(std::span<const double> u, std::span<double> forces) const
+{
+  std::fill(forces.begin(), forces.end(), 0.0);
+  // The trilinear hexahedron, the valve's element, with its 3 x 8 matrices sized at compile time (no
+  // allocation, unrolled products); any other element with dynamic sizes.
+  if (mesh_.nodes_per_element() == 8)
+    add_forces<8>(u, forces);
+  else
+    add_forces<Eigen::Dynamic>(u, forces);
   sum_over_ranks(forces, comm_);
 }
 

@@ -131,10 +131,16 @@ class SolidModel {
   /// The frame a law integrated by `rule` sees at its point q.
   const materials::FiberFrame& frame(const QuadratureData& rule, std::size_t e, int q) const;
   /// Sum over the points of `rule` of one element's forces, energy or stiffness for `laws`.
+  /// A 3 x n matrix of nodal vectors of one element: n = N known at compile time, or Eigen::Dynamic.
+  template <int N>
+  using NodalMatrix = Eigen::Matrix<double, 3, N>;
+  template <int N>
   void add_element_forces(const QuadratureData& rule,
                           const std::vector<std::shared_ptr<const materials::StrainEnergy>>& laws,
-                          std::size_t e, const Eigen::Matrix<double, 3, Eigen::Dynamic>& U,
-                          Eigen::Matrix<double, 3, Eigen::Dynamic>& element_forces) const;
+                          std::size_t e, const NodalMatrix<N>& U, NodalMatrix<N>& element_forces) const;
+  /// Adds this rank's element forces to `forces`, with N nodes per element (or Eigen::Dynamic).
+  template <int N>
+  void add_forces(std::span<const double> u, std::span<double> forces) const;
   double element_energy(const QuadratureData& rule,
                         const std::vector<std::shared_ptr<const materials::StrainEnergy>>& laws,
                         std::span<const double> u, std::size_t e) const;
