@@ -1,14 +1,18 @@
 // Time per coupled IB/FE step and its parts.
 //
-//   mpiexec -n R bench_ib [cells] [points] [steps]     (defaults: 32 10000 10)
+//   mpiexec -n R bench_ib [cells] [points] [steps] [projection]     (defaults: 32 10000 10 consistent)
 //
 // The structure is a slightly stretched neo-Hookean block of m^3 trilinear hexahedra with edges just
 // under one grid cell, so each element carries 2 x 2 x 2 coupling points (spacing <= half a cell)
 // and m = round(cbrt(points / 8)); it relaxes in a periodic box (FFT fluid solver, 64-bit doubles).
+//
+// `projection` is the L2 projections' mass, "consistent" (the default of every case) or "lumped" (no
+// solves: what the consistent projections cost, against the accuracy they buy, docs/ib.md).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <string>
 
 #include <petscsys.h>
 
@@ -29,6 +33,13 @@ int main(int argc, char** argv)
     const int cells = argc > 1 ? std::atoi(argv[1]) : 32;
     const double target = argc > 2 ? std::atof(argv[2]) : 1e4;
     const int steps = argc > 3 ? std::atoi(argv[3]) : 10;
+    const std::string projection = argc > 4 ? argv[4] : "consistent";
+    if (projection != "consistent" && projection != "lumped") {
+      std::fprintf(stderr, "bench_ib: projection must be consistent or lumped, not '%s'\n",
+                   projection.c_str());
+      PetscFinalize();
+      return 2;
+    }
     int ranks = 1, rank = 0;
     MPI_Comm_size(PETSC_COMM_WORLD, &ranks);
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -56,7 +67,10 @@ int main(int argc, char** argv)
                       {std::make_shared<materials::Material>(
                           law, materials::VolumetricPenalty(materials::PenaltyKind::log, 1000.0))}};
     fe::SolidModel solid(mesh, {part}, 2, PETSC_COMM_WORLD);
-    ib::IbfeIntegrator ibfe(fluid, solid, {});
+    ib::IbfeSettings settings;
+    settings.velocity_projection = settings.force_projection =
+        projection == "lumped" ? fe::MassKind::lumped : fe::MassKind::consistent;
+    ib::IbfeIntegrator ibfe(fluid, solid, settings);
     std::vector<double> u(solid.num_dofs());
     for (std::size_t n = 0; n < mesh.num_nodes(); ++n) u[3 * n] = 0.04 * (mesh.nodes()[n][0] - 0.5);
     ibfe.set_displacement(u);
@@ -78,8 +92,8 @@ int main(int argc, char** argv)
                       &ib::IbfeTimings::points})
       figures[i++] = per_step(part);
     if (rank == 0) {
-      std::printf("grid %d^3, %d rank(s), %zu elements, %zu coupling points, %d steps\n", cells, ranks,
-                  mesh.num_elements(), ibfe.coupling_point_count(), steps);
+      std::printf("grid %d^3, %d rank(s), %zu elements, %zu coupling points, %d steps, %s projections\n",
+                  cells, ranks, mesh.num_elements(), ibfe.coupling_point_count(), steps, projection.c_str());
       std::printf("  per coupled step (max over ranks), s: total %.4f | fluid %.4f | interpolation %.4f | "
                   "projection %.4f | force %.4f | spreading %.4f | points %.4f\n",
                   figures[0], figures[1], figures[2], figures[3], figures[4], figures[5], figures[6]);
