@@ -157,11 +157,8 @@ bool GridInteraction::owns(const Vec3& x) const
 
 bool GridInteraction::owns_wrapped(const Vec3& y) const
 {
-  for (int d = 0; d < 3; ++d) {
-    auto cell = static_cast<PetscInt>(grid_floor((y[d] - grid_.box().lower[d]) / grid_.h(d)));
-    cell = std::clamp<PetscInt>(cell, 0, grid_.cells(d) - 1); // x == upper belongs to the last cell
-    if (cell < grid_.begin(d) || cell >= grid_.begin(d) + grid_.count(d)) return false;
-  }
+  for (int d = 0; d < 3; ++d)
+    if (!owns_cell(d, cell_of(d, grid_coordinate(d, y[d])))) return false;
   return true;
 }
 
@@ -207,11 +204,8 @@ bool GridInteraction::may_hold(const Vec3& lower, const Vec3& upper) const
     if (!(lower[d] >= box.lower[d] && upper[d] <= box.upper[d])) return true; // outside, or not finite
     // Widened by a millionth of a cell: a point summed from the nodes may round just past them.
     const double margin = 1e-6 * grid_.h(d);
-    auto cell = [&](double x) {
-      return std::clamp<PetscInt>(static_cast<PetscInt>(grid_floor((x - box.lower[d]) / grid_.h(d))), 0,
-                                  grid_.cells(d) - 1);
-    };
-    const PetscInt first = cell(lower[d] - margin), last = cell(upper[d] + margin);
+    const PetscInt first = cell_of(d, grid_coordinate(d, lower[d] - margin));
+    const PetscInt last = cell_of(d, grid_coordinate(d, upper[d] + margin));
     if (last < grid_.begin(d) || first >= grid_.begin(d) + grid_.count(d)) return false;
   }
   return true;
@@ -220,17 +214,14 @@ bool GridInteraction::may_hold(const Vec3& lower, const Vec3& upper) const
 void GridInteraction::prepare_point(const Vec3& x, std::size_t p, PreparedPoints& prepared) const
 {
   const int S = kernel_.support();
-  const fluid::BoxGeometry& box = grid_.box();
   const Vec3 y = wrap(x);
-  // The point's grid coordinate per direction (faces normal to e sit at s = i), computed once for
-  // the ownership test (as owns_wrapped) and both stencils.
+  // The point's grid coordinate per direction, computed once for the ownership test (owns_wrapped's)
+  // and both stencils.
   std::array<double, 3> s{};
   bool mine = true;
   for (int d = 0; d < 3 && mine; ++d) {
-    s[static_cast<std::size_t>(d)] = (y[d] - box.lower[d]) / grid_.h(d);
-    const auto cell = std::clamp<PetscInt>(static_cast<PetscInt>(grid_floor(s[static_cast<std::size_t>(d)])),
-                                           0, grid_.cells(d) - 1);
-    mine = cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
+    s[static_cast<std::size_t>(d)] = grid_coordinate(d, y[d]);
+    mine = owns_cell(d, cell_of(d, s[static_cast<std::size_t>(d)]));
   }
   if (!mine) return;
   double* weights = prepared.weights.data() + prepared.index.size() * 6 * static_cast<std::size_t>(S);

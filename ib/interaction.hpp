@@ -17,6 +17,7 @@
 // into the box; in a non-periodic direction a point must stay inside the box (RunError otherwise), and
 // kernel weights on grid points outside the box are dropped in both operators (which keeps them
 // adjoint).
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -101,6 +102,18 @@ class GridInteraction {
   Vec3 wrap(const Vec3& x) const;
   /// True when the wrapped point y lies in a cell this rank owns.
   bool owns_wrapped(const Vec3& y) const;
+  /// Position x along d in grid units from the box's lower side: face i sits at i, cell i spans [i, i+1).
+  double grid_coordinate(int d, double x) const { return (x - grid_.box().lower[d]) / grid_.h(d); }
+  /// The cell along d that holds grid coordinate s; s on the upper side belongs to the last cell.
+  PetscInt cell_of(int d, double s) const
+  {
+    return std::clamp<PetscInt>(static_cast<PetscInt>(grid_floor(s)), 0, grid_.cells(d) - 1);
+  }
+  /// True when this rank owns cell `cell` along d: owns(), may_hold() and prepare() count alike.
+  bool owns_cell(int d, PetscInt cell) const
+  {
+    return cell >= grid_.begin(d) && cell < grid_.begin(d) + grid_.count(d);
+  }
   /// Copies the owned face values of `velocity` into the components' global vectors and exchanges
   /// their ghosts into the local ones.
   void gather_velocity(Vec velocity);
