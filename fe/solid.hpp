@@ -130,10 +130,10 @@ class SolidModel {
                             int q) const;
   /// The frame a law integrated by `rule` sees at its point q.
   const materials::FiberFrame& frame(const QuadratureData& rule, std::size_t e, int q) const;
-  /// Sum over the points of `rule` of one element's forces, energy or stiffness for `laws`.
   /// A 3 x n matrix of nodal vectors of one element: n = N known at compile time, or Eigen::Dynamic.
   template <int N>
   using NodalMatrix = Eigen::Matrix<double, 3, N>;
+  /// Sum over the points of `rule` of one element's forces, energy or stiffness for `laws`.
   template <int N>
   void add_element_forces(const QuadratureData& rule,
                           const std::vector<std::shared_ptr<const materials::StrainEnergy>>& laws,
