@@ -120,17 +120,17 @@ CompositeCoarsening composite_coarsening(MPI_Comm comm, const CompositeCells& ce
   return out;
 }
 
-void set_composite_multigrid(PC pc, Mat fine, const CompositeCells& cells, PetscInt coarsest)
+void set_composite_multigrid(PC pc, Mat coarsening, const CompositeCells& cells, PetscInt coarsest)
 {
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(pc));
   PetscInt local = 0;
-  PETSC_CHECK(MatGetLocalSize(fine, &local, nullptr));
+  PETSC_CHECK(MatGetLocalSize(coarsening, &local, nullptr));
   const CompositeCoarsening spaces = composite_coarsening(comm, cells, local, coarsest);
   const auto levels = static_cast<PetscInt>(spaces.interpolations.size()) + 1;
   PETSC_CHECK(PCSetType(pc, PCMG));
   PETSC_CHECK(PCMGSetLevels(pc, levels, nullptr));
   PETSC_CHECK(PCMGSetGalerkin(pc, PC_MG_GALERKIN_NONE));
-  Mat finer = fine;
+  Mat finer = coarsening;
   petsc::OwnedMat previous; // the operator of the space above, while the next is made from it
   for (std::size_t m = 0; m < spaces.interpolations.size(); ++m) {
     // PCMG numbers its levels from the coarsest (0); space m is level levels - 1 - m. The PC and the

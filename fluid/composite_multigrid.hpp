@@ -35,9 +35,12 @@ struct CompositeCoarsening {
 CompositeCoarsening composite_coarsening(MPI_Comm comm, const CompositeCells& cells, PetscInt local_cells,
                                          PetscInt coarsest);
 
-/// Makes `pc` (whose operator is `fine`, a composite cell matrix) a PCMG on the spaces of
-/// composite_coarsening, with the coarse operators described above, one SOR sweep a level each way and
-/// W-cycles (the options database may choose others). Collective.
-void set_composite_multigrid(PC pc, Mat fine, const CompositeCells& cells, PetscInt coarsest = 500);
+/// Makes `pc` a PCMG on the spaces of composite_coarsening, one SOR sweep a level each way and W-cycles
+/// (the options database may choose others). The composite cells (space 0) are smoothed with the PC's
+/// own preconditioning matrix; the coarser spaces' operators are the halved aggregation products
+/// described above, starting from `coarsening`, a composite cell matrix: the PC's matrix itself, or a
+/// sparser operator of the same problem (the two-point Laplacian for the consistent projection, whose
+/// Galerkin products would be denser and no better). Collective.
+void set_composite_multigrid(PC pc, Mat coarsening, const CompositeCells& cells, PetscInt coarsest = 500);
 
 } // namespace ibvalve::fluid
