@@ -47,6 +47,18 @@ Extreme refine_extreme(const std::vector<double>& t, const std::vector<double>& 
   return e;
 }
 
+/// Where y last rose above `level` at or before sample i: the start of the run of samples above
+/// `level` that holds i or, when y[i] <= level, of the last such run before i; t[0] when the run holds
+/// the first sample; NaN when y is not above `level` anywhere up to i.
+double last_rise(const std::vector<double>& t, const std::vector<double>& y, std::size_t i, double level)
+{
+  std::size_t j = i;
+  while (j > 0 && !(y[j] > level)) --j;
+  if (!(y[j] > level)) return nan;
+  while (j > 0 && y[j - 1] > level) --j;
+  return j == 0 ? t[0] : crossing(t, y, j - 1, level);
+}
+
 std::size_t argmax(const std::vector<double>& y, std::size_t from, std::size_t to)
 {
   std::size_t best = from;
@@ -73,6 +85,37 @@ std::vector<double> combine(const std::vector<double>& a, const std::vector<doub
 std::string seconds(double t)
 {
   return fmt::format("{:.4f} s", t);
+}
+
+namespace condition {
+constexpr const char* forward_flow = "forward flow";
+constexpr const char* pressure = "pressure crossover";
+constexpr const char* orifice = "orifice opening";
+} // namespace condition
+
+/// t_bs, the ejection's start (metrics.hpp): the latest of the forward flow's start, the pressure
+/// crossover and the orifice's opening that come before the forward flow's end. Sets
+/// ph.pressure_crossover too; ph.forward_flow_start, ph.ejection_end and the orifice phases are set.
+void set_ejection_start(const std::vector<double>& t, const std::vector<double>& gradient, std::size_t i_peak,
+                        bool area_phases, Phases& ph, std::vector<std::string>& notes)
+{
+  ph.pressure_crossover = last_rise(t, gradient, i_peak, 0.0);
+  if (std::isnan(ph.pressure_crossover))
+    notes.push_back("P_nlv - P_nao is not above 0 before the peak flow: no pressure crossover");
+  ph.ejection_start = ph.forward_flow_start;
+  ph.ejection_start_condition = condition::forward_flow;
+  auto later = [&](const char* name, double instant) {
+    if (std::isnan(instant) || instant <= ph.ejection_start) return;
+    if (instant >= ph.ejection_end) {
+      notes.push_back(fmt::format("the {} ({}) comes after forward flow ends: it does not set t_bs", name,
+                                  seconds(instant)));
+      return;
+    }
+    ph.ejection_start = instant;
+    ph.ejection_start_condition = name;
+  };
+  later(condition::pressure, ph.pressure_crossover);
+  if (area_phases) later(condition::orifice, ph.opening_start);
 }
 
 /// The study's structural figures (docs/reference.md, "Hemodynamic metrics"): the leaflet-state
@@ -207,7 +250,8 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
 
   ValveMetrics out;
   Phases& ph = out.phases;
-  ph = Phases{t0, t1, nan, nan, nan, nan, nan, "", nan, nan, nan, nan};
+  ph.cycle_start = t0;
+  ph.cycle_end = t1;
   out.notes.push_back(
       fmt::format("cycle {} of {}: [{}, {}], {} samples", k, full_cycles, seconds(t0), seconds(t1), n));
 
@@ -259,23 +303,24 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
     }
   }
 
-  // --- Forward ejection: the lobe of Q above the threshold around the largest flow.
+  // --- Forward flow: the lobe of Q above the threshold around the largest flow.
   const double threshold = settings.forward_threshold;
   const std::size_t i_max = argmax(q, 0, n);
   const Extreme forward_peak = refine_extreme(t, q, i_max);
   const bool forward = q[i_max] > threshold;
+  const auto gradient = combine(w.near_lv_pressure, w.near_aortic_pressure, std::minus<>());
   std::size_t after_ejection = n;
   if (forward) {
-    std::size_t i = i_max;
-    while (i > 0 && q[i - 1] > threshold) --i;
-    ph.ejection_start = i == 0 ? t[0] : crossing(t, q, i - 1, threshold);
-    if (i == 0) out.notes.push_back("forward flow at the start of the cycle: t_bs is the cycle's start");
+    ph.forward_flow_start = last_rise(t, q, i_max, threshold);
+    if (ph.forward_flow_start == t[0])
+      out.notes.push_back("forward flow at the start of the cycle: t_ff is the cycle's start");
     std::size_t j = i_max;
     while (j + 1 < n && q[j + 1] > threshold) ++j;
     ph.ejection_end = j + 1 == n ? t[n - 1] : crossing(t, q, j, threshold);
     if (j + 1 == n) out.notes.push_back("forward flow at the end of the cycle: t_es is the cycle's end");
     after_ejection = j + 1;
     ph.peak_forward_time = forward_peak.time;
+    set_ejection_start(t, gradient, i_max, area_phases, ph, out.notes);
   } else {
     out.notes.push_back("no forward flow above the threshold in this cycle: ejection metrics are missing");
   }
@@ -330,8 +375,9 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
         }
       }
     }
-    out.notes.push_back("phases: t_bs = " + seconds(ph.ejection_start) +
-                        ", t_es = " + seconds(ph.ejection_end) + ", t_c = " + seconds(ph.closure) +
+    out.notes.push_back("phases: t_ff = " + seconds(ph.forward_flow_start) +
+                        ", t_bs = " + seconds(ph.ejection_start) + " (" + ph.ejection_start_condition +
+                        "), t_es = " + seconds(ph.ejection_end) + ", t_c = " + seconds(ph.closure) +
                         " (rule '" + ph.closure_rule + "')");
   }
 
@@ -347,26 +393,44 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   std::optional<double> vf, vr, vl, rf, tpg, qrms, eoa, duration;
   if (forward) {
     duration = ph.ejection_end - ph.ejection_start;
-    vf = integrate(t, q, ph.ejection_start, ph.ejection_end);
+    vf = integrate(t, q, ph.forward_flow_start, ph.ejection_end);
     vr = -integrate(t, q, ph.ejection_end, ph.closure);
     vl = -integrate(t, q, ph.closure, t1);
     rf = (*vr + *vl) / *vf * 100.0;
-    const auto gradient = combine(w.near_lv_pressure, w.near_aortic_pressure, std::minus<>());
-    tpg = integrate(t, gradient, ph.ejection_start, ph.ejection_end) / *duration;
+    // The means over the chosen window, and over the window each condition alone would open.
     const auto q2 = combine(q, q, std::multiplies<>());
-    qrms = std::sqrt(integrate(t, q2, ph.ejection_start, ph.ejection_end) / *duration);
-    if (*tpg > 0.0) eoa = *qrms / (51.6 * std::sqrt(*tpg / settings.density));
+    auto window_from = [&](std::string condition, double start) {
+      const double length = ph.ejection_end - start;
+      EjectionWindow e{std::move(condition), start, integrate(t, gradient, start, ph.ejection_end) / length,
+                       std::sqrt(integrate(t, q2, start, ph.ejection_end) / length), std::nullopt};
+      if (e.transvalvular_pressure_gradient > 0.0)
+        e.effective_orifice_area =
+            e.rms_forward_flow / (51.6 * std::sqrt(e.transvalvular_pressure_gradient / settings.density));
+      return e;
+    };
+    const EjectionWindow chosen = window_from(ph.ejection_start_condition, ph.ejection_start);
+    tpg = chosen.transvalvular_pressure_gradient;
+    qrms = chosen.rms_forward_flow;
+    eoa = chosen.effective_orifice_area;
+    const std::pair<const char*, double> candidates[] = {{condition::forward_flow, ph.forward_flow_start},
+                                                         {condition::pressure, ph.pressure_crossover},
+                                                         {condition::orifice, ph.opening_start}};
+    for (const auto& [name, start] : candidates)
+      if (std::isfinite(start) && start < ph.ejection_end)
+        out.ejection_windows.push_back(window_from(name, start));
   }
   const std::string no_ejection = forward ? "" : "no forward ejection";
-  add("forward_volume", "V_F", "mL", "forward volume over ejection", vf, no_ejection);
+  add("forward_volume", "V_F", "mL", "forward volume: the forward-flow lobe, t_ff to t_es", vf, no_ejection);
   add("regurgitant_volume", "V_R", "mL", "closing regurgitant volume (end of ejection to closure)", vr,
       no_ejection);
   add("leakage_volume", "V_L", "mL",
       "leakage volume: minus the integral of Q from closure t_c to the cycle's end", vl,
       vl && *vl < 0.0 ? "negative: net forward flow after closure" : no_ejection);
   add("regurgitant_fraction", "RF", "%", "(V_R + V_L) / V_F", rf, no_ejection);
-  add("transvalvular_pressure_gradient", "TPG", "mmHg", "mean P_nlv - P_nao over ejection", tpg, no_ejection);
-  add("rms_forward_flow", "Q_rms", "mL/s", "root mean square flow over ejection", qrms, no_ejection);
+  add("transvalvular_pressure_gradient", "TPG", "mmHg", "mean P_nlv - P_nao over ejection, t_bs to t_es", tpg,
+      no_ejection);
+  add("rms_forward_flow", "Q_rms", "mL/s", "root mean square flow over ejection, t_bs to t_es", qrms,
+      no_ejection);
   add("effective_orifice_area", "EOA", "cm^2", "Q_rms / (51.6 sqrt(TPG / rho))", eoa,
       forward && !eoa ? "TPG <= 0" : no_ejection);
   const auto dp_q =

@@ -5,8 +5,15 @@
 // Phase rules (every threshold is a setting; docs/hemodynamics.md explains them with figures):
 //  * Cycle: [t0 + k T, t0 + (k+1) T], T = `period`, t0 the first sample, k = `cycle` (-1: the last full
 //    cycle in the series). Columns are interpolated linearly at the two ends.
-//  * Forward ejection [t_bs, t_es]: the lobe of Q > forward_threshold that holds the cycle's largest
+//  * Forward flow [t_ff, t_es]: the lobe of Q > forward_threshold that holds the cycle's largest
 //    flow; its ends are the threshold crossings next to the peak, found by linear interpolation.
+//  * Ejection [t_bs, t_es], the valve open and the flow forward: t_bs is the latest of three instants
+//    before the peak flow, each the start of its condition's last rise: forward flow (t_ff), the
+//    pressure across the leaflets turned forward (P_nlv - P_nao rises through 0) and, with a varying
+//    orifice area, the orifice opening (the opening phase's start below). Closed leaflets that bulge
+//    as the ventricle's pressure rises push fluid through the flow plane before the valve opens; that
+//    displacement flow is forward flow but not ejection. The TPG, Q_rms and EOA are means over
+//    [t_bs, t_es]; the report gives them also on the windows the other two instants would open.
 //  * Closure t_c, rule "flow" (the default): after t_es, find the peak regurgitant flow Q_min (most
 //    negative Q before the end of the cycle) and the leakage flow Q_end (Q at the end of the cycle,
 //    late diastole); t_c is the first time after the peak that Q has recovered to
@@ -16,14 +23,14 @@
 //    (normalised area falls to closed_area_fraction). Rule "auto": "area" when an orifice-area column
 //    varies, else "flow".
 //  * Closing regurgitation [t_es, t_c]; leakage [t_c, t1], from closure to the cycle's end (the study's
-//    definition, docs/reference.md); the flow before ejection, [t0, t_bs], is in neither.
+//    definition, docs/reference.md); the flow before forward flow, [t0, t_ff], is in neither.
 //  * Orifice area a(t) = (A - A_min) / (A_max - A_min), A_max the cycle's largest area and A_min the
 //    smallest on the same side of it (before it for the opening, after it for the closing): opening
 //    from the last upward crossing of closed_area_fraction before a first reaches open_area_fraction,
 //    fully open from then to the last time a >= open_area_fraction, closing from then to the next
 //    downward crossing of closed_area_fraction.
 // Metrics (integrals: trapezoidal rule on the samples, ends of phases interpolated linearly):
-//  V_F = int_{t_bs}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -int_{t_c}^{t1} Q;
+//  V_F = int_{t_ff}^{t_es} Q;  V_R = -int_{t_es}^{t_c} Q;  V_L = -int_{t_c}^{t1} Q;
 //  RF = (V_R + V_L) / V_F * 100;  TPG = mean over [t_bs, t_es] of P_nlv - P_nao;
 //  Q_rms = sqrt(mean over [t_bs, t_es] of Q^2);  EOA = Q_rms / (51.6 sqrt(TPG / rho));
 //  E_L = k * int_{t0}^{t1} (P_LV - P_Ao) Q dt with k = 1 mmHg mL in mJ (0.133322): the study writes
@@ -34,6 +41,7 @@
 //  EROA_d = max |Q| / sqrt(2 min(P_nao - P_nlv) / rho) over the cycle's last quarter: the closed
 //  criterion (docs/hemodynamics.md, "Closed"). P_Wk at the cycle's ends and the outlet volume say how
 //  periodic the cycle is.
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,13 +68,28 @@ struct MetricSettings {
 
 /// Instants of the analysed cycle, s (NaN when a phase was not found).
 struct Phases {
-  double cycle_start = 0.0, cycle_end = 0.0;
-  double ejection_start = 0.0, ejection_end = 0.0; // t_bs, t_es
-  double closure = 0.0;                            // t_c
-  double peak_forward_time = 0.0, peak_regurgitant_time = 0.0;
+  static constexpr double not_found = std::numeric_limits<double>::quiet_NaN();
+  double cycle_start = not_found, cycle_end = not_found;
+  double forward_flow_start = not_found; // t_ff: the forward-flow lobe's start
+  double pressure_crossover = not_found; // P_nlv - P_nao's last rise through 0 before the peak flow
+  double ejection_start = not_found, ejection_end = not_found; // t_bs, t_es
+  std::string ejection_start_condition; // which condition set t_bs: "forward flow", "pressure crossover"
+                                        // or "orifice opening"
+  double closure = not_found;           // t_c
+  double peak_forward_time = not_found, peak_regurgitant_time = not_found;
   std::string closure_rule; // the rule applied ("flow" or "area")
   // From the orifice area (NaN without one).
-  double opening_start = 0.0, fully_open_start = 0.0, fully_open_end = 0.0, closing_end = 0.0;
+  double opening_start = not_found, fully_open_start = not_found, fully_open_end = not_found,
+         closing_end = not_found;
+};
+
+/// The means over ejection on the window one condition alone would open, [start, t_es]: how far the
+/// TPG, Q_rms and EOA depend on the rule for t_bs.
+struct EjectionWindow {
+  std::string condition; // "forward flow", "pressure crossover" or "orifice opening"
+  double start = 0.0;    // s
+  double transvalvular_pressure_gradient = 0.0, rms_forward_flow = 0.0; // mmHg, mL/s
+  std::optional<double> effective_orifice_area;                         // cm^2, missing if TPG <= 0
 };
 
 /// One reported quantity. `value` is empty when it cannot be computed for this run (with `note`).
@@ -82,7 +105,8 @@ struct Metric {
 struct ValveMetrics {
   Phases phases;
   std::vector<Metric> metrics;
-  std::vector<std::string> notes; // how the phases were found, what is missing and why
+  std::vector<std::string> notes;               // how the phases were found, what is missing and why
+  std::vector<EjectionWindow> ejection_windows; // one per condition found, the chosen one among them
   const Metric* find(const std::string& key) const;
   /// The value of a metric, or NaN when missing or unknown.
   double value(const std::string& key) const;

@@ -195,7 +195,10 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
   const Phases& p = metrics.phases;
   const Json phases{{"cycle_start", p.cycle_start},
                     {"cycle_end", p.cycle_end},
+                    {"forward_flow_start", p.forward_flow_start},
+                    {"pressure_crossover", p.pressure_crossover},
                     {"ejection_start", p.ejection_start},
+                    {"ejection_start_condition", p.ejection_start_condition},
                     {"ejection_end", p.ejection_end},
                     {"closure", p.closure},
                     {"closure_rule", p.closure_rule},
@@ -208,6 +211,15 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
   Json values = Json::object();
   for (const Metric& m : metrics.metrics)
     values[m.key] = metric_json(m.symbol, m.unit, m.description, m.value, m.note);
+  Json windows = Json::array();
+  for (const EjectionWindow& e : metrics.ejection_windows)
+    windows.push_back(Json{{"condition", e.condition},
+                           {"start", e.start},
+                           {"chosen", e.condition == p.ejection_start_condition},
+                           {"transvalvular_pressure_gradient", e.transvalvular_pressure_gradient},
+                           {"rms_forward_flow", e.rms_forward_flow},
+                           {"effective_orifice_area",
+                            e.effective_orifice_area ? Json(*e.effective_orifice_area) : Json(nullptr)}});
   Json notes = Json::array();
   for (const auto& n : metrics.notes) notes.push_back(n);
   const fs::path extra_file = run_directory / "extra_metrics.json";
@@ -239,14 +251,10 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
     }
     notes.push_back("metrics added from extra_metrics.json");
   }
-  return Json{{"ibvalve_metrics", 1},
-              {"run", run_name},
-              {"source", "timeseries.csv"},
-              {"settings", settings_json},
-              {"phases", phases},
-              {"metrics", values},
-              {"notes", notes},
-              {"provenance", provenance_document(run_directory)}};
+  return Json{
+      {"ibvalve_metrics", 1},      {"run", run_name},  {"source", "timeseries.csv"},
+      {"settings", settings_json}, {"phases", phases}, {"ejection_windows", windows},
+      {"metrics", values},         {"notes", notes},   {"provenance", provenance_document(run_directory)}};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -300,6 +308,18 @@ kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::p
     phase_rows.push_back(row);
   }
   values.set("phases", phase_rows);
+  data window_rows{data::type::list};
+  for (const Json& e : doc.value("ejection_windows", Json::array())) {
+    data row;
+    row.set("condition", e.at("condition").get<std::string>());
+    row.set("start", format_value(number(e.at("start"))));
+    row.set("chosen", e.at("chosen").get<bool>());
+    row.set("tpg", format_value(number(e.at("transvalvular_pressure_gradient"))));
+    row.set("qrms", format_value(number(e.at("rms_forward_flow"))));
+    row.set("eoa", format_value(number(e.at("effective_orifice_area"))));
+    window_rows.push_back(row);
+  }
+  values.set("ejection_windows", window_rows);
   values.set("plots", plot_template_rows(plots, report_plots));
   data notes{data::type::list};
   for (const auto& n : doc.at("notes")) {

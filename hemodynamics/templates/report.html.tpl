@@ -2,7 +2,7 @@
     A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
     those of report.md.tpl:
       run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
-      unit, note), phases (name, time), plots (file, caption, png_base64), notes (text),
+      unit, note), phases (name, time), ejection_windows (condition, start, chosen, tpg, qrms, eoa), plots (file, caption, png_base64), notes (text),
       provenance (name, value), inputs (key, value).
     The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
@@ -34,6 +34,14 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 {{#phases}}
 <tr><td>{{name}}</td><td class="value">{{time}}</td></tr>
 {{/phases}}
+</table>
+<h2>Ejection window</h2>
+<p>TPG, Q_rms and EOA are means over ejection, from t_bs, the latest of the conditions below (the valve open and the flow forward), to the end of forward flow t_es. On the window each condition alone would open they are:</p>
+<table id="ejection_windows">
+<tr><th>t_bs from</th><th>start (s)</th><th>TPG (mmHg)</th><th>Q_rms (mL/s)</th><th>EOA (cm^2)</th><th></th></tr>
+{{#ejection_windows}}
+<tr><td>{{condition}}</td><td class="value">{{start}}</td><td class="value">{{tpg}}</td><td class="value">{{qrms}}</td><td class="value">{{eoa}}</td><td>{{#chosen}}used{{/chosen}}</td></tr>
+{{/ejection_windows}}
 </table>
 <h2>Plots</h2>
 {{#plots}}

@@ -6,6 +6,9 @@
                                 value (4 significant digits, or "missing"), exact (every digit, or
                                 "null"), missing (true when there is no value), unit, note
       phases                    list: name, time (s, 4 significant digits, "missing", or a rule's name)
+      ejection_windows          list: condition, start (s), chosen (true for the window the metrics
+                                use), tpg (mmHg), qrms (mL/s), eoa (cm^2): the means over ejection on
+                                the window each condition alone would open
       plots                     list: file (PNG beside the report), caption, png_base64
       notes                     list: text
       provenance                list: name, value (case file, the build that ran it, start, ranks,
@@ -29,6 +32,18 @@ Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
 {{#phases}}
 | {{name}} | {{time}} |
 {{/phases}}
+
+## Ejection window
+
+TPG, Q_rms and EOA are means over ejection, from t_bs, the latest of the conditions below (the valve
+open and the flow forward), to the end of forward flow t_es. On the window each condition alone
+would open they are:
+
+| t_bs from | start (s) | TPG (mmHg) | Q_rms (mL/s) | EOA (cm^2) | |
+|---|---|---|---|---|---|
+{{#ejection_windows}}
+| {{condition}} | {{start}} | {{tpg}} | {{qrms}} | {{eoa}} | {{#chosen}}used{{/chosen}} |
+{{/ejection_windows}}
 
 ## Plots
 

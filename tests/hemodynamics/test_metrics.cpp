@@ -5,7 +5,8 @@
 // closing backflow on [0.4, 0.46] s (80 mL/s), a half-sine leakage lobe over the rest of diastole
 // (6 mL/s) and a short backflow lobe just before opening (8 mL/s). The lobes' slopes match where Q
 // crosses zero (so the crossings are smooth, as a real flow's are). P_nlv - P_nao = 8 mmHg,
-// P_LV - P_Ao = k Q, a trapezoidal orifice area. Every metric has a closed form; the series is
+// P_LV - P_Ao = k Q, a trapezoidal orifice area that starts to open 4 ms before the flow turns forward
+// (so the forward flow's start is the ejection's, t_bs). Every metric has a closed form; the series is
 // sampled uniformly and non-uniformly with spacings up to ~2e-5 s, and the second cycle analysed.
 #include <cmath>
 #include <filesystem>
@@ -34,7 +35,7 @@ constexpr double D_r = 0.06, A_r = A_f * D_r / D_f;  // slope matched at t_es
 constexpr double d_p = 0.006, B_p = A_f * d_p / D_f; // slope matched at t_bs
 constexpr double t_leak = t_es + D_r, D_L = T + t_bs - d_p - t_leak, B_L = 6.0;
 constexpr double dP = 8.0, k_loss = 0.02;
-constexpr double area_closed = 0.01, area_open_extra = 3.0;
+constexpr double area_closed = 0.01, area_open_extra = 3.0, area_opens = t_bs - 0.004;
 
 double flow(double t)
 {
@@ -50,9 +51,9 @@ double area(double t)
 {
   const double tau = std::fmod(t, T);
   double r = 0.0;
-  if (tau >= 0.1 && tau < 0.14)
-    r = (tau - 0.1) / 0.04;
-  else if (tau >= 0.14 && tau < 0.36)
+  if (tau >= area_opens && tau < area_opens + 0.04)
+    r = (tau - area_opens) / 0.04;
+  else if (tau >= area_opens + 0.04 && tau < 0.36)
     r = 1.0;
   else if (tau >= 0.36 && tau < 0.42)
     r = 1.0 - (tau - 0.36) / 0.06;
@@ -220,8 +221,8 @@ TEST(Metrics, AreaRuleAndOrificeDurationsMatchClosedForms)
     EXPECT_EQ(m.phases.closure_rule, "area");
     check_all(m, e, label);
     expect_relative(m.value("opening_duration"), (0.9 - 0.05) * 0.04 * 1e3, 1e-6, label + " opening");
-    expect_relative(m.value("fully_open_duration"), (0.36 + 0.1 * 0.06 - (0.1 + 0.9 * 0.04)) * 1e3, 1e-6,
-                    label + " fully open");
+    expect_relative(m.value("fully_open_duration"), (0.36 + 0.1 * 0.06 - (area_opens + 0.9 * 0.04)) * 1e3,
+                    1e-6, label + " fully open");
     expect_relative(m.value("closing_duration"), (0.95 - 0.1) * 0.06 * 1e3, 1e-6, label + " closing");
     expect_relative(m.value("max_orifice_area"), area_closed + area_open_extra, 1e-12, label + " max area");
   }
@@ -249,7 +250,7 @@ TEST(Metrics, EachOrificePhaseIsJudgedAgainstTheClosedStateOnItsSide)
   // with the phase past its middle; a = open on the ramp, area_closed + extra r = a_min + open range.
   const double phase = pi - std::asin((area_closed - (a_min + closed * range)) / depth);
   const double opening_start = dip_start + dip_length * phase / pi;
-  const double fully_open_start = 0.1 + 0.04 * (a_min + open * range - area_closed) / area_open_extra;
+  const double fully_open_start = area_opens + 0.04 * (a_min + open * range - area_closed) / area_open_extra;
   expect_relative(m.value("opening_duration"), (fully_open_start - opening_start) * 1e3, 1e-6, "opening");
   expect_relative(m.value("fully_open_duration"), (0.36 + (1.0 - open) * 0.06 - fully_open_start) * 1e3, 1e-6,
                   "fully open");
@@ -363,7 +364,7 @@ TEST(Metrics, IntegrationAndWindowsAreExactForLinearData)
 }
 
 // The leaflet-state columns of a 3-D run, linear in t so that the values at the orifice phases'
-// instants are exact: fully opened (a reaches 0.9 at 0.1 + 0.9 x 0.04 s), pre-close (a leaves 0.9 at
+// instants are exact: fully opened (a reaches 0.9 at area_opens + 0.9 x 0.04 s), pre-close (a leaves 0.9 at
 // 0.36 + 0.1 x 0.06 s) and fully closed (a falls to 0.05 at 0.36 + 0.95 x 0.06 s), in the second cycle.
 TEST(Metrics, LeafletStateIsReadAtTheFullyOpenedPreCloseAndFullyClosedInstants)
 {
@@ -382,7 +383,8 @@ TEST(Metrics, LeafletStateIsReadAtTheFullyOpenedPreCloseAndFullyClosedInstants)
   for (const auto& [name, ab] : linear)
     for (double t : times) s.leaflet_state[name].push_back(ab.first + ab.second * t);
   const hd::ValveMetrics m = hd::compute_metrics(s, {});
-  const double open = T + 0.1 + 0.9 * 0.04, preclose = T + 0.36 + 0.1 * 0.06, closed = T + 0.36 + 0.95 * 0.06;
+  const double open = T + area_opens + 0.9 * 0.04, preclose = T + 0.36 + 0.1 * 0.06,
+               closed = T + 0.36 + 0.95 * 0.06;
   const std::vector<std::tuple<std::string, const char*, double, double>> cases{
       {"leaflet_displacement_mean_open", hd::column::displacement_mean, open, 1.0},
       {"leaflet_displacement_mean_preclose", hd::column::displacement_mean, preclose, 1.0},
@@ -440,4 +442,134 @@ TEST(Metrics, LeafletStateIsReadAtTheFullyOpenedPreCloseAndFullyClosedInstants)
   EXPECT_DOUBLE_EQ(read.value("leaflet_displacement_max_preclose"),
                    m.value("leaflet_displacement_max_preclose"));
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// A cycle whose closed leaflets bulge before they open: forward flow through the flow plane from
+// 0.05 s, the pressure across the leaflets turning forward at 0.08 s and the orifice opening from
+// 0.1 s; forward flow ends at 0.4 s. Q = A sin(pi (tau - 0.05) / 0.35) over [0.05, 0.4], a backflow lobe
+// after it, P_nlv - P_nao = G(tau) = slope (tau - 0.08) up to 0.12 s, then 20 mmHg until 0.4 s, then
+// -40 mmHg; the orifice area ramps from closed to open over [0.1, 0.14] s.
+constexpr double bulge_start = 0.05, bulge_flow_end = 0.4, bulge_amplitude = 400.0;
+constexpr double crossover = 0.08, gradient_slope = 500.0, gradient_plateau = 20.0;
+constexpr double orifice_opens = 0.1, orifice_ramp = 0.04;
+
+double bulge_gradient(double tau)
+{
+  if (tau < 0.12) return gradient_slope * (tau - crossover);
+  return tau < bulge_flow_end ? gradient_plateau : -40.0;
+}
+
+hd::ValveSeries bulging_leaflets(const std::vector<double>& times, bool with_area)
+{
+  hd::ValveSeries s;
+  for (double t : times) {
+    const double tau = std::fmod(t, T);
+    const double length = bulge_flow_end - bulge_start;
+    double q = tau < bulge_start ? 0.0 : -1.0; // no flow, then the bulge: Q is continuous at t_ff
+    if (tau >= bulge_start && tau < bulge_flow_end)
+      q = bulge_amplitude * std::sin(pi * (tau - bulge_start) / length);
+    else if (tau >= bulge_flow_end && tau < bulge_flow_end + 0.06)
+      q = -60.0 * std::sin(pi * (tau - bulge_flow_end) / 0.06);
+    s.t.push_back(t);
+    s.valve_flow.push_back(q);
+    s.near_aortic_pressure.push_back(80.0);
+    s.near_lv_pressure.push_back(80.0 + bulge_gradient(tau));
+    s.aortic_pressure.push_back(80.0);
+    s.lv_pressure.push_back(80.0 + bulge_gradient(tau));
+    if (with_area) {
+      const double r = std::clamp((tau - orifice_opens) / orifice_ramp, 0.0, 1.0) *
+                       (tau < 0.36 ? 1.0 : std::max(0.0, 1.0 - (tau - 0.36) / 0.06));
+      s.orifice_area.push_back(0.1 + 2.0 * r);
+    }
+  }
+  return s;
+}
+
+/// TPG, Q_rms and EOA of bulging_leaflets over [start, bulge_flow_end] of a cycle, in closed form.
+std::tuple<double, double, double> bulge_means(double start)
+{
+  const double end = bulge_flow_end, length = end - bulge_start;
+  const double gradient_integral =
+      gradient_slope / 2 * (std::pow(0.12 - crossover, 2) - std::pow(start - crossover, 2)) +
+      gradient_plateau * (end - 0.12);
+  // int sin^2(pi (tau - t_ff) / L) = (tau - t_ff) / 2 - L / (4 pi) sin(2 pi (tau - t_ff) / L)
+  auto sin2 = [&](double tau) {
+    return (tau - bulge_start) / 2 - length / (4 * pi) * std::sin(2 * pi * (tau - bulge_start) / length);
+  };
+  const double tpg = gradient_integral / (end - start);
+  const double qrms = bulge_amplitude * std::sqrt((sin2(end) - sin2(start)) / (end - start));
+  return {tpg, qrms, qrms / (51.6 * std::sqrt(tpg))};
+}
+
+} // namespace
+
+TEST(Metrics, DisplacementFlowBeforeTheValveOpensIsNotEjection)
+{
+  // Under the rule of forward flow alone, t_bs was 0.05 s: the TPG then averaged the 30 ms of closed,
+  // bulging leaflets held shut by a backward pressure difference. Now the window opens when the valve
+  // does: at the orifice's opening (area past closed_area_fraction) with an area, at the pressure
+  // crossover without one. V_F still counts the whole forward-flow lobe.
+  hd::MetricSettings settings;
+  const double area_crossing = orifice_opens + settings.closed_area_fraction * orifice_ramp;
+  const double vf = 2 * bulge_amplitude * (bulge_flow_end - bulge_start) / pi;
+  for (const bool with_area : {true, false}) {
+    const std::string label = with_area ? "with an orifice area" : "without one";
+    const hd::ValveMetrics m = hd::compute_metrics(bulging_leaflets(uniform(1e-5), with_area), settings);
+    const double start = with_area ? area_crossing : crossover;
+    expect_relative(m.phases.forward_flow_start, T + bulge_start, 1e-8, label + " t_ff");
+    expect_relative(m.phases.pressure_crossover, T + crossover, 1e-8, label + " crossover");
+    expect_relative(m.phases.ejection_start, T + start, 1e-8, label + " t_bs");
+    EXPECT_EQ(m.phases.ejection_start_condition, with_area ? "orifice opening" : "pressure crossover")
+        << label;
+    expect_relative(m.phases.ejection_end, T + bulge_flow_end, 1e-8, label + " t_es");
+    const auto [tpg, qrms, eoa] = bulge_means(start);
+    expect_relative(m.value("transvalvular_pressure_gradient"), tpg, 1e-6, label + " TPG");
+    expect_relative(m.value("rms_forward_flow"), qrms, 1e-6, label + " Q_rms");
+    expect_relative(m.value("effective_orifice_area"), eoa, 1e-6, label + " EOA");
+    expect_relative(m.value("ejection_duration"), (bulge_flow_end - start) * 1e3, 1e-6, label + " T_ej");
+    expect_relative(m.value("forward_volume"), vf, 1e-6, label + " V_F");
+
+    // Each condition's own window, with its means: how far the figures depend on the rule.
+    ASSERT_EQ(m.ejection_windows.size(), with_area ? 3u : 2u) << label;
+    for (const hd::EjectionWindow& w : m.ejection_windows) {
+      const double expected_start = w.condition == "forward flow"         ? bulge_start
+                                    : w.condition == "pressure crossover" ? crossover
+                                                                          : area_crossing;
+      expect_relative(w.start, T + expected_start, 1e-8, label + " " + w.condition);
+      if (expected_start < crossover) {
+        // From t_ff the window holds the backward gradient of the closed leaflets: a lower mean.
+        EXPECT_LT(w.transvalvular_pressure_gradient, tpg) << label;
+        continue;
+      }
+      const auto [w_tpg, w_qrms, w_eoa] = bulge_means(expected_start);
+      expect_relative(w.transvalvular_pressure_gradient, w_tpg, 1e-6, label + " " + w.condition + " TPG");
+      expect_relative(w.rms_forward_flow, w_qrms, 1e-6, label + " " + w.condition + " Q_rms");
+      ASSERT_TRUE(w.effective_orifice_area) << label;
+      expect_relative(*w.effective_orifice_area, w_eoa, 1e-6, label + " " + w.condition + " EOA");
+    }
+  }
+}
+
+TEST(Metrics, AnOpeningAfterForwardFlowEndsDoesNotSetTheEjectionStart)
+{
+  // An orifice that opens only after the forward flow has ended (over [0.45, 0.49] s, closing over
+  // [0.6, 0.66] s): it cannot start the ejection, t_bs is the pressure crossover, and a note says why.
+  hd::ValveSeries s = bulging_leaflets(uniform(1e-4), true);
+  for (std::size_t i = 0; i < s.t.size(); ++i) {
+    const double tau = std::fmod(s.t[i], T);
+    s.orifice_area[i] = 0.1 + 2.0 * std::clamp((tau - 0.45) / 0.04, 0.0, 1.0) *
+                                  std::clamp(1.0 - (tau - 0.6) / 0.06, 0.0, 1.0);
+  }
+  const hd::ValveMetrics m = hd::compute_metrics(s, hd::MetricSettings{});
+  EXPECT_GT(m.phases.opening_start, m.phases.ejection_end);
+  expect_relative(m.phases.ejection_start, T + crossover, 1e-8, "t_bs");
+  EXPECT_EQ(m.phases.ejection_start_condition, "pressure crossover");
+  EXPECT_EQ(m.ejection_windows.size(), 2u); // no window from an opening after the flow's end
+  bool noted = false;
+  for (const std::string& note : m.notes)
+    noted = noted || (note.find("orifice opening") != std::string::npos &&
+                      note.find("after forward flow ends") != std::string::npos);
+  EXPECT_TRUE(noted);
 }
