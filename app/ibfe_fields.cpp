@@ -63,6 +63,7 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
   for (std::size_t i = 0; i < nodes; ++i)
     for (int d = 0; d < 3; ++d) coordinates[3 * i + d] = x[i][d];
   const fe::ElementFields ef = solid.element_fields(ibfe.displacement());
+  const std::vector<double> stable_steps = ibfe.element_stable_steps(ibfe.displacement());
   // Fibers per element: the reference f0 (the element's frame, zero where a part has none) and the
   // current f = F f0 / |F f0| that element_fields already averages; both unit vectors or zero.
   std::vector<double> fiber_reference(3 * elements), fiber_direction(3 * elements);
@@ -99,7 +100,8 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
                           {"fiber_strain", io::Center::cell, ef.fiber_strain, false, "1"},
                           {"fiber_stress", io::Center::cell, ef.fiber_stress, false, "dyn/cm^2"},
                           {"fiber_direction", io::Center::cell, fiber_direction, true, "1"},
-                          {"fiber_reference", io::Center::cell, fiber_reference, true, "1"}};
+                          {"fiber_reference", io::Center::cell, fiber_reference, true, "1"},
+                          {"stable_step", io::Center::cell, stable_steps, false, "s"}};
   for (const Field& f : fields) {
     const std::size_t count = f.center == io::Center::node ? nodes : elements;
     std::vector<hsize_t> dims{count};

@@ -103,6 +103,11 @@ class SolidModel {
 
   /// F at point q of element e for the replicated displacement u.
   Mat3 deformation_gradient(std::span<const double> u, std::size_t e, int q) const;
+  /// The element's mean F, where its centre laws are evaluated (centre_quadrature() must exist).
+  Mat3 centre_deformation_gradient(std::span<const double> u, std::size_t e) const
+  {
+    return deformation_gradient(*centre_, u, e, 0);
+  }
 
   /// Nodal forces (replicated on every rank, summed over them). `forces` is overwritten.
   void forces(std::span<const double> u, std::span<double> forces) const;

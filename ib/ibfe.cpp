@@ -89,8 +89,9 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   const StabilityEstimate s = stability_estimate();
   base::Logger::global().info(fmt::format(
       "ib: IB/FE coupling with the {} kernel, {} coupling points at the start; stable time step estimate {} "
-      "s (structure modulus {} dyn/cm^2, length {} cm)",
-      interaction_.kernel().name(), points_.size(), format(s.dt), format(s.modulus), format(s.length)));
+      "s (structure modulus {} dyn/cm^2, length {} cm; {})",
+      interaction_.kernel().name(), points_.size(), format(s.dt), format(s.modulus), format(s.length),
+      describe_stability_terms(s)));
 }
 
 std::string describe_time_step(double dt, const StabilityEstimate& s)
@@ -318,34 +319,107 @@ double IbfeIntegrator::volume() const
   return total;
 }
 
-StabilityEstimate IbfeIntegrator::stability_estimate() const
+namespace {
+
+/// The stiffness an isochoric perturbation dF meets at F: the largest |eigenvalue| of sym(dP/dF)
+/// projected orthogonally to n = F^-T / |F^-T| (flattened column-major, as the tangent).
+double isochoric_modulus(const materials::Mat3& F, const materials::Tangent& T)
+{
+  const materials::Mat3 inverse_transpose = F.inverse().transpose();
+  Eigen::Matrix<double, 9, 1> n = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(inverse_transpose.data());
+  n.normalize();
+  const materials::Tangent projector = materials::Tangent::Identity() - n * n.transpose();
+  const materials::Tangent symmetric = projector * (0.5 * (T + T.transpose())) * projector;
+  const Eigen::SelfAdjointEigenSolver<materials::Tangent> eigen(symmetric, Eigen::EigenvaluesOnly);
+  return eigen.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+} // namespace
+
+std::vector<double> IbfeIntegrator::element_moduli(std::span<const double> displacement) const
+{
+  if (!displacement.empty() && displacement.size() != solid_.num_dofs())
+    throw std::invalid_argument("ib: element_moduli: displacement has the wrong size");
+  const fe::QuadratureData& rule = solid_.quadrature();
+  std::vector<double> moduli(solid_.mesh().num_elements(), 0.0);
+  for (const fe::BodyPart& part : solid_.parts())
+    for (const int element : part.elements) {
+      const auto e = static_cast<std::size_t>(element);
+      const bool reference = displacement.empty();
+      const materials::Mat3 centre_F = reference || !solid_.centre_quadrature()
+                                           ? materials::Mat3::Identity()
+                                           : solid_.centre_deformation_gradient(displacement, e);
+      materials::Tangent centre = materials::Tangent::Zero();
+      for (const auto& law : part.centre_laws) centre += law->tangent(centre_F, solid_.centre_fibers(e));
+      for (int q = 0; q < rule.points_per_element(); ++q) {
+        const materials::Mat3 F =
+            reference ? materials::Mat3::Identity() : solid_.deformation_gradient(displacement, e, q);
+        materials::Tangent T = centre;
+        for (const auto& law : part.laws) T += law->tangent(F, solid_.fibers(e, q));
+        moduli[e] = std::max(moduli[e], isochoric_modulus(F, T));
+      }
+    }
+  return moduli;
+}
+
+double IbfeIntegrator::stable_step(double omega2) const
+{
+  const double h = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  const double gamma = 12.0 * fluid_.viscosity() / (fluid_.density() * h * h);
+  return omega2 > 0.0 ? std::max(2.0 / std::sqrt(omega2), 2.0 * gamma / omega2) : 1e300;
+}
+
+std::vector<double> IbfeIntegrator::element_stable_steps(std::span<const double> displacement) const
+{
+  const double h = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  std::vector<double> steps = element_moduli(displacement);
+  for (double& step : steps) step = stable_step(12.0 * step / (fluid_.density() * h * h));
+  return steps;
+}
+
+StabilityEstimate IbfeIntegrator::stability_estimate(std::span<const double> displacement) const
 {
   StabilityEstimate s;
-  for (const fe::BodyPart& part : solid_.parts()) {
-    if (part.elements.empty()) continue;
-    materials::Tangent T = materials::Tangent::Zero();
-    const materials::FiberFrame& fibers = solid_.fibers(static_cast<std::size_t>(part.elements.front()), 0);
-    for (const auto& law : part.laws) T += law->tangent(materials::Mat3::Identity(), fibers);
-    for (const auto& law : part.centre_laws) T += law->tangent(materials::Mat3::Identity(), fibers);
-    // The fluid keeps the motion (nearly) isochoric, so volumetric modes are not excited: the
-    // stiffness that matters is the tangent on trace-free perturbations of F.
-    materials::Tangent deviatoric = materials::Tangent::Identity();
-    for (int i : {0, 4, 8})
-      for (int j : {0, 4, 8}) deviatoric(i, j) -= 1.0 / 3.0;
-    const materials::Tangent symmetric = deviatoric * (0.5 * (T + T.transpose())) * deviatoric;
-    const Eigen::SelfAdjointEigenSolver<materials::Tangent> eigen(symmetric, Eigen::EigenvaluesOnly);
-    s.modulus = std::max(s.modulus, eigen.eigenvalues().cwiseAbs().maxCoeff());
-  }
-  for (const auto& [w, t] : tethers_)
-    for (double wa : w) s.tether_stiffness = std::max(s.tether_stiffness, t.stiffness * wa);
   s.length = std::max(h_min_, solid_.mesh().edge_length_range().first);
   const double rho = fluid_.density(), mu = fluid_.viscosity(), h = s.length;
-  const double omega2 = 12.0 * s.modulus / (rho * h * h) + s.tether_stiffness / (rho * h * h * h);
+  const std::vector<double> moduli = element_moduli(displacement);
+  double largest_part = 0.0, largest_tether = 0.0;
+  for (const fe::BodyPart& part : solid_.parts()) {
+    if (part.elements.empty()) continue;
+    double modulus = 0.0;
+    for (const int e : part.elements) modulus = std::max(modulus, moduli[static_cast<std::size_t>(e)]);
+    s.modulus = std::max(s.modulus, modulus);
+    const double omega2 = 12.0 * modulus / (rho * h * h);
+    largest_part = std::max(largest_part, omega2);
+    s.terms.push_back({"part " + part.name, omega2, stable_step(omega2)});
+  }
+  for (const auto& [w, t] : tethers_) {
+    double stiffest = 0.0;
+    for (double wa : w) stiffest = std::max(stiffest, t.stiffness * wa);
+    s.tether_stiffness = std::max(s.tether_stiffness, stiffest);
+    const double omega2 = stiffest / (rho * h * h * h);
+    largest_tether = std::max(largest_tether, omega2);
+    s.terms.push_back({"tether " + t.group, omega2, stable_step(omega2)});
+  }
+  const double omega2 = largest_part + largest_tether;
   const double gamma = 12.0 * mu / (rho * h * h);
   s.inertial_dt = omega2 > 0.0 ? 2.0 / std::sqrt(omega2) : 1e300;
   s.viscous_dt = omega2 > 0.0 ? 2.0 * gamma / omega2 : 1e300;
   s.dt = std::max(s.inertial_dt, s.viscous_dt);
+  std::stable_sort(s.terms.begin(), s.terms.end(),
+                   [](const auto& a, const auto& b) { return a.omega2 > b.omega2; });
   return s;
+}
+
+std::string describe_stability_terms(const StabilityEstimate& s)
+{
+  // omega^2 of the estimate: the largest part's plus the largest tether's.
+  const double omega2 = s.inertial_dt < 1e300 ? 4.0 / (s.inertial_dt * s.inertial_dt) : 0.0;
+  std::string out;
+  for (const auto& t : s.terms)
+    out += fmt::format("{}{} {:.0f} % of omega^2 (alone {} s)", out.empty() ? "" : ", ", t.source,
+                       omega2 > 0.0 ? 100.0 * t.omega2 / omega2 : 0.0, format(t.dt));
+  return out;
 }
 
 } // namespace ibvalve::ib

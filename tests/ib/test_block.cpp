@@ -4,6 +4,7 @@
 // forces sum to zero and spreading conserves the total force). The same run on 1 and on 2 ranks
 // agrees to solver tolerance over 20 coupled steps.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -218,6 +219,75 @@ TEST(Stability, TheEstimateSeparatesStableFromBlowingUpSteps)
     } else {
       EXPECT_TRUE(failed || largest > 10.0);
     }
+  }
+}
+
+TEST(Stability, TheEstimateAddsTheStiffestPartToTheStiffestTetherAndNamesEachSource)
+{
+  // A neo-Hookean block (mu = 100 dyn/cm^2) with a volume tether: at F = I the isochoric modulus is
+  // E = 2 mu (dP/dF = mu (dF + dF^T) + lambda tr(dF) I, whose symmetric trace-free eigenvalue is 2 mu),
+  // so the part's omega^2 is 12 (2 mu) / (rho h^2); the tether's is kappa w / (rho h^3) with w the
+  // weight int N_a dX of an interior node, the volume of one 0.05 cm cube element.
+  constexpr double mu = 100.0, kappa = 2e4, rho = 1.0, viscosity = 0.1;
+  auto fluid = periodic_fluid(PETSC_COMM_WORLD, 16, rho, viscosity);
+  const fe::Mesh mesh = block_mesh();
+  fe::SolidModel solid(mesh, one_part(mesh, neo_hookean(mu, 1000.0)), 2, PETSC_COMM_WORLD);
+  ib::IbfeSettings settings;
+  settings.tethers.push_back({"body", kappa, 0.0});
+  const ib::IbfeIntegrator ibfe(*fluid, solid, settings);
+  const ib::StabilityEstimate s = ibfe.stability_estimate();
+  const double h = 1.0 / 16.0; // the grid spacing: larger than the smallest edge, 0.05 cm
+  EXPECT_DOUBLE_EQ(s.length, h);
+  EXPECT_NEAR(s.modulus, 2.0 * mu, 1e-12 * mu);
+  const double part = 12.0 * 2.0 * mu / (rho * h * h),
+               tether = kappa * 0.05 * 0.05 * 0.05 / (rho * h * h * h);
+  ASSERT_EQ(s.terms.size(), 2u);
+  // Largest first: here the part.
+  EXPECT_EQ(s.terms[0].source, "part body");
+  EXPECT_EQ(s.terms[1].source, "tether body");
+  EXPECT_NEAR(s.terms[0].omega2, part, 1e-12 * part);
+  EXPECT_NEAR(s.terms[1].omega2, tether, 1e-9 * tether);
+  EXPECT_NEAR(s.inertial_dt, 2.0 / std::sqrt(part + tether), 1e-12 * s.inertial_dt);
+  const double gamma = 12.0 * viscosity / (rho * h * h);
+  for (const auto& term : s.terms) {
+    const double alone = std::max(2.0 / std::sqrt(term.omega2), 2.0 * gamma / term.omega2);
+    EXPECT_NEAR(term.dt, alone, 1e-12 * alone) << term.source;
+    EXPECT_GT(term.dt, s.dt) << term.source; // each alone allows more than both together
+  }
+  // The reference state and a zero displacement are the same state.
+  const std::vector<double> zero(solid.num_dofs(), 0.0);
+  EXPECT_DOUBLE_EQ(ibfe.stability_estimate(zero).dt, s.dt);
+  EXPECT_NE(ib::describe_stability_terms(s).find("part body "), std::string::npos);
+}
+
+TEST(Stability, AnExponentialFiberLawStretchedAlongItsFibersLowersTheEstimate)
+{
+  // A W3 block (C1 = 100 dyn/cm^2, a = 500 dyn/cm^2, b = 50), fibers along x, stretched isochorically
+  // along them by 1.05, 1.1 and 1.15: the fiber term's stiffness grows like exp(b (I4 - 1)^2), so the
+  // modulus rises and the estimate falls with the stretch; the deformation is homogeneous, so every
+  // element's own limit (stable_step in the fields) is the part's.
+  auto fluid = periodic_fluid(PETSC_COMM_WORLD, 16, 1.0, 0.1);
+  const fe::Mesh mesh = block_mesh();
+  auto law = std::make_shared<materials::InvariantLaw>(materials::LawKind::W3,
+                                                       std::vector<double>{100.0, 500.0, 50.0});
+  fe::SolidModel solid(mesh, one_part(mesh, law), 2, PETSC_COMM_WORLD);
+  solid.set_fibers(std::vector<materials::FiberFrame>(
+      mesh.num_elements(), materials::FiberFrame{materials::Vec3::UnitX(), materials::Vec3::Zero()}));
+  const ib::IbfeIntegrator ibfe(*fluid, solid, ib::IbfeSettings{});
+  double previous_modulus = ibfe.stability_estimate().modulus, previous_dt = ibfe.stability_estimate().dt;
+  for (double lambda : {1.05, 1.1, 1.15}) {
+    std::vector<double> u(solid.num_dofs());
+    const fe::Vec3 factor(lambda, 1.0 / std::sqrt(lambda), 1.0 / std::sqrt(lambda));
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n)
+      for (int d = 0; d < 3; ++d) u[3 * n + d] = (factor[d] - 1.0) * (mesh.nodes()[n][d] - 0.5);
+    const ib::StabilityEstimate s = ibfe.stability_estimate(u);
+    if (is_root())
+      std::printf("fiber stretch %.2f: modulus %.4g dyn/cm^2, estimate %.4g s\n", lambda, s.modulus, s.dt);
+    EXPECT_GT(s.modulus, previous_modulus) << lambda;
+    EXPECT_LT(s.dt, previous_dt) << lambda;
+    for (double step : ibfe.element_stable_steps(u)) EXPECT_NEAR(step, s.terms.front().dt, 1e-9 * step);
+    previous_modulus = s.modulus;
+    previous_dt = s.dt;
   }
 }
 
