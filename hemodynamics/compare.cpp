@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <random>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -100,6 +101,17 @@ std::optional<double> metric_value(const CaseResult& c, const std::string& key)
   return v->get<double>();
 }
 
+/// The metric's standard uncertainty, 0 when it carries none. A negative or non-finite one is bad input.
+double metric_uncertainty(const CaseResult& c, const std::string& key)
+{
+  const Json* u = metric_field(c, key, "uncertainty");
+  if (!u || u->is_null()) return 0.0;
+  if (!u->is_number() || !std::isfinite(u->get<double>()) || u->get<double>() < 0.0)
+    throw InputError(fmt::format("{}: metric {}: \"uncertainty\" must be a number >= 0, not {}",
+                                 (c.run_directory / "report" / "metrics.json").string(), key, u->dump()));
+  return u->get<double>();
+}
+
 std::string metric_text(const CaseResult& c, const std::string& key, const char* field)
 {
   const Json* v = metric_field(c, key, field);
@@ -145,6 +157,60 @@ std::string shown(std::optional<double> v)
 
 } // namespace
 
+namespace {
+
+/// Min-max scores of one criterion (best 1, worst 0); all 1 when the spread is within tie_tolerance.
+std::vector<double> scaled(const std::vector<double>& values, bool higher_is_better)
+{
+  const double lo = *std::min_element(values.begin(), values.end());
+  const double hi = *std::max_element(values.begin(), values.end());
+  std::vector<double> scores(values.size(), 1.0);
+  if (hi - lo > tie_tolerance * std::max(std::abs(hi), std::abs(lo)))
+    for (std::size_t i = 0; i < values.size(); ++i)
+      scores[i] = higher_is_better ? (values[i] - lo) / (hi - lo) : (hi - values[i]) / (hi - lo);
+  return scores;
+}
+
+/// The values with each chain of indistinguishable ones (sorted neighbours within tie_coverage
+/// combined standard uncertainties) replaced by the chain's mean.
+std::vector<double> tied(const std::vector<double>& values, const std::vector<double>& uncertainties)
+{
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return values[a] < values[b]; });
+  std::vector<double> out(values);
+  for (std::size_t first = 0; first < order.size();) {
+    std::size_t last = first;
+    while (last + 1 < order.size() &&
+           values[order[last + 1]] - values[order[last]] <=
+               tie_coverage * std::hypot(uncertainties[order[last + 1]], uncertainties[order[last]]))
+      ++last;
+    double mean = 0.0;
+    for (std::size_t p = first; p <= last; ++p) mean += values[order[p]];
+    mean /= static_cast<double>(last - first + 1);
+    for (std::size_t p = first; p <= last; ++p) out[order[p]] = mean;
+    first = last + 1;
+  }
+  return out;
+}
+
+/// Ranks by total, largest first; equal totals share a rank.
+std::vector<int> ranks_of(const std::vector<double>& totals)
+{
+  std::vector<std::size_t> order(totals.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return totals[a] > totals[b]; });
+  std::vector<int> ranks(totals.size());
+  for (std::size_t position = 0; position < order.size(); ++position) {
+    const std::size_t i = order[position];
+    ranks[i] = position > 0 && totals[order[position - 1]] == totals[i] ? ranks[order[position - 1]]
+                                                                        : static_cast<int>(position) + 1;
+  }
+  return ranks;
+}
+
+} // namespace
+
 Ranking rank_cases(std::span<const CaseResult> cases)
 {
   const auto& criteria = ranking_criteria();
@@ -152,43 +218,68 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   r.used.assign(criteria.size(), true);
   r.rows.resize(cases.size());
   for (std::size_t i = 0; i < cases.size(); ++i) r.rows[i].name = cases[i].name;
+  // Per used criterion: the cases' values and standard uncertainties.
+  std::vector<std::size_t> used;
+  std::vector<std::vector<double>> values(criteria.size()), uncertainties(criteria.size());
   for (std::size_t k = 0; k < criteria.size(); ++k) {
     std::vector<std::string> missing;
-    std::vector<double> values;
     for (const auto& c : cases) {
       const auto v = metric_value(c, criteria[k].key);
       if (!v) missing.push_back(c.name);
-      values.push_back(v.value_or(0.0));
+      values[k].push_back(v.value_or(0.0));
+      uncertainties[k].push_back(v ? metric_uncertainty(c, criteria[k].key) : 0.0);
     }
     if (!missing.empty() || cases.empty()) {
       r.used[k] = false;
-      std::string who;
-      for (const auto& m : missing) who += (who.empty() ? "" : ", ") + m;
-      r.left_out.push_back(criteria[k].key + " (missing for: " + who + ")");
+      r.left_out.push_back(fmt::format("{} (missing for: {})", criteria[k].key, fmt::join(missing, ", ")));
       for (auto& row : r.rows) row.scores.push_back(std::nullopt);
       continue;
     }
-    const double lo = *std::min_element(values.begin(), values.end());
-    const double hi = *std::max_element(values.begin(), values.end());
+    used.push_back(k);
+    for (double u : uncertainties[k]) r.uncertain = r.uncertain || u > 0.0;
+    const std::vector<double> scores =
+        scaled(tied(values[k], uncertainties[k]), criteria[k].higher_is_better);
     for (std::size_t i = 0; i < cases.size(); ++i) {
-      double score = 1.0;
-      if (hi - lo > tie_tolerance * std::max(std::abs(hi), std::abs(lo)))
-        score = criteria[k].higher_is_better ? (values[i] - lo) / (hi - lo) : (hi - values[i]) / (hi - lo);
-      r.rows[i].scores.push_back(score);
-      r.rows[i].total += score;
+      r.rows[i].scores.push_back(scores[i]);
+      r.rows[i].total += scores[i];
     }
   }
-  std::vector<std::size_t> order(cases.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return r.rows[a].total > r.rows[b].total; });
-  for (std::size_t position = 0; position < order.size(); ++position) {
-    // Equal totals share a rank.
-    const std::size_t i = order[position];
-    r.rows[i].rank = position > 0 && r.rows[order[position - 1]].total == r.rows[i].total
-                         ? r.rows[order[position - 1]].rank
-                         : static_cast<int>(position) + 1;
+  std::vector<double> totals;
+  for (const auto& row : r.rows) totals.push_back(row.total);
+  const std::vector<int> ranks = ranks_of(totals);
+  for (std::size_t i = 0; i < cases.size(); ++i) r.rows[i].rank = ranks[i];
+  if (!r.uncertain) return r;
+
+  // The ranking's stability: every uncertain value drawn about itself, the cases scored and ranked as
+  // if the draw were exact. A rank r shared by m tied cases claims no order among them: a case keeps
+  // it when its drawn rank is any of r .. r + m - 1.
+  std::vector<int> sharing(cases.size(), 0);
+  for (std::size_t i = 0; i < cases.size(); ++i)
+    for (std::size_t j = 0; j < cases.size(); ++j) sharing[i] += ranks[j] == ranks[i] ? 1 : 0;
+  std::mt19937_64 generator(20261205);
+  std::normal_distribution<double> normal;
+  std::vector<long> held(cases.size(), 0);
+  long order_held = 0;
+  for (int draw = 0; draw < rank_stability_draws; ++draw) {
+    std::vector<double> drawn_totals(cases.size(), 0.0);
+    for (const std::size_t k : used) {
+      std::vector<double> drawn(values[k]);
+      for (std::size_t i = 0; i < cases.size(); ++i) drawn[i] += uncertainties[k][i] * normal(generator);
+      const std::vector<double> scores = scaled(drawn, criteria[k].higher_is_better);
+      for (std::size_t i = 0; i < cases.size(); ++i) drawn_totals[i] += scores[i];
+    }
+    const std::vector<int> drawn_ranks = ranks_of(drawn_totals);
+    bool all = true;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const bool same = drawn_ranks[i] >= ranks[i] && drawn_ranks[i] < ranks[i] + sharing[i];
+      held[i] += same ? 1 : 0;
+      all = all && same;
+    }
+    order_held += all ? 1 : 0;
   }
+  for (std::size_t i = 0; i < cases.size(); ++i)
+    r.rows[i].rank_held = static_cast<double>(held[i]) / rank_stability_draws;
+  r.order_held = static_cast<double>(order_held) / rank_stability_draws;
   return r;
 }
 
@@ -218,7 +309,8 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     for (const auto& c : cases) {
       const auto v = metric_value(c, key);
       data cell;
-      cell.set("value", shown(v));
+      const double u = v ? metric_uncertainty(c, key) : 0.0;
+      cell.set("value", u > 0.0 ? shown(v) + " ± " + format_value(u) : shown(v));
       cell.set("exact", v ? exact_value(*v) : std::string("null"));
       cell.set("missing", !v.has_value());
       cells.push_back(cell);
@@ -257,9 +349,21 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     row.set("scores", scores);
     row.set("total", format_value(r.total));
     row.set("rank", fmt::format("{}", r.rank));
+    row.set("rank_held", fmt::format("{:.0f} %", 100.0 * r.rank_held));
     ranking_rows.push_back(row);
   }
   values.set("ranking", ranking_rows);
+  values.set("uncertain", ranking.uncertain);
+  values.set(
+      "uncertainty_note",
+      ranking.uncertain
+          ? fmt::format("Values within {:g} combined standard uncertainties of each other tie (the ± "
+                        "figures above); with every uncertain metric drawn about its value {} times, "
+                        "the whole order holds in {:.0f} % of the draws, each case's rank as its column "
+                        "says",
+                        tie_coverage, rank_stability_draws, 100.0 * ranking.order_held)
+          : std::string("No ranked metric carries an uncertainty: every difference counts, however "
+                        "small against the numerical error"));
   return values;
 }
 
@@ -285,11 +389,12 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   }
   std::string ranking_csv = "case";
   for (const auto& criterion : criteria) ranking_csv += "," + criterion.key;
-  ranking_csv += ",total,rank\n";
+  ranking_csv += ranking.uncertain ? ",total,rank,rank_held\n" : ",total,rank\n";
   for (const auto& row : ranking.rows) {
     ranking_csv += csv_field(row.name);
     for (const auto& s : row.scores) ranking_csv += "," + (s ? exact_value(*s) : std::string("missing"));
-    ranking_csv += fmt::format(",{},{}\n", exact_value(row.total), row.rank);
+    ranking_csv += fmt::format(",{},{}", exact_value(row.total), row.rank);
+    ranking_csv += ranking.uncertain ? fmt::format(",{}\n", exact_value(row.rank_held)) : "\n";
   }
 
   fs::create_directories(output_directory);

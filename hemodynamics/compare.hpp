@@ -9,6 +9,16 @@
 // for any case (e.g. the fit error of a lumped run) is left out of the ranking for all cases, and the output
 // says so. Which direction is "best" is ibvalve's reading of the study, listed in ranking_criteria() and
 // docs/hemodynamics.md.
+//
+// Uncertainty: a metric of metrics.json may carry "uncertainty", its standard uncertainty u (same unit;
+// docs/hemodynamics.md, "Comparison"). Where a criterion's values have one, a difference counts only
+// when it exceeds tie_coverage x sqrt(u_a^2 + u_b^2): the sorted values are chained into groups
+// whose neighbours differ by no more, each group's members score as their mean value, and the groups
+// are scaled as above (one group: all tie at 1). The ranking's stability is then estimated by drawing
+// every uncertain metric from a normal distribution about its value, rank_stability_draws times
+// (fixed seed), and ranking each draw as if it were exact: how often each case keeps its rank, and how
+// often the whole order holds. A rank shared by m tied cases claims no order among them: a case keeps
+// it when it lands anywhere in the m places.
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -29,6 +39,11 @@ struct Criterion {
 /// a 3-D cycle's metrics between 1 and 2 ranks (1.4e-4 at most, tests/regression/README.md) and a tenth
 /// of the 1 % change the nightly regression must detect.
 inline constexpr double tie_tolerance = 1e-3;
+/// Two values tie when they differ by at most this many combined standard uncertainties (2: about
+/// 95 % coverage for normal errors).
+inline constexpr double tie_coverage = 2.0;
+/// Draws of the ranking's stability estimate.
+inline constexpr int rank_stability_draws = 10000;
 /// The 12 criteria, in the study's order.
 const std::vector<Criterion>& ranking_criteria();
 
@@ -49,11 +64,14 @@ struct RankingRow {
   std::vector<std::optional<double>> scores; // per criterion; empty when the criterion is left out
   double total = 0.0;
   int rank = 0;
+  double rank_held = 1.0; // the fraction of draws in which the case keeps `rank` (1 without uncertainties)
 };
 struct Ranking {
   std::vector<bool> used;            // per criterion
   std::vector<std::string> left_out; // "fit_error (missing for: a, b)"
   std::vector<RankingRow> rows;      // in the order of the cases
+  bool uncertain = false;            // some ranked metric carries an uncertainty
+  double order_held = 1.0;           // the fraction of draws that keep every case's rank
 };
 Ranking rank_cases(std::span<const CaseResult> cases);
 

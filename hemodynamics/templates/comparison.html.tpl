@@ -3,7 +3,7 @@
     those of comparison.md.tpl:
       count, cases (name), metrics (key, symbol, label, unit, values (value, exact, missing)),
       left_out_note, criteria (key, label, higher_is_better), ranking (name, scores (value, missing),
-      total, rank), plots (file, caption, png_base64: embedded, so the page opens anywhere).
+      total, rank, rank_held), uncertain, uncertainty_note, plots (file, caption, png_base64: embedded, so the page opens anywhere).
     docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
 <!DOCTYPE html>
 <html lang="en">
@@ -26,11 +26,11 @@ td,th{border:1px solid #bbb;padding:3px 8px}td.value{text-align:right;font-varia
 {{/metrics}}
 </table>
 <h2>Ranking (Table 8 style)</h2>
-<p>Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.</p>
+<p>Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}. {{uncertainty_note}}.</p>
 <table id="ranking">
-<tr><th>case</th>{{#criteria}}<th>{{label}} {{#higher_is_better}}&uarr;{{/higher_is_better}}{{^higher_is_better}}&darr;{{/higher_is_better}}</th>{{/criteria}}<th>total</th><th>rank</th></tr>
+<tr><th>case</th>{{#criteria}}<th>{{label}} {{#higher_is_better}}&uarr;{{/higher_is_better}}{{^higher_is_better}}&darr;{{/higher_is_better}}</th>{{/criteria}}<th>total</th><th>rank</th>{{#uncertain}}<th>rank held</th>{{/uncertain}}</tr>
 {{#ranking}}
-<tr><td>{{name}}</td>{{#scores}}<td class="value{{#missing}} missing{{/missing}}">{{value}}</td>{{/scores}}<td class="value">{{total}}</td><td class="value">{{rank}}</td></tr>
+<tr><td>{{name}}</td>{{#scores}}<td class="value{{#missing}} missing{{/missing}}">{{value}}</td>{{/scores}}<td class="value">{{total}}</td><td class="value">{{rank}}</td>{{#uncertain}}<td class="value">{{rank_held}}</td>{{/uncertain}}</tr>
 {{/ranking}}
 </table>
 <h2>Curves</h2>

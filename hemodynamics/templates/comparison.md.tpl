@@ -4,12 +4,16 @@
       cases                     list: name
       metrics                   list, one per metric of any case: key, symbol, label ("symbol (`key`)",
                                 or the key when there is no symbol), unit, values (list, one per case:
-                                value (4 significant digits, or "missing"), exact (every digit, or
+                                value (4 significant digits, "± u" after it when the metric carries
+                                an uncertainty, or "missing"), exact (every digit, or
                                 "null"), missing (true when the case has no value))
       left_out_note             how many of the 12 criteria are ranked, and which are left out and why
       criteria                  list, the study's 12: key, label, higher_is_better
       ranking                   list, one per case: name, scores (list, one per ranked criterion: value,
-                                missing), total, rank
+                                missing), total, rank, rank_held ("87 %": how often the case keeps its
+                                rank when the uncertain metrics are drawn about their values)
+      uncertain                 true when some ranked metric carries an uncertainty
+      uncertainty_note          how uncertainties enter the scores and how stable the order is
       plots                     list, the overlaid curves drawn: file (PNG beside the page), caption,
                                 png_base64
     docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
@@ -26,11 +30,12 @@
 ## Ranking (Table 8 style)
 
 Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.
+{{uncertainty_note}}.
 
-| case |{{#criteria}} {{label}} ({{#higher_is_better}}higher{{/higher_is_better}}{{^higher_is_better}}lower{{/higher_is_better}} better) |{{/criteria}} total | rank |
-|---|{{#criteria}}---|{{/criteria}}---|---|
+| case |{{#criteria}} {{label}} ({{#higher_is_better}}higher{{/higher_is_better}}{{^higher_is_better}}lower{{/higher_is_better}} better) |{{/criteria}} total | rank |{{#uncertain}} rank held |{{/uncertain}}
+|---|{{#criteria}}---|{{/criteria}}---|---|{{#uncertain}}---|{{/uncertain}}
 {{#ranking}}
-| {{name}} |{{#scores}} {{value}} |{{/scores}} {{total}} | {{rank}} |
+| {{name}} |{{#scores}} {{value}} |{{/scores}} {{total}} | {{rank}} |{{#uncertain}} {{rank_held}} |{{/uncertain}}
 {{/ranking}}
 
 ## Curves

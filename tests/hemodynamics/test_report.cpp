@@ -286,6 +286,119 @@ TEST(Compare, ValuesWithinTheTieToleranceTieAndLargerDifferencesAreScored)
   EXPECT_EQ(r.rows[0].rank, 2);
 }
 
+namespace {
+
+/// A case with forward volume and TPG, each with a standard uncertainty (none when 0).
+hd::CaseResult uncertain_case(const std::string& name, double vf, double u_vf, double tpg, double u_tpg)
+{
+  auto entry = [](double v, double u) {
+    hd::Json m{{"value", v}, {"unit", ""}, {"symbol", ""}};
+    if (u > 0.0) m["uncertainty"] = u;
+    return m;
+  };
+  hd::CaseResult c;
+  c.name = name;
+  c.metrics =
+      hd::Json{{"forward_volume", entry(vf, u_vf)}, {"transvalvular_pressure_gradient", entry(tpg, u_tpg)}};
+  return c;
+}
+
+std::size_t criterion_index(const std::string& key)
+{
+  const auto& criteria = hd::ranking_criteria();
+  std::size_t k = 0;
+  while (criteria[k].key != key) ++k;
+  return k;
+}
+
+} // namespace
+
+TEST(Compare, DifferencesWithinTheCombinedUncertaintyTieAndLargerOnesAreScored)
+{
+  // V_F 80, 81, 90 mL with u = 1 mL each: 80 and 81 differ by 1 <= 2 sqrt(1 + 1) = 2.83, a tie scored
+  // as their mean 80.5; 90 is 9 from 81, beyond it. TPG 10 and 10.5 and 20 mmHg with no uncertainty:
+  // every difference counts, as before.
+  const std::vector<hd::CaseResult> cases{uncertain_case("a", 80, 1, 10, 0),
+                                          uncertain_case("b", 81, 1, 10.5, 0),
+                                          uncertain_case("c", 90, 1, 20, 0)};
+  const hd::Ranking r = hd::rank_cases(cases);
+  const std::size_t vf = criterion_index("forward_volume"),
+                    tpg = criterion_index("transvalvular_pressure_gradient");
+  EXPECT_TRUE(r.uncertain);
+  EXPECT_DOUBLE_EQ(*r.rows[0].scores[vf], 0.0);
+  EXPECT_DOUBLE_EQ(*r.rows[1].scores[vf], 0.0); // tied with a
+  EXPECT_DOUBLE_EQ(*r.rows[2].scores[vf], 1.0);
+  EXPECT_DOUBLE_EQ(*r.rows[0].scores[tpg], 1.0);
+  EXPECT_DOUBLE_EQ(*r.rows[1].scores[tpg], 0.95); // (20 - 10.5) / 10: not tied, no uncertainty
+  // Just beyond the coverage: 80 and 80 + 2.9 (> 2.83) are scored apart.
+  const hd::Ranking apart = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 1, 10, 0), uncertain_case("b", 82.9, 1, 10, 0)});
+  EXPECT_DOUBLE_EQ(*apart.rows[0].scores[vf], 0.0);
+  EXPECT_DOUBLE_EQ(*apart.rows[1].scores[vf], 1.0);
+  const hd::Ranking together = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 1, 10, 0), uncertain_case("b", 82.8, 1, 10, 0)});
+  EXPECT_DOUBLE_EQ(*together.rows[0].scores[vf], 1.0); // one group: all tie at 1
+  EXPECT_DOUBLE_EQ(*together.rows[1].scores[vf], 1.0);
+  // A negative uncertainty is bad input.
+  std::vector<hd::CaseResult> bad{uncertain_case("a", 80, 1, 10, 0), uncertain_case("b", 81, 1, 10, 0)};
+  bad[1].metrics["forward_volume"]["uncertainty"] = -1.0;
+  EXPECT_THROW(hd::rank_cases(bad), ibvalve::InputError);
+}
+
+TEST(Compare, TheRankStabilityIsHowOftenEachCaseKeepsItsRankUnderTheUncertainties)
+{
+  // Far apart against their uncertainties (V_F 60, 80, 100 mL, u = 1): every draw keeps the order.
+  hd::Ranking r = hd::rank_cases(std::vector<hd::CaseResult>{uncertain_case("a", 60, 1, 10, 0),
+                                                             uncertain_case("b", 80, 1, 10, 0),
+                                                             uncertain_case("c", 100, 1, 10, 0)});
+  EXPECT_DOUBLE_EQ(r.order_held, 1.0);
+  for (const auto& row : r.rows) EXPECT_DOUBLE_EQ(row.rank_held, 1.0);
+  // V_F 80 and 86 mL with u = 1.5 each: 6 > 2 sqrt(1.5^2 + 1.5^2) = 4.24, so b ranks first; a draw
+  // reverses them when the drawn difference, normal with mean 6 and standard deviation 2.12, falls
+  // below 0: Phi(-2.83) = 0.23 % of draws (binomial standard error 0.05 % at 10,000 draws).
+  r = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 1.5, 10, 0), uncertain_case("b", 86, 1.5, 10, 0)});
+  const double flipped = 0.5 * std::erfc(6.0 / std::hypot(1.5, 1.5) / std::sqrt(2.0));
+  EXPECT_NEAR(r.order_held, 1.0 - flipped, 0.002);
+  EXPECT_LT(r.order_held, 1.0);
+  // The same pair 1 mL apart ties (1 <= 4.24): both share rank 1 and claim no order, so every draw
+  // keeps it.
+  r = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 1.5, 10, 0), uncertain_case("b", 81, 1.5, 10, 0)});
+  EXPECT_EQ(r.rows[0].rank, 1);
+  EXPECT_EQ(r.rows[1].rank, 1);
+  EXPECT_DOUBLE_EQ(r.order_held, 1.0);
+  // Three cases, two of them 3 u apart (ranked), drawn: the first holds its rank less often than the
+  // clear last.
+  r = hd::rank_cases(std::vector<hd::CaseResult>{uncertain_case("a", 80, 1, 10, 0),
+                                                 uncertain_case("b", 84.5, 1, 10, 0),
+                                                 uncertain_case("c", 60, 1, 10, 0)});
+  EXPECT_EQ(r.rows[1].rank, 1);
+  EXPECT_EQ(r.rows[2].rank, 3);
+  EXPECT_LT(r.rows[1].rank_held, 1.0);
+  EXPECT_DOUBLE_EQ(r.rows[2].rank_held, 1.0);
+  // Without uncertainties nothing is drawn: the order "holds" by construction, and the pages say
+  // that every difference counts.
+  r = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 0, 10, 0), uncertain_case("b", 81, 0, 10, 0)});
+  EXPECT_FALSE(r.uncertain);
+  EXPECT_DOUBLE_EQ(r.order_held, 1.0);
+  // The pages show the +- figures, the note and the column.
+  const std::vector<hd::CaseResult> cases{uncertain_case("a", 80, 2, 10, 1),
+                                          uncertain_case("b", 90, 2, 12, 1)};
+  const auto out = scratch("compare_uncertain");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const auto files = hd::write_comparison(cases, out, pages_only);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_NE(md.find("80 ± 2"), std::string::npos) << md;
+  EXPECT_NE(md.find("rank held"), std::string::npos);
+  EXPECT_NE(md.find("the whole order holds in"), std::string::npos);
+  EXPECT_NE(md.find("2 combined standard uncertainties"), std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(files.ranking_csv).find(",total,rank,rank_held"), std::string::npos);
+  fs::remove_all(out);
+}
+
 TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
 {
   hd::CaseResult one;
