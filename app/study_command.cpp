@@ -11,6 +11,15 @@
 //   name = "W1FD1"
 //   set = ["structure.material.preset=\"zhu2021-W1\""]   # this case's overrides (after the common ones)
 //   file = "other.toml"              # optional: a different case file for this case
+//   [[uncertainty]]                  # optional: a source of numerical uncertainty
+//   name = "time step"
+//   set = ["time.step=2e-5"]         # every case runs again with these overrides after its own
+//
+// Each source runs every case once more in <output>/uncertainty/<source>/<case>; a metric's standard
+// uncertainty from a source is |variant - case| (the change a second step, grid, kernel or partition
+// makes: docs/runs.md, "Studies"), combined over the sources as sqrt(sum u_s^2) and written to
+// <output>/<case>/uncertainty.json, which the case's report (rewritten) and the comparison read.
+#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
@@ -23,7 +32,10 @@
 #include "app/commands.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "hemodynamics/compare.hpp"
+#include "hemodynamics/report.hpp"
 #include "io/config.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::app {
 
@@ -35,6 +47,7 @@ struct StudyOptions {
   bool jobs = false;
   int ranks = 1;
   bool overwrite = false;
+  bool collect = false; // run nothing: gather the folders --jobs ran
 };
 
 struct StudyCase {
@@ -43,10 +56,34 @@ struct StudyCase {
   std::vector<std::string> overrides;
 };
 
+struct UncertaintySource {
+  std::string name;
+  std::vector<std::string> overrides;
+};
+
 struct Study {
   std::filesystem::path output;
   std::vector<StudyCase> cases;
+  std::vector<UncertaintySource> sources;
 };
+
+/// The folder of a case's variant for an uncertainty source: <output>/uncertainty/<source>/<case>,
+/// with the source's name made a folder name (spaces and slashes as '_').
+std::filesystem::path variant_folder(const Study& study, const UncertaintySource& source, const StudyCase& c)
+{
+  std::string folder = source.name;
+  for (char& ch : folder)
+    if (ch == ' ' || ch == '/') ch = '_';
+  return study.output / "uncertainty" / folder / c.name;
+}
+
+/// The case's overrides with the source's after them (the case keeps its name).
+std::vector<std::string> variant_overrides(const StudyCase& c, const UncertaintySource& source)
+{
+  std::vector<std::string> overrides = c.overrides;
+  overrides.insert(overrides.end(), source.overrides.begin(), source.overrides.end());
+  return overrides;
+}
 
 io::Schema study_schema()
 {
@@ -62,6 +99,14 @@ io::Schema study_schema()
   one.add_string_list("set", "this case's overrides, after the common ones")
       .defaults(std::vector<std::string>{});
   s.add_table_list("case", one, "the cases, in the order they run");
+  io::Schema source;
+  source.add_string("name", "the source's name (\"time step\", \"grid\"): its folder and its label")
+      .required();
+  source.add_string_list("set", "overrides of the variant every case runs again with, after its own")
+      .required();
+  s.add_table_list("uncertainty", source,
+                   "sources of numerical uncertainty: each reruns every case with its overrides, and "
+                   "|variant - case| is that source's standard uncertainty of each metric");
   return s;
 }
 
@@ -90,6 +135,15 @@ Study read_study(const StudyOptions& options)
     one.overrides.push_back("name=\"" + one.name + "\"");
     study.cases.push_back(std::move(one));
   }
+  std::set<std::string> sources;
+  if (config.has("uncertainty"))
+    for (const io::Config& u : config.tables("uncertainty")) {
+      UncertaintySource source{u.string("name"), u.strings("set")};
+      if (source.name.empty()) u.fail("name", "must not be empty");
+      if (!sources.insert(source.name).second) u.fail("name", "\"" + source.name + "\" is listed twice");
+      if (source.overrides.empty()) u.fail("set", "a source needs at least one override");
+      study.sources.push_back(std::move(source));
+    }
   return study;
 }
 
@@ -107,21 +161,71 @@ int print_jobs(const Study& study, const StudyOptions& options)
   out << "# " << study.cases.size() << " cases of " << options.study_file.string()
       << ": submit each line as a job, then the compare line when all have finished\n";
   std::string runs;
-  for (const auto& c : study.cases) {
-    const auto folder = study.output / c.name;
+  auto job = [&](const StudyCase& c, const std::filesystem::path& folder,
+                 const std::vector<std::string>& overrides) {
     out << "mpiexec -n " << options.ranks << ' ' << quoted(program) << " run "
         << quoted(std::filesystem::absolute(c.case_file).string()) << " -o " << quoted(folder.string())
         << " --overwrite";
-    for (const auto& o : c.overrides) out << " --set " << quoted(o);
+    for (const auto& o : overrides) out << " --set " << quoted(o);
     out << '\n';
+  };
+  for (const auto& c : study.cases) {
+    const auto folder = study.output / c.name;
+    job(c, folder, c.overrides);
     runs += ' ' + quoted(folder.string());
   }
-  out << quoted(program) << " compare" << runs << " -o " << quoted((study.output / "comparison").string())
-      << '\n';
+  for (const auto& source : study.sources)
+    for (const auto& c : study.cases) job(c, variant_folder(study, source, c), variant_overrides(c, source));
+  if (study.sources.empty())
+    out << quoted(program) << " compare" << runs << " -o " << quoted((study.output / "comparison").string())
+        << '\n';
+  else // the uncertainties need the study file: collect combines them, rewrites the reports, compares
+    out << quoted(program) << " study " << quoted(std::filesystem::absolute(options.study_file).string())
+        << " -o " << quoted(study.output.string()) << " --collect\n";
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0) std::cout << out.str() << std::flush;
   return 0;
+}
+
+/// Each case's uncertainty.json from its variants, and its report written again with it (rank 0).
+void combine_uncertainties(const Study& study)
+{
+  using hemodynamics::Json;
+  for (const StudyCase& c : study.cases) {
+    const std::filesystem::path folder = study.output / c.name;
+    const hemodynamics::CaseResult nominal = hemodynamics::load_case(folder);
+    Json out = Json::object();
+    for (const auto& source : study.sources) {
+      const hemodynamics::CaseResult variant = hemodynamics::load_case(variant_folder(study, source, c));
+      for (const auto& [key, entry] : nominal.metrics.items()) {
+        const auto value = [&](const Json& metrics) -> std::optional<double> {
+          const auto m = metrics.find(key);
+          if (m == metrics.end() || !m->is_object()) return std::nullopt;
+          const auto v = m->find("value");
+          return v != m->end() && v->is_number() ? std::optional(v->get<double>()) : std::nullopt;
+        };
+        const auto a = value(nominal.metrics), b = value(variant.metrics);
+        if (!a || !b) continue;
+        out[key]["sources"][source.name] = std::abs(*b - *a);
+      }
+    }
+    for (auto& [key, entry] : out.items()) {
+      double sum = 0.0;
+      for (const auto& [name, u] : entry["sources"].items()) sum += u.get<double>() * u.get<double>();
+      entry["uncertainty"] = std::sqrt(sum);
+    }
+    io::write_file_atomically(folder / "uncertainty.json", out.dump(2) + "\n");
+    const hemodynamics::RecordedReport recorded = hemodynamics::recorded_report(folder);
+    hemodynamics::ReportOptions report;
+    report.settings = recorded.report.metrics;
+    report.run_period = recorded.period;
+    report.plots = recorded.report.plots;
+    report.templates = recorded.report.templates;
+    hemodynamics::write_report(folder, report);
+    base::Logger::global().info(fmt::format("study: {}: uncertainties from {} source(s) in {}", c.name,
+                                            study.sources.size(), (folder / "uncertainty.json").string()));
+  }
 }
 
 int run_study(const StudyOptions& options, const PetscArguments& petsc)
@@ -130,18 +234,32 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
   if (options.jobs) return print_jobs(study, options);
   auto& log = base::Logger::global();
   std::vector<std::filesystem::path> folders;
-  for (std::size_t i = 0; i < study.cases.size(); ++i) {
-    const StudyCase& c = study.cases[i];
-    log.info(fmt::format("study: case {} of {}: {}", i + 1, study.cases.size(), c.name));
+  auto run_one = [&](const StudyCase& c, const std::filesystem::path& folder,
+                     const std::vector<std::string>& overrides) {
     RunOptions run;
     run.case_file = c.case_file;
-    run.output = study.output / c.name;
-    run.overrides = c.overrides;
+    run.output = folder;
+    run.overrides = overrides;
     run.overwrite = options.overwrite;
+    return run_case(run, petsc);
+  };
+  for (std::size_t i = 0; i < study.cases.size(); ++i) {
+    const StudyCase& c = study.cases[i];
+    folders.push_back(study.output / c.name);
+    if (options.collect) continue;
+    log.info(fmt::format("study: case {} of {}: {}", i + 1, study.cases.size(), c.name));
     // A case stopped by SIGINT/SIGTERM stops the study with it.
-    if (const int code = run_case(run, petsc); code != 0) return code;
-    folders.push_back(run.output);
+    if (const int code = run_one(c, folders.back(), c.overrides); code != 0) return code;
   }
+  for (const auto& source : study.sources)
+    for (const auto& c : study.cases) {
+      if (options.collect) break;
+      log.info(fmt::format("study: uncertainty '{}': {}", source.name, c.name));
+      if (const int code = run_one(c, variant_folder(study, source, c), variant_overrides(c, source));
+          code != 0)
+        return code;
+    }
+  if (!study.sources.empty()) run_on_root_rank(PETSC_COMM_WORLD, [&] { combine_uncertainties(study); });
   log.info(fmt::format("study: comparing {} cases", folders.size()));
   return compare_runs(folders, study.output / "comparison", hemodynamics::ComparisonOptions{});
 }
@@ -161,6 +279,10 @@ void add_study_command(CLI::App& app, CommandAction& action)
   sub->add_option("--ranks", options->ranks, "ranks per case in the --jobs lines")
       ->check(CLI::PositiveNumber);
   sub->add_flag("--overwrite", options->overwrite, "replace existing case folders' contents");
+  sub->add_flag("--collect", options->collect,
+                "run nothing: combine the uncertainties of the folders the --jobs lines ran, rewrite the "
+                "cases' reports, compare")
+      ->excludes("--jobs");
   sub->callback([options, &action] {
     action = [options](const PetscArguments& petsc) { return run_study(*options, petsc); };
   });

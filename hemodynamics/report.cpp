@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
@@ -181,6 +183,48 @@ Json provenance_document(const fs::path& run_directory)
   return out;
 }
 
+namespace {
+
+/// Merges a run folder's uncertainty.json ({key: {"uncertainty": u, "sources": {name: u_s}}}, written
+/// by `ibvalve study` from its [[uncertainty]] variants) into the metrics it names: each gets
+/// "uncertainty" and "uncertainty_sources". Keys without such a metric are ignored; a value that is not
+/// a number >= 0 is an InputError naming the file and the key.
+void add_uncertainties(const fs::path& file, Json& values, Json& notes)
+{
+  if (!fs::exists(file)) return;
+  Json doc;
+  try {
+    doc = Json::parse(io::read_text_file(file));
+  } catch (const Json::parse_error& error) {
+    throw InputError(file.string() + ": " + error.what());
+  }
+  if (!doc.is_object()) throw InputError(file.string() + ": expected a JSON object of metrics");
+  auto standard = [&](const Json& v, const std::string& what) {
+    if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0)
+      throw InputError(fmt::format("{}: {}: expected a number >= 0, not {}", file.string(), what, v.dump()));
+    return v.get<double>();
+  };
+  std::set<std::string> sources;
+  for (const auto& [key, entry] : doc.items()) {
+    if (!entry.is_object() || !entry.contains("uncertainty"))
+      throw InputError(file.string() + ": " + key + ": expected an object with \"uncertainty\"");
+    const double u = standard(entry.at("uncertainty"), key + ".uncertainty");
+    Json by_source = Json::object();
+    const Json given = entry.value("sources", Json::object());
+    for (const auto& [name, value] : given.items()) {
+      by_source[name] = standard(value, key + ".sources." + name);
+      sources.insert(name);
+    }
+    if (!values.contains(key)) continue;
+    values[key]["uncertainty"] = u;
+    values[key]["uncertainty_sources"] = by_source;
+  }
+  notes.push_back(fmt::format("standard uncertainties from uncertainty.json (sources: {}): value ± u",
+                              fmt::join(sources, ", ")));
+}
+
+} // namespace
+
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const fs::path& run_directory)
 {
@@ -251,6 +295,7 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
     }
     notes.push_back("metrics added from extra_metrics.json");
   }
+  add_uncertainties(run_directory / "uncertainty.json", values, notes);
   return Json{
       {"ibvalve_metrics", 1},      {"run", run_name},  {"source", "timeseries.csv"},
       {"settings", settings_json}, {"phases", phases}, {"ejection_windows", windows},
@@ -297,6 +342,14 @@ kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::p
     row.set("missing", !v.is_number());
     row.set("unit", text(m, "unit"));
     row.set("note", text(m, "note"));
+    // "± 0.91" and "time step 0.91, grid 0.3" when the metric carries an uncertainty, else empty.
+    const auto u = m.find("uncertainty");
+    row.set("uncertainty", u != m.end() && u->is_number() ? "± " + format_value(u->get<double>()) : "");
+    std::vector<std::string> sources;
+    const Json by_source = m.value("uncertainty_sources", Json::object());
+    for (const auto& [name, value] : by_source.items())
+      sources.push_back(name + " " + format_value(number(value)));
+    row.set("uncertainty_sources", fmt::format("{}", fmt::join(sources, ", ")));
     metrics.push_back(row);
   }
   values.set("metrics", metrics);

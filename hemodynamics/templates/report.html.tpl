@@ -2,7 +2,7 @@
     A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
     those of report.md.tpl:
       run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
-      unit, note), phases (name, time), ejection_windows (condition, start, chosen, tpg, qrms, eoa), plots (file, caption, png_base64), notes (text),
+      unit, note, uncertainty, uncertainty_sources), phases (name, time), ejection_windows (condition, start, chosen, tpg, qrms, eoa), plots (file, caption, png_base64), notes (text),
       provenance (name, value), inputs (key, value).
     The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
@@ -25,7 +25,7 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 <table id="metrics">
 <tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th><th>note</th></tr>
 {{#metrics}}
-<tr data-key="{{key}}"><td>{{description}} (<code>{{key}}</code>)</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}" data-value="{{exact}}">{{value}}</td><td>{{unit}}</td><td>{{note}}</td></tr>
+<tr data-key="{{key}}"><td>{{description}} (<code>{{key}}</code>)</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}" data-value="{{exact}}">{{value}}{{#uncertainty}} {{uncertainty}}{{/uncertainty}}</td><td>{{unit}}</td><td>{{note}}{{#uncertainty_sources}} (u from {{uncertainty_sources}}){{/uncertainty_sources}}</td></tr>
 {{/metrics}}
 </table>
 <h2>Phases</h2>

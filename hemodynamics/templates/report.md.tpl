@@ -4,7 +4,9 @@
       cycle_start, cycle_end    the analysed cycle, s, 4 significant digits
       metrics                   list: key, label (description, else key), description, symbol,
                                 value (4 significant digits, or "missing"), exact (every digit, or
-                                "null"), missing (true when there is no value), unit, note
+                                "null"), missing (true when there is no value), unit, note,
+                                uncertainty ("± 0.91", the standard uncertainty from the run's
+                                uncertainty.json, or empty), uncertainty_sources ("time step 0.91")
       phases                    list: name, time (s, 4 significant digits, "missing", or a rule's name)
       ejection_windows          list: condition, start (s), chosen (true for the window the metrics
                                 use), tpg (mmHg), qrms (mL/s), eoa (cm^2): the means over ejection on
@@ -22,7 +24,7 @@ Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
 | metric | symbol | value | unit | note |
 |---|---|---|---|---|
 {{#metrics}}
-| {{label}} (`{{key}}`) | {{symbol}} | {{value}} | {{unit}} | {{note}} |
+| {{label}} (`{{key}}`) | {{symbol}} | {{value}}{{#uncertainty}} {{uncertainty}}{{/uncertainty}} | {{unit}} | {{note}}{{#uncertainty_sources}} (u from {{uncertainty_sources}}){{/uncertainty_sources}} |
 {{/metrics}}
 
 ## Phases (s)
