@@ -185,13 +185,10 @@ Json provenance_document(const fs::path& run_directory)
 
 namespace {
 
-/// Merges a run folder's uncertainty.json ({key: {"uncertainty": u, "sources": {name: u_s}}}, written
-/// by `ibvalve study` from its [[uncertainty]] variants) into the metrics it names: each gets
-/// "uncertainty" and "uncertainty_sources". Keys without such a metric are ignored; a value that is not
-/// a number >= 0 is an InputError naming the file and the key.
-void add_uncertainties(const fs::path& file, Json& values, Json& notes)
+/// A run folder's JSON file of metrics (extra_metrics.json, uncertainty.json): an object, or an
+/// InputError naming the file.
+Json read_metrics_object(const fs::path& file)
 {
-  if (!fs::exists(file)) return;
   Json doc;
   try {
     doc = Json::parse(io::read_text_file(file));
@@ -199,6 +196,17 @@ void add_uncertainties(const fs::path& file, Json& values, Json& notes)
     throw InputError(file.string() + ": " + error.what());
   }
   if (!doc.is_object()) throw InputError(file.string() + ": expected a JSON object of metrics");
+  return doc;
+}
+
+/// Merges a run folder's uncertainty.json ({key: {"uncertainty": u, "sources": {name: u_s}}}, written
+/// by `ibvalve study` from its [[uncertainty]] variants) into the metrics it names: each gets
+/// "uncertainty" and "uncertainty_sources". Keys without such a metric are ignored; a value that is not
+/// a number >= 0 is an InputError naming the file and the key.
+void add_uncertainties(const fs::path& file, Json& values, Json& notes)
+{
+  if (!fs::exists(file)) return;
+  const Json doc = read_metrics_object(file);
   auto standard = [&](const Json& v, const std::string& what) {
     if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0)
       throw InputError(fmt::format("{}: {}: expected a number >= 0, not {}", file.string(), what, v.dump()));
@@ -268,13 +276,7 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
   for (const auto& n : metrics.notes) notes.push_back(n);
   const fs::path extra_file = run_directory / "extra_metrics.json";
   if (fs::exists(extra_file)) {
-    Json extra;
-    try {
-      extra = Json::parse(io::read_text_file(extra_file));
-    } catch (const Json::parse_error& error) {
-      throw InputError(extra_file.string() + ": " + error.what());
-    }
-    if (!extra.is_object()) throw InputError(extra_file.string() + ": expected a JSON object of metrics");
+    const Json extra = read_metrics_object(extra_file);
     for (const auto& [key, v] : extra.items()) {
       auto text = [&](const char* field) {
         const auto f = v.find(field);
