@@ -82,6 +82,7 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
     tethers_.emplace_back(tether_weights(solid.mesh(), t.group, fluid_.grid().comm()), t);
   }
   h_min_ = std::min({fluid_.grid().h(0), fluid_.grid().h(1), fluid_.grid().h(2)});
+  stability_length_ = std::max(h_min_, solid_.mesh().edge_length_range().first);
   velocity_old_ = fluid_.grid().create_local();
   velocity_mid_ = fluid_.grid().create_local();
   place_points(displacement_);
@@ -364,14 +365,14 @@ std::vector<double> IbfeIntegrator::element_moduli(std::span<const double> displ
 
 double IbfeIntegrator::stable_step(double omega2) const
 {
-  const double h = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  const double h = stability_length_;
   const double gamma = 12.0 * fluid_.viscosity() / (fluid_.density() * h * h);
   return omega2 > 0.0 ? std::max(2.0 / std::sqrt(omega2), 2.0 * gamma / omega2) : 1e300;
 }
 
 std::vector<double> IbfeIntegrator::element_stable_steps(std::span<const double> displacement) const
 {
-  const double h = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  const double h = stability_length_;
   std::vector<double> steps = element_moduli(displacement);
   for (double& step : steps) step = stable_step(12.0 * step / (fluid_.density() * h * h));
   return steps;
@@ -380,7 +381,7 @@ std::vector<double> IbfeIntegrator::element_stable_steps(std::span<const double>
 StabilityEstimate IbfeIntegrator::stability_estimate(std::span<const double> displacement) const
 {
   StabilityEstimate s;
-  s.length = std::max(h_min_, solid_.mesh().edge_length_range().first);
+  s.length = stability_length_;
   const double rho = fluid_.density(), mu = fluid_.viscosity(), h = s.length;
   const std::vector<double> moduli = element_moduli(displacement);
   double largest_part = 0.0, largest_tether = 0.0;

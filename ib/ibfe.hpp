@@ -191,6 +191,8 @@ class IbfeIntegrator {
   IbfeTimings timings_;
   PetscInt projection_iterations_ = 0; // of the step being taken
   double h_min_ = 0.0;
+  /// h_s of the stability estimate: max(h_min_, the reference mesh's smallest edge), fixed for the run.
+  double stability_length_ = 0.0;
   bool warned_capped_ = false;
 };
 
