@@ -251,14 +251,14 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
     // A case stopped by SIGINT/SIGTERM stops the study with it.
     if (const int code = run_one(c, folders.back(), c.overrides); code != 0) return code;
   }
-  for (const auto& source : study.sources)
-    for (const auto& c : study.cases) {
-      if (options.collect) break;
-      log.info(fmt::format("study: uncertainty '{}': {}", source.name, c.name));
-      if (const int code = run_one(c, variant_folder(study, source, c), variant_overrides(c, source));
-          code != 0)
-        return code;
-    }
+  if (!options.collect)
+    for (const auto& source : study.sources)
+      for (const auto& c : study.cases) {
+        log.info(fmt::format("study: uncertainty '{}': {}", source.name, c.name));
+        if (const int code = run_one(c, variant_folder(study, source, c), variant_overrides(c, source));
+            code != 0)
+          return code;
+      }
   if (!study.sources.empty()) run_on_root_rank(PETSC_COMM_WORLD, [&] { combine_uncertainties(study); });
   log.info(fmt::format("study: comparing {} cases", folders.size()));
   return compare_runs(folders, study.output / "comparison", hemodynamics::ComparisonOptions{});
