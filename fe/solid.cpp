@@ -122,7 +122,7 @@ void SolidModel::add_element_forces(const QuadratureData& rule, const Laws& laws
 }
 
 template <int N>
-void SolidModel::add_forces(std::span<const double> u, std::span<double> forces) const
+void SolidModel::add_forces(std::span<const double> u, std::span<double> forces, bool centre_laws) const
 {
   const int n = mesh_.nodes_per_element();
   // Per element: gather the nodal displacements once (3 x n), sum both rules, scatter once.
@@ -133,21 +133,21 @@ void SolidModel::add_forces(std::span<const double> u, std::span<double> forces)
       for (int i = 0; i < 3; ++i) U(i, a) = u[3 * element[a] + i];
     element_forces.setZero();
     add_element_forces(quadrature_, parts_[p].laws, e, U, element_forces);
-    if (centre_) add_element_forces(*centre_, parts_[p].centre_laws, e, U, element_forces);
+    if (centre_ && centre_laws) add_element_forces(*centre_, parts_[p].centre_laws, e, U, element_forces);
     for (int a = 0; a < n; ++a)
       for (int i = 0; i < 3; ++i) forces[3 * element[a] + i] += element_forces(i, a);
   }
 }
 
-void SolidModel::forces(std::span<const double> u, std::span<double> forces) const
+void SolidModel::forces(std::span<const double> u, std::span<double> forces, bool centre_laws) const
 {
   std::fill(forces.begin(), forces.end(), 0.0);
   // The trilinear hexahedron, the valve's element, with its 3 x 8 matrices sized at compile time (no
   // allocation, unrolled products); any other element with dynamic sizes.
   if (mesh_.nodes_per_element() == 8)
-    add_forces<8>(u, forces);
+    add_forces<8>(u, forces, centre_laws);
   else
-    add_forces<Eigen::Dynamic>(u, forces);
+    add_forces<Eigen::Dynamic>(u, forces, centre_laws);
   sum_over_ranks(forces, comm_);
 }
 

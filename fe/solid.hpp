@@ -109,8 +109,10 @@ class SolidModel {
     return deformation_gradient(*centre_, u, e, 0);
   }
 
-  /// Nodal forces (replicated on every rank, summed over them). `forces` is overwritten.
-  void forces(std::span<const double> u, std::span<double> forces) const;
+  /// Nodal forces (replicated on every rank, summed over them). `forces` is overwritten. Without
+  /// `centre_laws`, the full rule's laws alone: with the volumetric penalty as the centre law, the
+  /// tissue's isochoric response (the stiffness the IB coupling's stability sees, ib/ibfe.hpp).
+  void forces(std::span<const double> u, std::span<double> forces, bool centre_laws = true) const;
   /// Total strain energy (the same on every rank).
   double energy(std::span<const double> u) const;
   /// Adds this rank's element stiffness matrices to `K` (layout of `system`, 3 dofs per node); the
@@ -145,7 +147,7 @@ class SolidModel {
                           std::size_t e, const NodalMatrix<N>& U, NodalMatrix<N>& element_forces) const;
   /// Adds this rank's element forces to `forces`, with N nodes per element (or Eigen::Dynamic).
   template <int N>
-  void add_forces(std::span<const double> u, std::span<double> forces) const;
+  void add_forces(std::span<const double> u, std::span<double> forces, bool centre_laws) const;
   double element_energy(const QuadratureData& rule,
                         const std::vector<std::shared_ptr<const materials::StrainEnergy>>& laws,
                         std::span<const double> u, std::size_t e) const;

@@ -243,7 +243,16 @@ void IbfeIntegrator::step(double dt)
 {
   Stopwatch total(timings_.total);
   projection_iterations_ = 0;
-  if (timings_.steps == 0) {
+  if (timings_.steps == 0 && coupled_estimate_.dt > 0.0) {
+    // An adaptive run measured the coupled estimate before its first step: that is the limit to name.
+    const std::string line =
+        fmt::format("dt = {} s is {} the coupled stability estimate {} s (docs/ib.md)", format(dt),
+                    dt > coupled_estimate_.dt ? "above" : "within", format(coupled_estimate_.dt));
+    if (dt > coupled_estimate_.dt)
+      base::Logger::global().warn("ib: " + line + "; the run may blow up");
+    else
+      base::Logger::global().info("ib: " + line);
+  } else if (timings_.steps == 0) {
     const StabilityEstimate s = stability_estimate();
     if (dt > s.dt)
       base::Logger::global().warn("ib: " + describe_time_step(dt, s) + "; the run may blow up");
@@ -289,6 +298,7 @@ void IbfeIntegrator::save(io::Hdf5File& file, const std::string& group) const
   file.write_root(group + "/nodal_forces", forces_, dims);
   velocity_mass_.save(file, group + "/velocity_mass");
   if (force_mass_) force_mass_->save(file, group + "/force_mass");
+  if (!stability_mode_.empty()) file.write_root(group + "/stability_mode", stability_mode_, dims);
 }
 
 void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
@@ -306,6 +316,7 @@ void IbfeIntegrator::restore(const io::Hdf5File& file, const std::string& group)
   forces_ = read("nodal_forces");
   velocity_mass_.restore(file, group + "/velocity_mass");
   if (force_mass_) force_mass_->restore(file, group + "/force_mass");
+  if (file.has(group + "/stability_mode")) stability_mode_ = read("stability_mode");
   require_inside(displacement_);
   place_points(displacement_);
 }

@@ -60,6 +60,7 @@ struct IbfeTimings {
   double force = 0.0;         ///< nodal forces from the materials and tethers
   double spreading = 0.0;     ///< S F
   double points = 0.0;        ///< choosing the rules and placing the coupling points
+  double stability = 0.0;     ///< the coupled stability estimates (not part of the steps' total)
   double total = 0.0;
   long steps = 0;
 };
@@ -89,6 +90,22 @@ struct StabilityEstimate {
   double viscous_dt = 0.0;
   double dt = 0.0; ///< the estimate
   std::vector<Term> terms;
+};
+
+/// The explicit coupling's stiffest mode measured on the coupling's own operators (docs/ib.md,
+/// "Stability"): the largest eigenvalue omega^2 of the linearised step
+///   d^2 chi / dt^2 = -A chi,   A = (1/rho) P_h J S M^{-1} K,
+/// K the structure's stiffness at chi (its full rule's laws, i.e. without a centre-law volumetric
+/// penalty, whose modes the incompressible flow does not excite, plus the tethers), S M^{-1} the force's
+/// L2 projection and spreading, J and P_h the interpolation and the velocity's L2 projection: a force's
+/// one-step effect on the faces, u += dt/rho f, before the viscous and pressure solves, which only
+/// lower it. The explicit midpoint step is stable for dt < 2/omega. Unlike the per-element estimate it
+/// sees how much fluid a node moves (the kernel's support) and how thin the structure is.
+struct CoupledStabilityEstimate {
+  double omega2 = 0.0; ///< the largest eigenvalue the power iterations found, 1/s^2
+  double dt = 0.0;     ///< 2 / omega
+  int iterations = 0;
+  double change = 0.0; ///< |omega^2 change| / omega^2 over the last iteration
 };
 
 /// "part tube 63 % of omega^2 (alone 5.1e-05 s), tether tube_outer 37 % of omega^2 (alone 6.6e-05 s),
@@ -144,6 +161,11 @@ class IbfeIntegrator {
   /// exponential law's stiffening binds. Written with every field snapshot (`stable_step`).
   std::vector<double> element_stable_steps(std::span<const double> displacement = {}) const;
 
+  /// The coupled estimate at the current state by `iterations` power iterations on A, started from the
+  /// last call's dominant mode (a smooth field at the first), so that a few suffice as the state moves.
+  /// Collective. Leaves the fluid and the structure as they were.
+  CoupledStabilityEstimate coupled_stability_estimate(int iterations = 6);
+
   /// Writes the structure's state into `group` of a checkpoint (collective): the displacement chi - X
   /// (all that the next step reads besides the fluid), the last nodal velocity and forces (output),
   /// and the starting points of the iterative mass solves. The fluid saves itself
@@ -190,6 +212,11 @@ class IbfeIntegrator {
   petsc::OwnedVec velocity_old_, velocity_mid_;
   IbfeTimings timings_;
   PetscInt projection_iterations_ = 0; // of the step being taken
+  /// A = (1/rho) P_h J S M^{-1} K applied to `mode` (coupled_stability_estimate).
+  std::vector<double> coupled_operator(const std::vector<double>& mode);
+  std::vector<double> stability_mode_;        // the last dominant mode of A (checkpointed: the next start)
+  CoupledStabilityEstimate coupled_estimate_; // the last one (none: dt 0)
+  petsc::OwnedVec probe_force_;               // a grid vector for A's spreading, apart from the fluid's force
   double h_min_ = 0.0;
   /// h_s of the stability estimate: max(h_min_, the reference mesh's smallest edge), fixed for the run.
   double stability_length_ = 0.0;

@@ -1,0 +1,102 @@
+// IbfeIntegrator::coupled_stability_estimate (ib/ibfe.hpp): power iterations on the linearised
+// explicit coupling A = (1/rho) P_h J S M^{-1} K at the current state.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <mpi.h>
+
+#include "base/stopwatch.hpp"
+#include "ib/ibfe.hpp"
+
+namespace ibvalve::ib {
+
+namespace {
+
+double norm(const std::vector<double>& v)
+{
+  return std::sqrt(std::inner_product(v.begin(), v.end(), v.begin(), 0.0));
+}
+
+} // namespace
+
+std::vector<double> IbfeIntegrator::coupled_operator(const std::vector<double>& mode)
+{
+  const std::size_t dofs = solid_.num_dofs();
+  // K mode: the full rule's forces differentiated along the mode (central differences, a step of 1e-6
+  // of the stability length for a mode of unit largest entry: far below any strain scale, far above
+  // round-off), plus the tethers' springs.
+  double largest = 0.0;
+  for (double m : mode) largest = std::max(largest, std::abs(m));
+  const double epsilon = 1e-6 * stability_length_ / largest;
+  std::vector<double> plus(displacement_), minus(displacement_), f_plus(dofs), f_minus(dofs);
+  for (std::size_t i = 0; i < dofs; ++i) {
+    plus[i] += epsilon * mode[i];
+    minus[i] -= epsilon * mode[i];
+  }
+  solid_.forces(plus, f_plus, false);
+  solid_.forces(minus, f_minus, false);
+  std::vector<double> stiffness(dofs);
+  for (std::size_t i = 0; i < dofs; ++i) stiffness[i] = (f_minus[i] - f_plus[i]) / (2.0 * epsilon);
+  for (const auto& [w, t] : tethers_)
+    for (std::size_t n = 0; n < w.size(); ++n)
+      for (int c = 0; c < 3; ++c) stiffness[3 * n + c] += w[n] * t.stiffness * mode[3 * n + c];
+  // S M^{-1}: the force density's L2 projection, spread from the points as the step spreads it.
+  const NodalMass& mass = force_mass_ ? *force_mass_ : velocity_mass_;
+  const std::vector<double> density = mass.solve(stiffness, 4);
+  std::vector<Vec3> point_forces(prepared_.size());
+  for (std::size_t i = 0; i < prepared_.size(); ++i) {
+    const std::size_t q = prepared_.index[i];
+    const auto element = solid_.mesh().element(points_.element(q));
+    const auto N = points_.shape_values(q);
+    Vec3 f = Vec3::Zero();
+    for (std::size_t a = 0; a < element.size(); ++a)
+      f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
+    point_forces[i] = f * points_.weight(q);
+  }
+  interaction_.spread(prepared_, point_forces, probe_force_);
+  // P_h J: interpolated at the same points and projected to the nodes; 1/rho turns the force density
+  // into the faces' acceleration.
+  std::vector<double> response = project_velocity(probe_force_, 5);
+  for (double& r : response) r /= fluid_.density();
+  return response;
+}
+
+CoupledStabilityEstimate IbfeIntegrator::coupled_stability_estimate(int iterations)
+{
+  base::Stopwatch watch(timings_.stability);
+  const std::size_t dofs = solid_.num_dofs();
+  if (!probe_force_) probe_force_ = fluid_.grid().create_local();
+  if (stability_mode_.size() != dofs) {
+    // The first start: a smooth field with a part along every direction everywhere.
+    stability_mode_.assign(dofs, 0.0);
+    const auto& X = solid_.mesh().nodes();
+    for (std::size_t n = 0; n < X.size(); ++n)
+      for (int c = 0; c < 3; ++c)
+        stability_mode_[3 * n + c] = 1.0 + 0.5 * std::sin(3.0 * X[n][c] + static_cast<double>(c));
+  }
+  place_points(displacement_);
+  const PetscInt counted = projection_iterations_;
+  CoupledStabilityEstimate estimate;
+  double previous = 0.0;
+  for (int k = 0; k < iterations; ++k) {
+    std::vector<double> image = coupled_operator(stability_mode_);
+    const double ratio = norm(image) / norm(stability_mode_);
+    if (!(ratio > 0.0) || !std::isfinite(ratio)) break; // nothing stiff (no tether, no stress)
+    estimate.omega2 = ratio;
+    estimate.change = previous > 0.0 ? std::abs(ratio - previous) / ratio : 1.0;
+    estimate.iterations = k + 1;
+    previous = ratio;
+    const double scale = 1.0 / *std::max_element(image.begin(), image.end(), [](double a, double b) {
+                           return std::abs(a) < std::abs(b);
+                         });
+    for (double& v : image) v *= scale;
+    stability_mode_ = std::move(image);
+  }
+  projection_iterations_ = counted; // the step's count, not the estimate's
+  estimate.dt = estimate.omega2 > 0.0 ? 2.0 / std::sqrt(estimate.omega2) : 1e300;
+  coupled_estimate_ = estimate;
+  return estimate;
+}
+
+} // namespace ibvalve::ib
