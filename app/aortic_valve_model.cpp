@@ -22,6 +22,7 @@
 #include <mpi.h>
 #include <nlohmann/json.hpp>
 
+#include "app/adaptive_step.hpp"
 #include "app/coupling_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
@@ -71,6 +72,8 @@ struct AorticValveKeys {
   std::optional<double> end;
   double step = 0, coaptation_step = 0, pressure_ramp = 0, fields_interval = 0;
   std::vector<double> coaptation_window;
+  bool adaptive = false;
+  AdaptiveStepSettings adaptive_step;
   std::vector<std::int64_t> cells;
   std::vector<double> lower, upper;
   fluid::FluidSettings fluid;
@@ -102,7 +105,10 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
             k.end)
       .unit("s")
       .positive();
-  keys.real("time.step", "time step (rounded so a cycle holds a whole number of steps)", k.step)
+  keys.real("time.step",
+            "time step (rounded so a cycle holds a whole number of steps); with time.adaptive the longest "
+            "sub-step",
+            k.step)
       .unit("s")
       .defaults(3e-5)
       .positive();
@@ -119,6 +125,32 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .unit("s")
       .size(2)
       .defaults(std::vector<double>{0.37, 0.47});
+  keys.boolean("time.adaptive",
+               "choose the step from the state: the run moves through intervals of time.interval, each "
+               "taken in equal sub-steps within the structure's current stability estimate (times "
+               "time.safety), the fluid's advective limit (time.cfl) and time.step, the longest "
+               "(docs/runs.md, \"The adaptive step\"); false = time.step throughout",
+               k.adaptive)
+      .defaults(false);
+  keys.real("time.interval",
+            "with time.adaptive: the run's rows, snapshots, checkpoints and cycle ends fall on these "
+            "(rounded so a cycle holds a whole number); output.every and checkpoint.every count them",
+            k.adaptive_step.interval)
+      .unit("s")
+      .defaults(1.6e-3)
+      .positive();
+  keys.real("time.safety",
+            "with time.adaptive: the fraction of the structure's stability estimate a "
+            "sub-step may take",
+            k.adaptive_step.safety)
+      .defaults(0.9)
+      .positive()
+      .at_most(2.0);
+  keys.real("time.cfl", "with time.adaptive: the largest advective CFL number max|u| dt / h of a sub-step",
+            k.adaptive_step.cfl)
+      .defaults(0.5)
+      .positive()
+      .at_most(2.0);
   keys.real("time.pressure_ramp",
             "the inlet and outlet pressures rise from zero to their values over this time, as "
             "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
@@ -401,7 +433,17 @@ class AorticValveRun : public PreparedRun {
     period_ = lv_.period();
     if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
       keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
-    if (k.coaptation_step > 0.0) {
+    if (k.adaptive) {
+      if (k.coaptation_step > 0.0)
+        keys_.fail(k.coaptation_step, "a fixed coaptation step and " + keys_.key_of(k.adaptive) +
+                                          " exclude each other: the adaptive step finds the coaptation's");
+      if (k.adaptive_step.interval < k.step)
+        keys_.fail(k.adaptive_step.interval,
+                   "must be at least " + keys_.key_of(k.step) + ", the longest sub-step it is cut into");
+      adaptive_step_.emplace(AdaptiveStepSettings{k.adaptive_step.interval, k.step, k.adaptive_step.safety,
+                                                  k.adaptive_step.cfl, k.adaptive_step.grow});
+      schedule_ = StepSchedule(period_, k.adaptive_step.interval);
+    } else if (k.coaptation_step > 0.0) {
       const double a = k.coaptation_window[0], b = k.coaptation_window[1];
       if (!(a >= 0.0 && a < b && b <= period_))
         keys_.fail(k.coaptation_window,
@@ -543,19 +585,41 @@ class AorticValveRun : public PreparedRun {
     loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
-    loop.advance = [&](std::int64_t n) {
-      const double step = schedule_.step(n); // the coupled step's and the Windkessel's
+    // The adaptive step's choice for the interval under way: its sub-steps and the structure's estimate.
+    std::int64_t substeps = 0;
+    double structure_dt = 0.0;
+    auto coupled_step = [&](std::int64_t n, double step) {
       try {
         ibfe.step(step);
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
-        throw RunError(
-            fmt::format("aortic-valve: step {} (t = {:g} s): {} (try a smaller {} or a finer grid)", n,
-                        ibfe.time(), e.what(), keys_.key_of(k_.step)));
+        throw RunError(fmt::format(
+            "aortic-valve: step {} (t = {:g} s): {} (try a smaller {} or a finer grid)", n, ibfe.time(),
+            e.what(), keys_.key_of(adaptive_step_ ? k_.adaptive_step.safety : k_.step)));
       }
-      outlet_flow = fluid->flux(outlet_plane);
+      outlet_flow = fluid->flux(outlet_plane); // the Windkessel's, lagged by one (sub-)step
       outlet_pressure = outlet.advance(step, outlet_flow);
     };
+    loop.advance = [&](std::int64_t n) {
+      const double interval = schedule_.step(n);
+      if (!adaptive_step_) return coupled_step(n, interval);
+      structure_dt = ibfe.coupled_stability_estimate().dt;
+      const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
+      substeps = adaptive_step_->substeps(interval, structure_dt, fluid->max_velocity() / h, substeps);
+      for (std::int64_t m = 0; m < substeps; ++m) coupled_step(n, interval / static_cast<double>(substeps));
+    };
+    if (adaptive_step_) {
+      // diagnostics.csv: each interval's sub-steps, their length and the structure's estimate, beside the
+      // last sub-step's solver figures and its CFL number.
+      loop.figures = [&, watch = std::make_shared<InversionWatch>(solid)] {
+        const double step = schedule_.step(1) / static_cast<double>(std::max<std::int64_t>(substeps, 1));
+        StepFigures figures = ibfe_step_figures(*fluid, ibfe, step, watch.get());
+        figures.solver.push_back({"substeps", static_cast<double>(substeps), "sub"});
+        figures.solver.push_back({"dt", step, "dt", "s"});
+        figures.solver.push_back({"dt_structure", structure_dt, "", "s"});
+        return figures;
+      };
+    }
     loop.row = [&](std::int64_t) {
       const double t = ibfe.time();
       const double q_valve = fluid->flux(valve_plane);
@@ -586,6 +650,10 @@ class AorticValveRun : public PreparedRun {
       const std::vector<double> saved{w.time,      w.reservoir_pressure, w.flow,       outlet_pressure,
                                       outlet_flow, largest_area,         smallest_area};
       h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
+      // The adaptive step's last choice: the next interval's depends on it.
+      if (adaptive_step_)
+        h5.write_root("aortic_valve/substeps", std::vector<double>{static_cast<double>(substeps)},
+                      std::vector<hsize_t>{1});
     };
     loop.restore = [&, restore_coupled = loop.restore](const io::Hdf5File& h5) {
       const std::vector<double> saved = h5.read("aortic_valve/outlet");
@@ -596,6 +664,8 @@ class AorticValveRun : public PreparedRun {
       outlet_flow = saved[4];
       largest_area = saved[5];
       smallest_area = saved[6];
+      if (h5.has("aortic_valve/substeps"))
+        substeps = static_cast<std::int64_t>(h5.read("aortic_valve/substeps").at(0));
       restore_coupled(h5);
     };
     loop.after_step = [&](std::int64_t n, RunSummary& summary) {
@@ -618,8 +688,12 @@ class AorticValveRun : public PreparedRun {
       timing << "per step: " << t.total / static_cast<double>(t.steps) << " s (fluid " << t.fluid / t.steps
              << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
              << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ", points "
-             << t.points / t.steps << ") over " << t.steps << " steps; orifice area " << smallest_area
-             << " to " << largest_area << " cm^2; " << fluid_summary(*fluid);
+             << t.points / t.steps << ") over " << t.steps << " steps"
+             << (adaptive_step_
+                     ? fmt::format(", adaptive step's stability estimates {:.3g} s in all", t.stability)
+                     : std::string())
+             << "; orifice area " << smallest_area << " to " << largest_area << " cm^2; "
+             << fluid_summary(*fluid);
       summary.lines.push_back(timing.str());
     };
     return run_time_loop(context, loop);
@@ -632,6 +706,12 @@ class AorticValveRun : public PreparedRun {
   std::string describe_steps() const
   {
     const std::string coarse = hemodynamics::format_value(schedule_.step(1)) + " s";
+    if (adaptive_step_)
+      return fmt::format("adaptive: intervals of {}, sub-steps up to {} s within {} x the structure's "
+                         "estimate and CFL {}",
+                         coarse, hemodynamics::format_value(k_.step),
+                         hemodynamics::format_value(k_.adaptive_step.safety),
+                         hemodynamics::format_value(k_.adaptive_step.cfl));
     if (schedule_.uniform()) return coarse;
     return fmt::format("{}, {} s over [{}, {}] s of each cycle", coarse,
                        hemodynamics::format_value(k_.coaptation_step),
@@ -742,6 +822,7 @@ class AorticValveRun : public PreparedRun {
     return 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / k_.pressure_ramp));
   }
   StepSchedule schedule_{1.0, 1.0};
+  std::optional<AdaptiveStep> adaptive_step_; // with time.adaptive: the sub-steps of each interval
   long steps_per_cycle_ = 1, steps_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   MemoryPart structure_memory_;

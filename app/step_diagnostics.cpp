@@ -42,12 +42,11 @@ StepDiagnostics::StepDiagnostics(MPI_Comm comm, const std::filesystem::path& dir
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   root_ = rank == 0;
-  // The units line as in timeseries.csv (docs/runs.md); iteration counts, residuals and the CFL
-  // number are pure numbers.
+  // The units line as in timeseries.csv (docs/runs.md); the CFL number is a pure number.
   std::vector<std::string> columns{"step", "t", "wall_step"}, units{"1", "s", "s"};
   for (const StepFigure& f : layout.solver) {
     columns.push_back(f.column);
-    units.push_back("1");
+    units.push_back(f.unit);
   }
   columns.push_back("max_velocity");
   units.push_back("cm/s");

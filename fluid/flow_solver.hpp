@@ -35,6 +35,7 @@ struct SolverFigure {
   std::string column;
   double value = 0.0;
   std::string label;
+  std::string unit = "1"; ///< diagnostics.csv's units line: iteration counts and residuals are pure numbers
 };
 
 class FlowSolver {

@@ -1,0 +1,42 @@
+#include "app/adaptive_step.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ibvalve::app {
+
+AdaptiveStep::AdaptiveStep(const AdaptiveStepSettings& settings) : settings_(settings)
+{
+  const AdaptiveStepSettings& s = settings_;
+  if (!(s.interval > 0.0) || !(s.largest > 0.0) || !(s.safety > 0.0) || !(s.cfl > 0.0) || !(s.grow >= 1.0))
+    throw std::invalid_argument("AdaptiveStep: interval, largest step, safety and cfl must be positive, "
+                                "grow at least 1");
+}
+
+double AdaptiveStep::allowed_step(double structure_dt, double speed_over_h) const
+{
+  double step = std::min(settings_.largest, settings_.safety * structure_dt);
+  if (speed_over_h > 0.0) step = std::min(step, settings_.cfl / speed_over_h);
+  if (!(step > 0.0) || !std::isfinite(step))
+    throw std::runtime_error("the adaptive step found no positive step (structure estimate " +
+                             std::to_string(structure_dt) + " s, max|u|/h " + std::to_string(speed_over_h) +
+                             " 1/s)");
+  return step;
+}
+
+std::int64_t AdaptiveStep::substeps(double interval, double structure_dt, double speed_over_h,
+                                    std::int64_t previous) const
+{
+  const double allowed = allowed_step(structure_dt, speed_over_h);
+  // The fewest equal sub-steps none longer than allowed (a relative 1e-12 spares an extra one where
+  // interval / allowed is a whole number up to round-off).
+  const auto needed =
+      std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(interval / allowed - 1e-12)));
+  if (previous <= 0 || needed >= previous) return needed;
+  // Fewer sub-steps only once the allowed step exceeds the previous one by the factor `grow`.
+  const double previous_step = interval / static_cast<double>(previous);
+  return allowed >= settings_.grow * previous_step ? needed : previous;
+}
+
+} // namespace ibvalve::app
