@@ -106,7 +106,11 @@ io::Config load_case(const RunOptions& options)
   toml::table table = io::parse_toml_file(options.case_file);
   io::apply_overrides(table, options.overrides, [&](std::string_view key) { return case_key(table, key); });
   const Model& model = case_model(table, options.case_file);
-  return io::Config::validate(std::move(table), options.case_file, case_schema(model));
+  io::Config config = io::Config::validate(std::move(table), options.case_file, case_schema(model));
+  // The name is the default run folder's (runs/<name>): a name, not a path. Empty: the case file's name.
+  if (const std::string name = config.string("name"); !name.empty())
+    if (const std::string why = io::folder_name_problem(name); !why.empty()) config.fail("name", why);
+  return config;
 }
 
 std::filesystem::path run_directory(const RunOptions& options, const io::Config& config)

@@ -146,6 +146,18 @@ std::string xml_escaped(std::string_view text)
   return out;
 }
 
+std::string folder_name_problem(std::string_view name)
+{
+  if (name.empty()) return "must not be empty";
+  if (name == "." || name == "..")
+    return fmt::format("\"{}\" is not a name but a step of a path (this folder or its parent)", name);
+  for (char c : name) {
+    if (c == '/' || c == '\\') return fmt::format("\"{}\" holds '{}': a name, not a path", name, c);
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "holds a control character";
+  }
+  return "";
+}
+
 std::size_t CsvTable::column(std::string_view name) const
 {
   for (std::size_t i = 0; i < columns.size(); ++i)

@@ -56,6 +56,11 @@ struct CsvTable {
 /// may carry names from a user's files (mesh groups, case names).
 std::string xml_escaped(std::string_view text);
 
+/// Why `name` cannot be the name of one folder inside another ("" when it can): empty, "." or "..",
+/// or holding '/', '\\' or a control character. Run and study case names become folders, and a name
+/// is not a path: "../x" would put a run outside the folder meant for it.
+std::string folder_name_problem(std::string_view name);
+
 /// `s` without leading and trailing blanks (spaces, tabs, carriage returns).
 std::string trim(std::string_view s);
 /// The comma-separated fields of one CSV line, each trimmed (a trailing comma gives an empty field).

@@ -31,7 +31,7 @@ CL = "command line"
 #   how:   ("edit", CASE, OLD, NEW) - the example case with OLD replaced by NEW (NEW's first line is where)
 #          ("append", CASE, TEXT)   - the example case with TEXT added at the end (TEXT's first line)
 #          ("set", CASE, KEY=VALUE...) - the example case with --set overrides
-#          ("args", [ARGS])         - a command line; {examples}, {work}, {case:NAME} expand
+#          ("args", [ARGS])         - a command line; {examples}, {work}, {out}, {cases} (tests/app/cases) expand
 #   key:   the key or option the one line must name
 #   where: CL ("command line" in the line), "case" (CASE:LINE of the edit; "case+1" the line after it),
 #          "default" or "nofile-line" (the case file named, no line: a key left out or at its default),
@@ -197,6 +197,18 @@ INPUTS = [
      "tube radius", CL, False),
     ("mesh odd leaflet across", "commands", ("args", ["mesh", "aortic-valve", "-o", "{out}", "--leaflet-across=15"]),
      "leaflet elements across", CL, False),
+    # A name is a name, not a path: a run or study case named "..", "." or "../x" would write outside
+    # the folder meant for it (over an older run).
+    ("run name parent folder", "lumped", ("set", LUMPED, 'name=".."'), "name", CL, True),
+    ("run name a path", "lumped", ("edit", LUMPED, 'name = "lumped-default"', 'name = "../x"'), "name", "case",
+     False),
+    ("study case name parent folder", "commands", ("args", ["study", "{cases}/study_case_parent.toml", "-o", "{out}"]),
+     "study_case_parent.toml:6: case[0].name", "nofile-line", True),
+    ("study case name a path", "commands", ("args", ["study", "{cases}/study_case_path.toml", "-o", "{out}"]),
+     "study_case_path.toml:6: case[0].name", "nofile-line", False),
+    ("study source name parent folder", "commands",
+     ("args", ["study", "{cases}/study_source_parent.toml", "-o", "{out}"]),
+     "study_source_parent.toml:9: uncertainty[0].name", "nofile-line", False),
     ("study missing file", "commands", ("args", ["study", "{work}/no_such_study.toml"]), "no_such_study.toml",
      "nofile-line", False),
     ("unknown subcommand", "commands", ("args", ["simulate"]), "subcommand", CL, False),
@@ -259,8 +271,9 @@ def prepare(row, examples, work):
             location = None
         return args, location, out, case, text
     given = work / "given"
+    cases = pathlib.Path(__file__).resolve().parent / "cases"
     args = [a.replace("{examples}", str(examples)).replace("{work}", str(given)).replace("{out}", str(out))
-            for a in how[1]]
+            .replace("{cases}", str(cases)) for a in how[1]]
     return args, location, out, None, None
 
 

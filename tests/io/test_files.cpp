@@ -120,5 +120,13 @@ TEST(Files, ATornLastRowIsNamedAsTorn)
   std::filesystem::remove(path);
 }
 
+TEST(Files, ANameIsNotAPath)
+{
+  EXPECT_EQ(folder_name_problem("W1FD1"), "");
+  EXPECT_EQ(folder_name_problem("time step 1"), "");
+  for (const char* path : {"", ".", "..", "../x", "a/b", "a\\b", "x\n"})
+    EXPECT_NE(folder_name_problem(path), "") << path;
+}
+
 } // namespace
 } // namespace ibvalve::io
