@@ -401,12 +401,17 @@ class AorticValveRun : public PreparedRun {
     period_ = lv_.period();
     if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
       keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
+    const double length = k.end ? *k.end : static_cast<double>(k.cycles) * period_;
+    if (const std::string why = step_count_problem(length, k.step); !why.empty()) keys_.fail(k.step, why);
     if (k.coaptation_step > 0.0) {
       const double a = k.coaptation_window[0], b = k.coaptation_window[1];
       if (!(a >= 0.0 && a < b && b <= period_))
         keys_.fail(k.coaptation_window,
                    fmt::format("must be a start and a later end within the cycle [0, {}] s",
                                hemodynamics::format_value(period_)));
+      const double windows = std::ceil(length / period_) * (b - a);
+      if (const std::string why = step_count_problem(windows, k.coaptation_step); !why.empty())
+        keys_.fail(k.coaptation_step, why);
       schedule_ = StepSchedule(period_, k.step, k.coaptation_step, {a, b});
     } else {
       schedule_ = StepSchedule(period_, k.step);

@@ -84,6 +84,10 @@ INPUTS = [
      False),
     ("lumped cycles beyond int64", "lumped", ("edit", LUMPED, "cycles = 4", "cycles = 99999999999999999999"),
      "TOML syntax error", "case", False),
+    # A time step so small that the step count overflows (or is beyond the bound of a run) is refused,
+    # not rounded to one step or to a step of the whole cycle.
+    ("lumped step subnormal", "lumped", ("set", LUMPED, "time.step=5e-324"), "time.step", CL, True),
+    ("lumped steps beyond the bound", "lumped", ("set", LUMPED, "time.step=1e-10"), "time.step", CL, False),
     # --- fluid
     ("fluid cells too few", "fluid", ("edit", DUCT, "cells = [32, 16, 16]", "cells = [32, 16, 2]"), "fluid.cells",
      "case", True),
@@ -117,6 +121,7 @@ INPUTS = [
      "fluid.max_iterations", CL, False),
     ("fluid taylor-green with walls", "fluid", ("set", DUCT, 'initial.condition="taylor_green"'),
      "initial.condition", CL, False),
+    ("fluid step tiny", "fluid", ("set", DUCT, "time.step=1e-300"), "time.step", CL, False),
     ("fluid checkpoint every negative", "fluid", ("set", TG, "checkpoint.every=-2"), "checkpoint.every", CL, False),
     ("fluid unknown side", "fluid", ("append", TG, "[boundary.w_lower]\ntype = \"wall\""), "boundary.w_lower", "case",
      False),
@@ -152,6 +157,7 @@ INPUTS = [
      "nested.margins", CL, False),
     ("ibfe tether group unknown", "ibfe", ("append", BLOCK, '[[ib.tether]]\ngroup = "nowhere"\nstiffness = 1.0'),
      "ib.tether[0].group", "case+1", False),
+    ("ibfe step tiny", "ibfe", ("set", BLOCK, "time.step=1e-300"), "time.step", CL, False),
     ("ibfe stretch negative", "ibfe", ("set", BLOCK, "structure.initial.stretch=[1.0, -1.0, 1.0]"),
      "structure.initial.stretch", CL, False),
     # --- aortic valve
@@ -174,6 +180,10 @@ INPUTS = [
     ("valve mesh file missing", "aortic-valve", ("set", VALVE, 'mesh.file="no_such.msh"'), "mesh.file", CL, False),
     ("valve petsc option writes a file", "aortic-valve", ("set", VALVE, 'petsc.options="-log_view :/tmp/x.txt"'),
      "petsc.options", CL, False),
+    ("valve step tiny", "aortic-valve", ("set", VALVE, "time.step=1e-300"), "time.step", CL, False),
+    ("valve coaptation step tiny", "aortic-valve",
+     ("set", VALVE, "time.coaptation_step=1e-300", "time.coaptation_window=[0.1, 0.2]"), "time.coaptation_step",
+     CL, False),
     ("valve report period differs", "aortic-valve", ("set", VALVE, "report.period=0.7"), "report.period", CL, False),
     ("valve orifice resolution beyond int", "aortic-valve", ("set", VALVE, "probes.orifice_resolution=4294967552"),
      "probes.orifice_resolution", CL, False),
