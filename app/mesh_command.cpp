@@ -1,12 +1,15 @@
 // `ibvalve mesh aortic-valve [options] -o valve.msh`: the idealized tri-leaflet valve in its tube
 // (fe/valve_mesh.hpp), written as a Gmsh file with physical groups, plus an XDMF/HDF5 copy ParaView opens.
+#include <array>
 #include <filesystem>
 #include <fmt/format.h>
 #include <stdexcept>
+#include <utility>
 
 #include <mpi.h>
 
 #include "app/commands.hpp"
+#include "app/resource_estimate.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "fe/gmsh_io.hpp"
@@ -16,8 +19,37 @@ namespace ibvalve::app {
 
 namespace {
 
+/// The most hexahedra the command generates: some gigabytes to build and write, where a valve ibvalve
+/// runs has tens of thousands.
+constexpr double max_generated_elements = 1e7;
+
+/// InputError for element counts beyond what a case file may ask (app/resource_estimate.hpp), each or
+/// all together, before anything is allocated.
+void check_counts(const fe::ValveMeshParameters& p)
+{
+  const std::array<std::pair<int, const char*>, 6> counts{{{p.leaflet_across, "--leaflet-across"},
+                                                           {p.leaflet_radial, "--leaflet-radial"},
+                                                           {p.leaflet_through, "--leaflet-through"},
+                                                           {p.tube_around, "--tube-around"},
+                                                           {p.tube_along, "--tube-along"},
+                                                           {p.tube_through, "--tube-through"}}};
+  for (const auto& [count, option] : counts)
+    if (count > max_mesh_cells)
+      throw InputError(
+          fmt::format("command line: {} {}: at most {} elements", option, count, max_mesh_cells));
+  const double elements =
+      3.0 * p.leaflet_across * p.leaflet_radial * p.leaflet_through +
+      (p.include_tube ? static_cast<double>(p.tube_around) * p.tube_along * p.tube_through : 0.0);
+  if (elements > max_generated_elements)
+    throw InputError(
+        fmt::format("command line: ibvalve mesh aortic-valve: {:.3g} hexahedra, more than the {:.0e} "
+                    "it generates (fewer elements along or around the tube?)",
+                    elements, max_generated_elements));
+}
+
 int write_valve_mesh(const fe::ValveMeshParameters& parameters, const std::filesystem::path& output)
 {
+  check_counts(parameters);
   try {
     fe::check(parameters);
   } catch (const std::invalid_argument& error) {

@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/units.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::io {
 
@@ -713,8 +714,7 @@ std::vector<std::pair<std::string, std::string>> flattened(const toml::table& ta
 
 toml::table parse_toml_file(const std::filesystem::path& file)
 {
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
-  if (!std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": not a regular file");
+  check_input_file(file, max_text_bytes);
   try {
     return toml::parse_file(file.string());
   } catch (const toml::parse_error& error) {

@@ -57,8 +57,24 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   }
 }
 
-std::string read_text_file(const std::filesystem::path& path)
+void check_input_file(const std::filesystem::path& path, std::uintmax_t max_bytes)
 {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw InputError(path.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path.string() + ": not a regular file (" +
+                     (std::filesystem::is_directory(status) ? "a folder" : "a pipe, a device or a socket") +
+                     "); give a file");
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error && size > max_bytes)
+    throw InputError(fmt::format("{}: {} bytes is more than the {} MiB this file is read up to",
+                                 path.string(), size, max_bytes >> 20));
+}
+
+std::string read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes)
+{
+  check_input_file(path, max_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot be read");
   std::ostringstream os;
@@ -192,8 +208,9 @@ std::vector<std::string> split_csv_line(const std::string& line)
   return fields;
 }
 
-CsvTable read_csv(const std::filesystem::path& path, bool header)
+CsvTable read_csv(const std::filesystem::path& path, bool header, std::uintmax_t max_bytes)
 {
+  check_input_file(path, max_bytes);
   std::ifstream in(path);
   if (!in) throw InputError(path.string() + ": no such file or not readable");
   CsvTable table;

@@ -36,7 +36,7 @@ bool parse_number(const std::string& text, double& value)
 BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
 {
   const std::string name = file.string();
-  if (!std::filesystem::is_regular_file(file)) throw InputError(name + ": no such file");
+  io::check_input_file(file, io::max_input_table_bytes);
   std::ifstream in(file);
   if (!in) throw InputError(name + ": cannot be read");
   static const std::array<std::string, 4> required{"lambda1", "lambda2", "sigma11_kPa", "sigma22_kPa"};

@@ -219,6 +219,16 @@ INPUTS = [
     ("study source name parent folder", "commands",
      ("args", ["study", "{cases}/study_source_parent.toml", "-o", "{out}"]),
      "study_source_parent.toml:9: uncertainty[0].name", "nofile-line", False),
+    # Input files that are no regular files (a device, a FIFO) or beyond bounds: bad input (exit 2), not
+    # a hang.
+    ("fibers mesh a device", "commands", ("args", ["fibers", "/dev/zero", "--rule", "FD1", "-o", "{out}"]),
+     "/dev/zero: not a regular file", "path", False),
+    ("mesh tube around beyond bound", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{out}/valve.msh", "--tube-around", "100000000"]), "--tube-around",
+     CL, True),
+    ("mesh elements beyond bound", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{out}/valve.msh", "--tube-around", "4096", "--tube-along", "4096"]),
+     "hexahedra", CL, False),
     ("study missing file", "commands", ("args", ["study", "{work}/no_such_study.toml"]), "no_such_study.toml",
      "nofile-line", False),
     ("unknown subcommand", "commands", ("args", ["simulate"]), "subcommand", CL, False),

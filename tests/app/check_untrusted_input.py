@@ -26,6 +26,11 @@ Scenarios:
       --period other than the run's cycle (0.0096 s: RF of hundreds of %) prints one warning line
       naming both; a period holding only a few rows of the series, or longer than the series, is
       refused (exit 2, one error line naming --period) and writes nothing.
+  input-files
+      Files a run or a command reads, and folders it writes:
+      - a sparse 100 MiB waveform table is refused at once (exit 2, naming the file and its limit);
+      - a FIFO named as the newest checkpoint is passed over by --restart (a warning naming it),
+        which continues from the one before;
 Prints what it checked; exits 1 on the first failure.
 """
 import json
@@ -48,9 +53,12 @@ class Runner:
     def __init__(self, ibvalve, mpiexec, ranks):
         self.prefix = [mpiexec, "--oversubscribe", "-n", str(ranks), ibvalve]
 
-    def __call__(self, *args, cwd=None):
-        p = subprocess.run(self.prefix + [str(a) for a in args], stdin=subprocess.DEVNULL,
-                           capture_output=True, text=True, cwd=cwd, timeout=240)
+    def __call__(self, *args, cwd=None, timeout=240):
+        try:
+            p = subprocess.run(self.prefix + [str(a) for a in args], stdin=subprocess.DEVNULL,
+                               capture_output=True, text=True, cwd=cwd, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            fail(f"no answer within {timeout} s: {' '.join(str(a) for a in args)}")
         return p.returncode, p.stdout, p.stderr
 
 
@@ -233,6 +241,35 @@ def report_period(run, case, work):
         print(f"ok: {line}")
 
 
+def input_files(run, case, work):
+    # A waveform table of 100 MiB, sparse (no disk used): named with its limit in seconds, not read.
+    sparse = work / "sparse.csv"
+    with open(sparse, "w") as f:
+        f.write("t,p\n")
+        f.truncate(100 << 20)
+    code, out, err = run("run", case, "-o", work / "sparse_run",
+                         "--set", f"lv_pressure.file={json.dumps(str(sparse))}", timeout=30)
+    line = one_error_line(code, out, err)
+    if str(sparse) not in line or "MiB" not in line:
+        fail(f"the error line does not name {sparse} and its limit: {line}")
+    print(f"ok: {line}")
+    # A FIFO under the newest checkpoint's name: passed over, not opened.
+    stopped = work / "stopped"
+    code, out, err = run("run", case, "-o", stopped, "--set", "time.cycles=1", "--set", "report.plots=false",
+                         "--stop-after-steps", "3000")
+    if code != 0:
+        fail(f"the stopped run exited with {code}", out + err)
+    fifo = stopped / "checkpoints" / "step_000999999.h5"
+    os.mkfifo(fifo)
+    code, out, err = run("run", "--restart", stopped, timeout=60)
+    if code != 0:
+        fail(f"--restart with a FIFO checkpoint exited with {code}", out + err)
+    warnings = [l for l in (out + err).splitlines() if l.startswith("warning:") and str(fifo) in l]
+    if len(warnings) != 1 or "not a regular file" not in warnings[0]:
+        fail("--restart did not warn once that the FIFO is not a regular file", out + err)
+    print(f"ok: {warnings[0]}")
+
+
 def main():
     scenario, ibvalve, mpiexec, ranks, case, work = sys.argv[1:7]
     work = pathlib.Path(work).resolve()
@@ -240,7 +277,7 @@ def main():
     work.mkdir(parents=True)
     run = Runner(ibvalve, mpiexec, int(ranks))
     scenarios = {"report-planted-modules": report_planted_modules, "waveform-content": waveform_content,
-                 "petsc-options": petsc_options, "report-period": report_period}
+                 "petsc-options": petsc_options, "report-period": report_period, "input-files": input_files}
     scenarios[scenario](run, pathlib.Path(case).resolve(), work)
 
 

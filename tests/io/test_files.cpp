@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <fstream>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include "base/errors.hpp"
@@ -118,6 +120,38 @@ TEST(Files, ATornLastRowIsNamedAsTorn)
         << error.what();
   }
   std::filesystem::remove(path);
+}
+
+TEST(Files, InputFilesAreRegularFilesOfBoundedSize)
+{
+  // A device or a pipe could be read without end or block: refused without being opened.
+  for (const char* device : {"/dev/null", "/dev/zero"}) {
+    EXPECT_THROW(read_text_file(device), InputError) << device;
+    EXPECT_THROW(read_csv(device), InputError) << device;
+  }
+  const auto fifo = temp("fifo.csv");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    read_csv(fifo);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              fifo.string() + ": not a regular file (a pipe, a device or a socket); give a file");
+  }
+  std::filesystem::remove(fifo);
+  // A file beyond its limit (sparse: no disk used) is refused before it is read.
+  const auto big = temp("big.csv");
+  std::ofstream(big) << "t,p\n0,1\n";
+  std::filesystem::resize_file(big, (std::uintmax_t{3} << 20) + 1);
+  EXPECT_THROW(read_csv(big, true, std::uintmax_t{3} << 20), InputError);
+  try {
+    read_text_file(big, std::uintmax_t{3} << 20);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              big.string() + ": 3145729 bytes is more than the 3 MiB this file is read up to");
+  }
+  std::filesystem::remove(big);
 }
 
 TEST(Files, ANameIsNotAPath)
