@@ -1,5 +1,7 @@
 #include "io/files.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -224,6 +226,19 @@ CsvTable read_csv(const std::filesystem::path& path, bool header, std::uintmax_t
     if (text.empty() || text[0] == '#') continue;
     auto fields = split_csv_line(text);
     if (!have_header) {
+      for (std::size_t i = 0; i < fields.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (fields[i] == fields[j]) {
+            // The name is shown when it is one (the file may be any readable file: its text is not echoed).
+            const bool identifier =
+                fields[i].size() <= 40 && std::all_of(fields[i].begin(), fields[i].end(), [](char c) {
+                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                });
+            throw InputError(fmt::format(
+                "{}:{}: column{} is named twice (columns {} and {}): a reader by name "
+                "would take one of them",
+                path.string(), line_number, identifier ? " '" + fields[i] + "'" : "", j + 1, i + 1));
+          }
       table.columns = fields;
       have_header = true;
       continue;

@@ -84,7 +84,8 @@ std::string trim(std::string_view s);
 std::vector<std::string> split_csv_line(const std::string& line);
 
 /// Reads a CSV file of numbers (check_input_file first). `header` false means the first row is data
-/// (columns named c0, c1, ...). A malformed line throws InputError "file:line: ...".
+/// (columns named c0, c1, ...). A malformed line, or a column named twice in the header (a reader by
+/// name would take one of them silently), throws InputError "file:line: ...".
 CsvTable read_csv(const std::filesystem::path& path, bool header = true,
                   std::uintmax_t max_bytes = max_table_bytes);
 

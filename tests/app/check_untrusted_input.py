@@ -31,6 +31,8 @@ Scenarios:
       - a sparse 100 MiB waveform table is refused at once (exit 2, naming the file and its limit);
       - a FIFO named as the newest checkpoint is passed over by --restart (a warning naming it),
         which continues from the one before;
+      - a timeseries.csv with a column named twice is refused by `report` and `compare` (exit 2,
+        naming the file, the line and the column), not read as the one column;
 Prints what it checked; exits 1 on the first failure.
 """
 import json
@@ -268,6 +270,24 @@ def input_files(run, case, work):
     if len(warnings) != 1 or "not a regular file" not in warnings[0]:
         fail("--restart did not warn once that the FIFO is not a regular file", out + err)
     print(f"ok: {warnings[0]}")
+
+    directory = work / "run"
+    lumped_run(run, case, directory)
+    # A column named twice: the report and the comparison refuse the series, naming file, line, column.
+    twice = work / "twice"
+    shutil.copytree(directory, twice)
+    series = (twice / "timeseries.csv").read_text().split("\n", 1)
+    header = series[0].split(",")
+    header[header.index("Q_outlet")] = "Q_valve"
+    (twice / "timeseries.csv").write_text(",".join(header) + "\n" + series[1])
+    shutil.rmtree(twice / "report")
+    for args in (("report", twice, "--no-plots"),
+                 ("compare", twice, directory, "-o", work / "twice_cmp", "--no-plots")):
+        code, out, err = run(*args)
+        line = one_error_line(code, out, err)
+        if f"{twice / 'timeseries.csv'}:1:" not in line or "'Q_valve'" not in line:
+            fail(f"{args[0]}: the error line does not name timeseries.csv:1 and 'Q_valve': {line}")
+        print(f"ok: {args[0]}: {line}")
 
 
 def main():

@@ -122,6 +122,23 @@ TEST(Files, ATornLastRowIsNamedAsTorn)
   std::filesystem::remove(path);
 }
 
+TEST(Files, ACsvColumnNamedTwiceIsRefusedNamingFileLineAndColumn)
+{
+  // A reader by name would take one of the two silently (the first Q_valve, and the report's V_F of it).
+  const auto path = temp("twice.csv");
+  std::ofstream(path) << "# a comment\nt,Q_valve,Q_valve\n0,1,2\n";
+  try {
+    read_csv(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find(path.string() + ":2: column 'Q_valve' is named twice (columns 2 and 3)"),
+              std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(Files, InputFilesAreRegularFilesOfBoundedSize)
 {
   // A device or a pipe could be read without end or block: refused without being opened.
