@@ -14,6 +14,8 @@
 #include "base/logger.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/valve_mesh.hpp"
+#include "io/collective.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::app {
 
@@ -57,12 +59,12 @@ int write_valve_mesh(const fe::ValveMeshParameters& parameters, const std::files
   }
   if (output.extension() != ".msh") throw InputError(output.string() + ": the output must be a .msh file");
   const fe::Mesh mesh = fe::aortic_valve_mesh(parameters);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) {
-    if (output.has_parent_path()) std::filesystem::create_directories(output.parent_path());
+  // Rank 0 writes; a folder that cannot be made (a path below a regular file, /proc) is bad input on
+  // every rank, so none waits for rank 0.
+  io::on_root(MPI_COMM_WORLD, [&] {
+    if (output.has_parent_path()) io::create_output_folder(output.parent_path());
     fe::write_msh(mesh, output);
-  }
+  });
   auto& log = base::Logger::global();
   log.info(fmt::format("wrote {}: {} hexahedra, {} nodes", output.string(), mesh.num_elements(),
                        mesh.num_nodes()));
@@ -84,7 +86,7 @@ void add_mesh_command(CLI::App& app, CommandAction& action)
       mesh->add_subcommand("aortic-valve", "idealized tri-leaflet aortic valve in a straight tube "
                                            "(lengths in cm; docs/fe.md)");
   auto& p = *parameters;
-  valve->add_option("-o,--output", *output, "output .msh file")->capture_default_str();
+  valve->add_option("-o,--output", *output, "output .msh file")->capture_default_str()->check(non_empty_path);
   valve->add_option("--tube-radius", p.tube_radius, "inner radius of the tube")->capture_default_str();
   valve->add_option("--tube-wall", p.tube_wall, "tube wall thickness")->capture_default_str();
   valve->add_option("--tube-length", p.tube_length, "tube length (inlet at z = 0)")->capture_default_str();

@@ -1,7 +1,7 @@
 // `ibvalve run CASE.toml`: validate the case, create the run folder, run the model.
 #include <algorithm>
 #include <array>
-#include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string_view>
@@ -14,6 +14,7 @@
 #include "app/case_petsc_options.hpp"
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/step_schedule.hpp"
 #include "app/stop_signal.hpp"
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
@@ -333,9 +334,19 @@ void add_run_command(CLI::App& app, CommandAction& action)
   sub->add_option("--restart", options->restart,
                   "continue the run in this folder from its last checkpoint (its config.toml is the case)");
   sub->add_option(
-      "--stop-after-steps", options->stop_after_steps,
-      "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end");
-  sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
+         "--stop-after-steps", options->stop_after_steps,
+         "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end")
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            // Read as written, before the integer conversion, which takes a count beyond int64 silently.
+            const long double count = std::strtold(value.c_str(), nullptr);
+            return count > max_run_steps ? fmt::format("{}: more than the {:.0e} steps a run takes at most",
+                                                       value.substr(0, 40), max_run_steps)
+                                         : std::string();
+          },
+          "N"));
+  sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)")
+      ->check(non_empty_path);
   sub->add_option(
       "--set", options->overrides,
       "override a key, e.g. --set fluid.viscosity=3.5 or --set fibers.rule=FD2 (a bare word for a "

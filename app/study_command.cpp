@@ -282,7 +282,8 @@ void add_study_command(CLI::App& app, CommandAction& action)
       "study", "Run the cases a study file lists (base case + overrides each), then compare them");
   sub->add_option("study", options->study_file, "the study file (TOML)")->required();
   sub->add_option("-o,--output", options->output,
-                  "folder for the cases and the comparison (default: the study's output)");
+                  "folder for the cases and the comparison (default: the study's output)")
+      ->check(non_empty_path);
   sub->add_flag("--jobs", options->jobs,
                 "print one `mpiexec ... ibvalve run` line per case and the compare line, run nothing");
   sub->add_option("--ranks", options->ranks, "ranks per case in the --jobs lines")

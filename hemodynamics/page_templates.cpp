@@ -20,7 +20,7 @@ std::vector<fs::path> write_builtin_templates(const fs::path& folder)
     if (fs::exists(files.back()))
       throw InputError(files.back().string() + ": exists (nothing was overwritten)");
   }
-  fs::create_directories(folder);
+  io::create_output_folder(folder);
   for (std::size_t i = 0; i < files.size(); ++i)
     io::write_file_atomically(files[i], builtin_templates()[i].text);
   return files;

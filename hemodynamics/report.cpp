@@ -169,7 +169,7 @@ Json provenance_document(const fs::path& run_directory)
   if (fs::exists(record)) {
     try {
       out["run"] = Json::parse(io::read_text_file(record));
-    } catch (const Json::parse_error& error) {
+    } catch (const Json::exception& error) {
       throw InputError(record.string() + ": " + error.what());
     }
   }
@@ -192,7 +192,7 @@ Json read_metrics_object(const fs::path& file)
   Json doc;
   try {
     doc = Json::parse(io::read_text_file(file));
-  } catch (const Json::parse_error& error) {
+  } catch (const Json::exception& error) {
     throw InputError(file.string() + ": " + error.what());
   }
   if (!doc.is_object()) throw InputError(file.string() + ": expected a JSON object of metrics");
@@ -476,7 +476,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     base::Logger::global().warn(files.warning);
   }
   files.directory = run_directory / "report";
-  fs::create_directories(files.directory);
+  io::create_output_folder(files.directory);
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";

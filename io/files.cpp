@@ -74,6 +74,15 @@ void check_input_file(const std::filesystem::path& path, std::uintmax_t max_byte
                                  path.string(), size, max_bytes >> 20));
 }
 
+void create_output_folder(const std::filesystem::path& folder)
+{
+  try {
+    std::filesystem::create_directories(folder);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError(folder.string() + ": cannot create the output folder (" + e.code().message() + ")");
+  }
+}
+
 std::string read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes)
 {
   check_input_file(path, max_bytes);

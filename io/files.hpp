@@ -31,6 +31,11 @@ inline constexpr std::uintmax_t max_mesh_bytes = std::uintmax_t{512} << 20;
 /// a folder is no file) of at most `max_bytes` bytes. Symbolic links are followed.
 void check_input_file(const std::filesystem::path& path, std::uintmax_t max_bytes);
 
+/// Creates `folder` and its parents for a command's output: InputError "FOLDER: cannot create the
+/// output folder (OS reason)" when it cannot be made (a path below a regular file, in /proc, without
+/// permission), so that a wrong -o is bad input and not an internal error.
+void create_output_folder(const std::filesystem::path& folder);
+
 /// Reads a whole text file (check_input_file first); InputError when it cannot be read.
 std::string read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes = max_text_bytes);
 

@@ -33,6 +33,9 @@ bool parse_number(const std::string& text, double& value)
 
 } // namespace
 
+/// The largest stress a biaxial sample may hold, kPa.
+constexpr double max_sample_stress_kpa = 1e6;
+
 BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
 {
   const std::string name = file.string();
@@ -75,6 +78,12 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
       if (!parse_number(fields[column[k]], v[k]))
         fail(number, required[k] + ": '" + fields[column[k]] + "' is not a finite number");
     if (!(v[0] > 0.0) || !(v[1] > 0.0)) fail(number, "stretches must be positive");
+    // Tissue fails at some MPa: a stress beyond 1 GPa is another unit, and squared by the fit it overflows.
+    for (std::size_t k = 2; k < 4; ++k)
+      if (std::abs(v[k]) > max_sample_stress_kpa)
+        fail(number,
+             fmt::format("{}: {:g} kPa is beyond the {:g} kPa (1 GPa) a tissue sample holds (another unit?)",
+                         required[k], v[k], max_sample_stress_kpa));
     sample.points.push_back({v[0], v[1], v[2], v[3]});
   }
   if (!header_seen)

@@ -219,8 +219,8 @@ INPUTS = [
     ("study source name parent folder", "commands",
      ("args", ["study", "{cases}/study_source_parent.toml", "-o", "{out}"]),
      "study_source_parent.toml:9: uncertainty[0].name", "nofile-line", False),
-    # Input files that are no regular files (a device, a FIFO) or beyond bounds: bad input (exit 2), not
-    # a hang.
+    # Input files that are no regular files (a device, a FIFO) or beyond bounds; outputs that cannot be
+    # written; numbers no tissue or run has: bad input (exit 2), not an internal error or a hang.
     ("fibers mesh a device", "commands", ("args", ["fibers", "/dev/zero", "--rule", "FD1", "-o", "{out}"]),
      "/dev/zero: not a regular file", "path", False),
     ("mesh tube around beyond bound", "commands",
@@ -229,6 +229,22 @@ INPUTS = [
     ("mesh elements beyond bound", "commands",
      ("args", ["mesh", "aortic-valve", "-o", "{out}/valve.msh", "--tube-around", "4096", "--tube-along", "4096"]),
      "hexahedra", CL, False),
+    ("mesh output below a file", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{cases}/syntax_error.toml/valve.msh", "--tube-around", "12",
+               "--tube-along", "8", "--leaflet-across", "4", "--leaflet-radial", "2"]),
+     "syntax_error.toml: cannot create the output folder", "path", False),
+    ("fibers axis not a number", "commands",
+     ("args", ["fibers", "{examples}/fibers/leaflet.msh", "--rule", "FD1", "--axis", "nan", "0", "0", "0", "0", "1",
+               "-o", "{out}"]), "--axis", CL, False),
+    ("fit stresses beyond a tissue", "commands",
+     ("args", ["fit", "--law", "W1", "{cases}/biaxial_stress_beyond_tissue.csv"]),
+     "biaxial_stress_beyond_tissue.csv:4: sigma11_kPa", "path", False),
+    ("run stop after beyond int64", "commands",
+     ("args", ["run", "{examples}/lumped/default.toml", "-o", "{out}", "--stop-after-steps",
+               "99999999999999999999"]), "--stop-after-steps", CL, False),
+    ("run output empty", "commands", ("args", ["run", "{examples}/lumped/default.toml", "-o", ""]), "empty path",
+     CL, False),
+    ("compare output empty", "commands", ("args", ["compare", "{work}", "-o", ""]), "empty path", CL, False),
     ("study missing file", "commands", ("args", ["study", "{work}/no_such_study.toml"]), "no_such_study.toml",
      "nofile-line", False),
     ("unknown subcommand", "commands", ("args", ["simulate"]), "subcommand", CL, False),

@@ -33,6 +33,8 @@ Scenarios:
         which continues from the one before;
       - a timeseries.csv with a column named twice is refused by `report` and `compare` (exit 2,
         naming the file, the line and the column), not read as the one column;
+      - a metrics.json holding 1e999, and `compare -o /proc/...`, are bad input (exit 2 naming the
+        file or folder), not internal errors.
 Prints what it checked; exits 1 on the first failure.
 """
 import json
@@ -288,6 +290,23 @@ def input_files(run, case, work):
         if f"{twice / 'timeseries.csv'}:1:" not in line or "'Q_valve'" not in line:
             fail(f"{args[0]}: the error line does not name timeseries.csv:1 and 'Q_valve': {line}")
         print(f"ok: {args[0]}: {line}")
+
+    # A number beyond a double in metrics.json.
+    huge = work / "huge"
+    shutil.copytree(directory, huge)
+    metrics = huge / "report" / "metrics.json"
+    metrics.write_text(re.sub(r'"value": [-0-9.eE+]+', '"value": 1e999', metrics.read_text(), count=1))
+    code, out, err = run("compare", huge, directory, "-o", work / "huge_cmp", "--no-plots")
+    line = one_error_line(code, out, err)
+    if str(metrics) not in line:
+        fail(f"the error line does not name {metrics}: {line}")
+    print(f"ok: {line}")
+    # An output folder that cannot be made.
+    code, out, err = run("compare", directory, "-o", "/proc/ibvalve/comparison", "--no-plots")
+    line = one_error_line(code, out, err)
+    if "/proc/ibvalve/comparison: cannot create the output folder" not in line:
+        fail(f"the error line does not name /proc/ibvalve/comparison: {line}")
+    print(f"ok: {line}")
 
 
 def main():

@@ -179,5 +179,19 @@ TEST(Files, ANameIsNotAPath)
     EXPECT_NE(folder_name_problem(path), "") << path;
 }
 
+TEST(Files, AnOutputFolderThatCannotBeMadeIsBadInput)
+{
+  for (const char* folder : {"/proc/ibvalve/out", "/dev/null/out"}) {
+    try {
+      create_output_folder(folder);
+      FAIL() << "no error for " << folder;
+    } catch (const InputError& error) {
+      EXPECT_EQ(
+          std::string(error.what()).rfind(std::string(folder) + ": cannot create the output folder (", 0), 0u)
+          << error.what();
+    }
+  }
+}
+
 } // namespace
 } // namespace ibvalve::io
