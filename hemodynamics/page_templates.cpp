@@ -47,7 +47,8 @@ PageTemplates load_page_templates(std::string_view page, const fs::path& folder,
       throw InputError(
           fmt::format("{}: {}: holds neither {} nor {}", folder.string(), option, html_name, markdown_name));
   }
-  return {load(html_name, TextTemplate::Escaping::html), load(markdown_name, TextTemplate::Escaping::none)};
+  return {load(html_name, TextTemplate::Escaping::html),
+          load(markdown_name, TextTemplate::Escaping::markdown)};
 }
 
 } // namespace ibvalve::hemodynamics
