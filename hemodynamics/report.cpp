@@ -17,6 +17,7 @@
 #include "hemodynamics/plotting.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
+#include "io/recorded_config.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -177,8 +178,9 @@ Json provenance_document(const fs::path& run_directory)
       Json{{"ibvalve", base::version()}, {"commit", base::commit()}, {"written", base::utc_now()}};
   Json inputs = Json::object();
   if (const fs::path config = run_directory / "config.toml"; fs::exists(config))
-    for (const auto& [key, value] : io::flattened(io::parse_toml_file(config)))
-      if (is_input_key(key)) inputs[key] = value;
+    for (const io::RecordedEntry& entry : io::read_recorded_config(config))
+      if (is_input_key(entry.key))
+        inputs[entry.key] = entry.unit.empty() ? entry.value : entry.value + " " + entry.unit;
   out["inputs"] = inputs;
   return out;
 }

@@ -17,7 +17,8 @@
       notes                     list: text
       provenance                list: name, value (case file, the build that ran it, start, ranks,
                                 restarts, the build and time of this report)
-      inputs                    list: key, value (the case's keys as config.toml records them)
+      inputs                    list: key, value (the case's keys as config.toml records them, numbers
+                                in their shortest exact form, with their unit: "3e-05 s")
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
 # ibvalve report: {{run}}
 

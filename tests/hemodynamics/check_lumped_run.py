@@ -78,6 +78,13 @@ def check_report(run):
         fail(f"run.json lacks the case file or the commit: {record}")
     if provenance["inputs"].get("windkessel.compliance") is None:
         fail("metrics.json's provenance lacks the case's inputs (windkessel.compliance)")
+    # Inputs in their shortest exact form with their unit: 0.6, not 0.59999999999999998; 0, not -0.0.
+    for key, shown in (("valve.max_area_fraction", "0.6"), ("windkessel.distal_pressure", "0 mmHg"),
+                       ("time.step", "0.0001 s"), ("windkessel.compliance", "1.75 mL/mmHg")):
+        if provenance["inputs"].get(key) != shown:
+            fail(f"metrics.json's provenance shows {key} as {provenance['inputs'].get(key)!r}, not {shown!r}")
+        if f"| `{key}` | {shown} |" not in md:
+            fail(f"report.md does not show {key} as {shown}")
     for text in (record["case_file"], record["commit"], "`windkessel.compliance`"):
         if text not in md:
             fail(f"report.md does not show {text}")
