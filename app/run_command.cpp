@@ -156,7 +156,7 @@ void prepare_run_folder(const std::filesystem::path& directory, bool overwrite)
 void write_config(const std::filesystem::path& directory, const io::Config& config)
 {
   try {
-    io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+    io::write_file_atomically(directory / "config.toml", config.resolved_toml(directory));
   } catch (const std::exception& e) {
     throw InputError(directory.string() + ": cannot write the run folder (" + e.what() + ")");
   }

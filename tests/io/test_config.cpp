@@ -127,6 +127,28 @@ TEST(Config, ResolvedFileReadsBackToTheSameValues)
   EXPECT_NE(c.resolved_toml().find("viscosity = 4.0  # [cP]"), std::string::npos) << c.resolved_toml();
 }
 
+TEST(Config, ARunFoldersFileNamesItsFilesRelativeToItself)
+{
+  // The case names a mesh beside it; the resolved file written into a run folder two levels down names
+  // it from there, holds no absolute path, and read from the run folder finds the same file.
+  const auto top =
+      std::filesystem::temp_directory_path() / fmt::format("ibvalve_config_paths_{}", ::getpid());
+  std::filesystem::create_directories(top / "runs" / "a");
+  std::ofstream(top / "valve.msh") << "mesh\n";
+  std::ofstream(top / "case.toml") << "model = \"fluid\"\n[time]\ndt = 1e-3\n[mesh]\nfile = \"valve.msh\"\n";
+  const Config c = Config::load(top / "case.toml", example_schema());
+  const std::string written = c.resolved_toml(top / "runs" / "a");
+  EXPECT_NE(written.find("file = '../../valve.msh'"), std::string::npos) << written;
+  EXPECT_NE(written.find("Read from ../../case.toml"), std::string::npos) << written;
+  EXPECT_EQ(written.find(top.string()), std::string::npos) << written;
+  std::ofstream(top / "runs" / "a" / "config.toml") << written;
+  const Config again = Config::load(top / "runs" / "a" / "config.toml", example_schema());
+  EXPECT_TRUE(std::filesystem::equivalent(again.path("mesh.file"), top / "valve.msh"));
+  // Without a folder (a checkpoint's record of the case), paths are absolute.
+  EXPECT_NE(c.resolved_toml().find((top / "valve.msh").string()), std::string::npos);
+  std::filesystem::remove_all(top);
+}
+
 TEST(Config, ARecordedConfigReadsBackInShortestNumbersWithUnits)
 {
   CaseFile file(
