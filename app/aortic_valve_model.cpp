@@ -694,6 +694,7 @@ class AorticValveRun : public PreparedRun {
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
+    options.settings.density = k_.fluid.rho; // the EOA's density is the fluid's (g/cm^3 = g/mL)
     if (cycle == 0) options.settings.period = length;
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;

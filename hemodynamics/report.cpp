@@ -60,10 +60,6 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
       .defaults(0.05)
       .above(0.0)
       .below(1.0);
-  keys.real(p + "density", "blood density for the EOA formula", m.density)
-      .unit("g/mL")
-      .defaults(1.0)
-      .positive();
   keys.boolean(p + "plots", "draw the report's plots (matplotlib)", r.plots).defaults(true);
   keys.path(p + "templates",
             "folder of report.html.tpl and/or report.md.tpl laid out in place of the built-in ones (`ibvalve "
@@ -94,11 +90,12 @@ RecordedReport recorded_report(const fs::path& run_directory)
   const fs::path file = run_directory / "config.toml";
   if (!fs::exists(file)) return recorded;
   toml::table root = io::parse_toml_file(file);
-  // The density of the fluid the run simulated, unless its [report] table gives one.
+  // The EOA's density is the fluid's the run simulated, one density for the run and its report. Run
+  // folders of older builds recorded a report.density of its own: passed over.
   const toml::node* fluid_density = root.at_path("fluid.density").node();
-  const bool density_given = root.at_path("report.density").node() != nullptr,
-             period_given = root.at_path("report.period").node() != nullptr;
+  const bool period_given = root.at_path("report.period").node() != nullptr;
   if (toml::table* report = root["report"].as_table()) {
+    report->erase("density");
     // The [report] table alone (moved, so that messages keep its lines), checked by the [report] schema.
     toml::table table;
     table.insert("report", std::move(*report));
@@ -109,7 +106,7 @@ RecordedReport recorded_report(const fs::path& run_directory)
     bind_report(keys, recorded.report);
     if (period_given) recorded.period = recorded.report.metrics.period;
   }
-  if (!density_given && fluid_density && fluid_density->is_number())
+  if (fluid_density && fluid_density->is_number())
     recorded.report.metrics.density = *fluid_density->value<double>();
   return recorded;
 }
