@@ -433,6 +433,8 @@ class AorticValveRun : public PreparedRun {
     period_ = lv_.period();
     if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
       keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
+    const double length = k.end ? *k.end : static_cast<double>(k.cycles) * period_;
+    if (const std::string why = step_count_problem(length, k.step); !why.empty()) keys_.fail(k.step, why);
     if (k.adaptive) {
       if (k.coaptation_step > 0.0)
         keys_.fail(k.coaptation_step, "a fixed coaptation step and " + keys_.key_of(k.adaptive) +
@@ -449,6 +451,9 @@ class AorticValveRun : public PreparedRun {
         keys_.fail(k.coaptation_window,
                    fmt::format("must be a start and a later end within the cycle [0, {}] s",
                                hemodynamics::format_value(period_)));
+      const double windows = std::ceil(length / period_) * (b - a);
+      if (const std::string why = step_count_problem(windows, k.coaptation_step); !why.empty())
+        keys_.fail(k.coaptation_step, why);
       schedule_ = StepSchedule(period_, k.step, k.coaptation_step, {a, b});
     } else {
       schedule_ = StepSchedule(period_, k.step);
@@ -769,6 +774,7 @@ class AorticValveRun : public PreparedRun {
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
+    options.settings.density = k_.fluid.rho; // the EOA's density is the fluid's (g/cm^3 = g/mL)
     if (cycle == 0) options.settings.period = length;
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;

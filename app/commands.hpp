@@ -23,6 +23,12 @@ struct PetscArguments {
 
 using CommandAction = std::function<int(const PetscArguments&)>;
 
+/// For the -o and other path options: an empty path ("") is refused as a usage error (exit 2), not
+/// taken as the option left out.
+inline const CLI::Validator non_empty_path{
+    [](std::string& value) { return value.empty() ? std::string("an empty path was given") : std::string(); },
+    "PATH"};
+
 /// The PETSc options prefixes of the solvers `ibvalve run` uses, with an example (for --help).
 std::string petsc_options_help();
 

@@ -61,8 +61,8 @@ void add_compare_command(CLI::App& app, CommandAction& action)
   CLI::App* sub =
       app.add_subcommand("compare", "Compare run folders: metrics table and 12-criterion ranking");
   sub->add_option("runs", options->runs, "run folders")->required();
-  sub->add_option("-o,--output", options->output,
-                  "folder for comparison.{md,html}, metrics.csv, ranking.csv");
+  sub->add_option("-o,--output", options->output, "folder for comparison.{md,html}, metrics.csv, ranking.csv")
+      ->check(non_empty_path);
   sub->add_option("--templates", options->templates,
                   "folder of comparison.html.tpl and/or comparison.md.tpl to lay the pages out with "
                   "(`ibvalve report --write-templates DIR` writes the built-in ones)");

@@ -1,6 +1,7 @@
 // `ibvalve fibers MESH.msh --rule FD1|FD2 [--leaflet GROUP ...] -o OUT`: rule-based leaflet fibers
 // (fibers/rules.hpp) written as OUT/fibers.xdmf + OUT/fibers.h5 (ParaView: the Laplace potential,
 // the Dirichlet sets and the fiber per element) and OUT/element_fibers.txt, the file a run reads back.
+#include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "fe/mesh_output.hpp"
 #include "fibers/rules.hpp"
 #include "io/collective.hpp"
+#include "io/files.hpp"
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {
@@ -44,6 +46,9 @@ int run_fibers(const FibersCommandOptions& options)
     throw InputError("command line: --rule " + options.rule + ": not a fiber rule (FD1 or FD2)");
   }
   if (options.axis.size() != 6) throw InputError("command line: --axis: give six numbers px,py,pz,dx,dy,dz");
+  for (double x : options.axis)
+    if (!std::isfinite(x))
+      throw InputError(fmt::format("command line: --axis: {} is not a finite number", x));
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   // Rank 0 checks the output folder (and makes it below, once the fields exist); an error there is
@@ -92,14 +97,7 @@ int run_fibers(const FibersCommandOptions& options)
       (leaflets.empty() ? std::string("the whole mesh") : fmt::format("{} leaflet(s)", leaflets.size()))));
   const fibers::FiberField field = fibers::compute_fibers(mesh, rule, specs, PETSC_COMM_WORLD);
 
-  io::on_root(PETSC_COMM_WORLD, [&] {
-    try {
-      std::filesystem::create_directories(options.output);
-    } catch (const std::filesystem::filesystem_error& e) {
-      throw InputError(options.output.string() + ": cannot create the output folder (" + e.code().message() +
-                       ")");
-    }
-  });
+  io::on_root(PETSC_COMM_WORLD, [&] { io::create_output_folder(options.output); });
   std::vector<double> directions;
   std::size_t with_fibers = 0;
   for (const auto& f : field.element_directions) {
@@ -147,7 +145,7 @@ void add_fibers_command(CLI::App& app, CommandAction& action)
                   "valve axis point and direction px py pz dx dy dz (default 0 0 0 0 0 1)")
       ->expected(6)
       ->delimiter(',');
-  sub->add_option("-o,--output", options->output, "output folder")->required();
+  sub->add_option("-o,--output", options->output, "output folder")->required()->check(non_empty_path);
   sub->add_flag("--overwrite", options->overwrite, "write into an existing, non-empty folder");
   sub->callback(
       [options, &action] { action = [options](const PetscArguments&) { return run_fibers(*options); }; });

@@ -20,6 +20,7 @@
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
+#include "app/step_schedule.hpp"
 #include "app/time_loop.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
@@ -206,6 +207,7 @@ class FluidRun : public PreparedRun {
       if (tg && !box_.periodic[2] && exact_->mean[2] != 0.0)
         keys_.fail(k.mean_velocity, "must have no z part between z walls");
     }
+    if (const std::string why = step_count_problem(k.end, k.step); !why.empty()) keys_.fail(k.step, why);
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
     memory_line_ = check_memory(
         config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, keys_.key_of(k.cells))}},

@@ -19,6 +19,7 @@
 #include "app/ibfe_fields.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
+#include "app/step_schedule.hpp"
 #include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
@@ -221,6 +222,7 @@ class IbfeRun : public PreparedRun {
     for (int d = 0; d < 3; ++d) box_.periodic[d] = k.periodic;
     fluid_settings_ = k.fluid;
     fluid_settings_.solver = box_.periodic[0] ? fluid::SolverKind::fft : fluid::SolverKind::krylov;
+    if (const std::string why = step_count_problem(k.end, k.step); !why.empty()) keys_.fail(k.step, why);
 
     if (k.shape == Shape::file) {
       if (k.mesh.empty()) keys_.fail(k.shape, "\"file\" needs " + keys_.key_of(k.mesh));

@@ -15,6 +15,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/step_schedule.hpp"
 #include "app/stop_signal.hpp"
 #include "app/time_loop.hpp"
 #include "base/errors.hpp"
@@ -126,6 +127,9 @@ class LumpedRun : public PreparedRun {
     if (std::abs(report_period - period_) > 1e-9 * period_)
       keys_.fail(k.report.metrics.period,
                  fmt::format("is {} s but the LV pressure table's period is {} s", report_period, period_));
+    if (const std::string why = step_count_problem(static_cast<double>(k.cycles) * period_, k.step);
+        !why.empty())
+      keys_.fail(k.step, why);
     steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
   }
@@ -233,6 +237,7 @@ class LumpedRun : public PreparedRun {
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
+    options.settings.density = k_.valve.density; // the EOA's density is the fluid's (g/cm^3 = g/mL)
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);

@@ -64,8 +64,8 @@ io::Schema common_schema()
       .unit("s")
       .defaults(10.0)
       .positive();
-  s.add_string("petsc.options",
-               "PETSc options for every solver (e.g. \"-ksp_type gmres\"); command-line options win")
+  s.add_string("petsc.options", "PETSc options of ibvalve's solvers (e.g. \"-fluid_stokes_ksp_type gmres\"; "
+                                "the rule: docs/design.md); command-line options win")
       .defaults(std::string{});
   add_memory_schema(s);
   return s;

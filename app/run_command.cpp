@@ -1,7 +1,7 @@
 // `ibvalve run CASE.toml`: validate the case, create the run folder, run the model.
 #include <algorithm>
 #include <array>
-#include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <string_view>
@@ -11,8 +11,10 @@
 #include <nlohmann/json.hpp>
 #include <petscsys.h>
 
+#include "app/case_petsc_options.hpp"
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/step_schedule.hpp"
 #include "app/stop_signal.hpp"
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
@@ -105,7 +107,11 @@ io::Config load_case(const RunOptions& options)
   toml::table table = io::parse_toml_file(options.case_file);
   io::apply_overrides(table, options.overrides, [&](std::string_view key) { return case_key(table, key); });
   const Model& model = case_model(table, options.case_file);
-  return io::Config::validate(std::move(table), options.case_file, case_schema(model));
+  io::Config config = io::Config::validate(std::move(table), options.case_file, case_schema(model));
+  // The name is the default run folder's (runs/<name>): a name, not a path. Empty: the case file's name.
+  if (const std::string name = config.string("name"); !name.empty())
+    if (const std::string why = io::folder_name_problem(name); !why.empty()) config.fail("name", why);
+  return config;
 }
 
 std::filesystem::path run_directory(const RunOptions& options, const io::Config& config)
@@ -116,79 +122,6 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
   std::string name = config.string("name");
   if (name.empty()) name = options.case_file.stem().string();
   return std::filesystem::path("runs") / name;
-}
-
-/// The PETSc options of a case file that read or write files, or that start programs (docs/design.md,
-/// step 3): a case file is data a user may have been sent, so these belong on the command line
-/// (after `--`), which is not filtered. Refused, whatever their value:
-constexpr std::array<std::string_view, 12> refused_options{
-    "options_file", "options_file_yaml", "options_string_yaml", "prefix_push", "prefix_pop", "prefix_reset",
-    "log_trace",    "log_mpe",           "log_perfstubs",       "history",     "dll_append", "dll_prepend"};
-/// ... any option whose name contains one of these (debuggers, saved drawings, viewer file names):
-constexpr std::array<std::string_view, 5> refused_name_parts{"debugger", "debug_terminal", "draw_save",
-                                                             "filename", "_file"};
-/// ... these with any value (the value is a file name):
-constexpr std::array<std::string_view, 5> refused_with_value{"info", "malloc_dump", "malloc_view",
-                                                             "options_monitor", "memory_view"};
-/// ... and any option whose value holds ':' or '/' (a PETSc viewer TYPE:FILE:FORMAT, a path) or names a
-/// viewer that writes a file of its own (-ksp_view binary writes ./binaryoutput):
-constexpr std::array<std::string_view, 11> file_viewers{
-    "binary", "hdf5", "vtk", "socket", "saws", "glvis", "matlab", "mathematica", "adios", "cgns", "exodusii"};
-
-/// Why a PETSc option of a case file is refused ("" when it is not): `name` without its '-', lower case.
-std::string refused_petsc_option(const std::string& name, const std::string& value)
-{
-  for (std::string_view refused : refused_options)
-    if (name == refused) return "reads or writes files or changes the options after it";
-  for (std::string_view part : refused_name_parts)
-    if (name.find(part) != std::string::npos) return "reads or writes files or starts a program";
-  if (value.empty()) return "";
-  for (std::string_view refused : refused_with_value)
-    if (name == refused) return "writes to the file it is given";
-  if (value.find_first_of(":/") != std::string::npos) return "its value names a file";
-  std::string type = value;
-  for (char& c : type) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (std::string_view viewer : file_viewers)
-    if (type == viewer) return "writes a file";
-  return "";
-}
-
-/// Refuses, as an input error naming petsc.options, its file and line and the option, the PETSc options
-/// of a case file that read or write files (above). Tokens as PETSc splits them: at blanks, a value in
-/// double quotes kept whole; an option is a token starting with '-' that is not a number.
-void check_case_petsc_options(const io::Config& config)
-{
-  const std::string text = config.string("petsc.options");
-  std::vector<std::string> tokens;
-  std::string token;
-  bool quoted = false, have = false;
-  for (char c : text) {
-    if (c == '"') {
-      quoted = !quoted;
-      have = true;
-    } else if (!quoted && std::isspace(static_cast<unsigned char>(c))) {
-      if (have) tokens.push_back(token);
-      token.clear();
-      have = false;
-    } else {
-      token += c;
-      have = true;
-    }
-  }
-  if (have) tokens.push_back(token);
-  auto is_option = [](const std::string& t) {
-    return t.size() > 1 && t[0] == '-' && !std::isdigit(static_cast<unsigned char>(t[1])) && t[1] != '.';
-  };
-  for (std::size_t i = 0; i < tokens.size(); ++i) {
-    if (!is_option(tokens[i])) continue;
-    std::string name = tokens[i].substr(tokens[i].find_first_not_of('-'));
-    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    const std::string value = i + 1 < tokens.size() && !is_option(tokens[i + 1]) ? tokens[i + 1] : "";
-    const std::string why = refused_petsc_option(name, value);
-    if (!why.empty())
-      config.fail("petsc.options", "-" + name + (value.empty() ? "" : " " + value) + ": " + why +
-                                       "; not taken from a case file (give it on the command line after --)");
-  }
 }
 
 /// What a run writes into its folder (docs/runs.md). --overwrite removes these, and nothing else, before
@@ -223,7 +156,7 @@ void prepare_run_folder(const std::filesystem::path& directory, bool overwrite)
 void write_config(const std::filesystem::path& directory, const io::Config& config)
 {
   try {
-    io::write_file_atomically(directory / "config.toml", config.resolved_toml());
+    io::write_file_atomically(directory / "config.toml", config.resolved_toml(directory));
   } catch (const std::exception& e) {
     throw InputError(directory.string() + ": cannot write the run folder (" + e.what() + ")");
   }
@@ -401,9 +334,19 @@ void add_run_command(CLI::App& app, CommandAction& action)
   sub->add_option("--restart", options->restart,
                   "continue the run in this folder from its last checkpoint (its config.toml is the case)");
   sub->add_option(
-      "--stop-after-steps", options->stop_after_steps,
-      "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end");
-  sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)");
+         "--stop-after-steps", options->stop_after_steps,
+         "stop after this many steps, writing a checkpoint (continue with --restart); 0 runs to the end")
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            // Read as written, before the integer conversion, which takes a count beyond int64 silently.
+            const long double count = std::strtold(value.c_str(), nullptr);
+            return count > max_run_steps ? fmt::format("{}: more than the {:.0e} steps a run takes at most",
+                                                       value.substr(0, 40), max_run_steps)
+                                         : std::string();
+          },
+          "N"));
+  sub->add_option("-o,--output", options->output, "run folder (default: output.directory or runs/<name>)")
+      ->check(non_empty_path);
   sub->add_option(
       "--set", options->overrides,
       "override a key, e.g. --set fluid.viscosity=3.5 or --set fibers.rule=FD2 (a bare word for a "

@@ -4,7 +4,20 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 namespace ibvalve::app {
+
+std::string step_count_problem(double length, double step)
+{
+  const double steps = length / step;
+  if (std::isfinite(steps) && steps <= max_run_steps) return "";
+  const std::string count =
+      std::isfinite(steps) ? fmt::format("{:.3g} steps", steps) : "more steps than a double counts";
+  return fmt::format("{} s over {} s is {}, more than the {:.0e} a run takes at most (a time step in another "
+                     "unit?)",
+                     step, length, count, max_run_steps);
+}
 
 namespace {
 std::int64_t whole_steps(double length, double step)

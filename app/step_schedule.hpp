@@ -7,8 +7,18 @@
 // exactly.
 #include <array>
 #include <cstdint>
+#include <string>
 
 namespace ibvalve::app {
+
+/// The most steps one run takes: a billion steps of the cheapest model (the lumped one, microseconds a
+/// step) is an hour, of a grid model years. More is a time step given in the wrong unit or exponent,
+/// and a count beyond it would also overflow where steps are counted and rounded (docs/runs.md).
+inline constexpr double max_run_steps = 1e9;
+
+/// Why `length` s in steps of `step` s cannot be run ("" when they can): more steps than
+/// max_run_steps, or a step so small against the length that their quotient is no finite number.
+std::string step_count_problem(double length, double step);
 
 class StepSchedule {
  public:

@@ -69,12 +69,17 @@ struct Study {
 
 /// The folder of a case's variant for an uncertainty source: <output>/uncertainty/<source>/<case>,
 /// with the source's name made a folder name (spaces and slashes as '_').
-std::filesystem::path variant_folder(const Study& study, const UncertaintySource& source, const StudyCase& c)
+std::string variant_folder_name(const UncertaintySource& source)
 {
   std::string folder = source.name;
   for (char& ch : folder)
     if (ch == ' ' || ch == '/') ch = '_';
-  return study.output / "uncertainty" / folder / c.name;
+  return folder;
+}
+
+std::filesystem::path variant_folder(const Study& study, const UncertaintySource& source, const StudyCase& c)
+{
+  return study.output / "uncertainty" / variant_folder_name(source) / c.name;
 }
 
 /// The case's overrides with the source's after them (the case keeps its name).
@@ -121,8 +126,10 @@ Study read_study(const StudyOptions& options)
   for (const io::Config& c : config.tables("case")) {
     StudyCase one;
     one.name = c.string("name");
-    if (one.name.empty() || one.name.find('/') != std::string::npos || one.name == "comparison")
-      c.fail("name", "must be a non-empty folder name other than \"comparison\"");
+    // The case runs in <output>/<name>: a name, not a path, and not a folder the study writes itself.
+    if (const std::string why = io::folder_name_problem(one.name); !why.empty()) c.fail("name", why);
+    if (one.name == "comparison" || one.name == "uncertainty")
+      c.fail("name", "\"" + one.name + "\" is the study's own folder (the comparison, the uncertainty runs)");
     if (!names.insert(one.name).second) c.fail("name", "\"" + one.name + "\" is listed twice");
     if (c.has("file"))
       one.case_file = c.path("file");
@@ -140,6 +147,8 @@ Study read_study(const StudyOptions& options)
     for (const io::Config& u : config.tables("uncertainty")) {
       UncertaintySource source{u.string("name"), u.strings("set")};
       if (source.name.empty()) u.fail("name", "must not be empty");
+      if (const std::string why = io::folder_name_problem(variant_folder_name(source)); !why.empty())
+        u.fail("name", why);
       if (!sources.insert(source.name).second) u.fail("name", "\"" + source.name + "\" is listed twice");
       if (source.overrides.empty()) u.fail("set", "a source needs at least one override");
       study.sources.push_back(std::move(source));
@@ -273,7 +282,8 @@ void add_study_command(CLI::App& app, CommandAction& action)
       "study", "Run the cases a study file lists (base case + overrides each), then compare them");
   sub->add_option("study", options->study_file, "the study file (TOML)")->required();
   sub->add_option("-o,--output", options->output,
-                  "folder for the cases and the comparison (default: the study's output)");
+                  "folder for the cases and the comparison (default: the study's output)")
+      ->check(non_empty_path);
   sub->add_flag("--jobs", options->jobs,
                 "print one `mpiexec ... ibvalve run` line per case and the compare line, run nothing");
   sub->add_option("--ranks", options->ranks, "ranks per case in the --jobs lines")

@@ -10,6 +10,7 @@
 #include <gmsh.h>
 
 #include "base/errors.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::fe {
 
@@ -48,6 +49,7 @@ GmshSession::~GmshSession()
 Mesh read_msh(const std::filesystem::path& path)
 {
   if (!std::filesystem::exists(path)) throw InputError(path.string() + ": mesh file not found");
+  io::check_input_file(path, io::max_mesh_bytes);
   GmshSession session;
   const std::string where = path.string() + ": ";
   try {

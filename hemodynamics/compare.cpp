@@ -52,7 +52,7 @@ CaseResult load_case(const fs::path& run_directory)
   if (fs::exists(stored)) {
     try {
       doc = Json::parse(io::read_text_file(stored));
-    } catch (const Json::parse_error& error) {
+    } catch (const Json::exception& error) {
       throw InputError(stored.string() + ": " + error.what());
     }
   } else {
@@ -397,7 +397,7 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
     ranking_csv += ranking.uncertain ? fmt::format(",{}\n", exact_value(row.rank_held)) : "\n";
   }
 
-  fs::create_directories(output_directory);
+  io::create_output_folder(output_directory);
   ComparisonFiles files{output_directory / "comparison.md",
                         output_directory / "metrics.csv",
                         output_directory / "ranking.csv",

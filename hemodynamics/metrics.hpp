@@ -63,7 +63,7 @@ struct MetricSettings {
       0.1; // rule "flow": closed once Q is this fraction of the way from Q_end to Q_min
   double open_area_fraction = 0.9;    // normalised area counted as fully open
   double closed_area_fraction = 0.05; // normalised area counted as closed
-  double density = 1.0;               // g/mL, for EOA
+  double density = 1.0;               // g/mL, for EOA: the fluid's (fluid.density of the run)
 };
 
 /// Instants of the analysed cycle, s (NaN when a phase was not found).

@@ -20,7 +20,7 @@ std::vector<fs::path> write_builtin_templates(const fs::path& folder)
     if (fs::exists(files.back()))
       throw InputError(files.back().string() + ": exists (nothing was overwritten)");
   }
-  fs::create_directories(folder);
+  io::create_output_folder(folder);
   for (std::size_t i = 0; i < files.size(); ++i)
     io::write_file_atomically(files[i], builtin_templates()[i].text);
   return files;
@@ -47,7 +47,8 @@ PageTemplates load_page_templates(std::string_view page, const fs::path& folder,
       throw InputError(
           fmt::format("{}: {}: holds neither {} nor {}", folder.string(), option, html_name, markdown_name));
   }
-  return {load(html_name, TextTemplate::Escaping::html), load(markdown_name, TextTemplate::Escaping::none)};
+  return {load(html_name, TextTemplate::Escaping::html),
+          load(markdown_name, TextTemplate::Escaping::markdown)};
 }
 
 } // namespace ibvalve::hemodynamics

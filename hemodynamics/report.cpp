@@ -17,6 +17,7 @@
 #include "hemodynamics/plotting.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
+#include "io/recorded_config.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -59,10 +60,6 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
       .defaults(0.05)
       .above(0.0)
       .below(1.0);
-  keys.real(p + "density", "blood density for the EOA formula", m.density)
-      .unit("g/mL")
-      .defaults(1.0)
-      .positive();
   keys.boolean(p + "plots", "draw the report's plots (matplotlib)", r.plots).defaults(true);
   keys.path(p + "templates",
             "folder of report.html.tpl and/or report.md.tpl laid out in place of the built-in ones (`ibvalve "
@@ -93,11 +90,12 @@ RecordedReport recorded_report(const fs::path& run_directory)
   const fs::path file = run_directory / "config.toml";
   if (!fs::exists(file)) return recorded;
   toml::table root = io::parse_toml_file(file);
-  // The density of the fluid the run simulated, unless its [report] table gives one.
+  // The EOA's density is the fluid's the run simulated, one density for the run and its report. Run
+  // folders of older builds recorded a report.density of its own: passed over.
   const toml::node* fluid_density = root.at_path("fluid.density").node();
-  const bool density_given = root.at_path("report.density").node() != nullptr,
-             period_given = root.at_path("report.period").node() != nullptr;
+  const bool period_given = root.at_path("report.period").node() != nullptr;
   if (toml::table* report = root["report"].as_table()) {
+    report->erase("density");
     // The [report] table alone (moved, so that messages keep its lines), checked by the [report] schema.
     toml::table table;
     table.insert("report", std::move(*report));
@@ -108,7 +106,7 @@ RecordedReport recorded_report(const fs::path& run_directory)
     bind_report(keys, recorded.report);
     if (period_given) recorded.period = recorded.report.metrics.period;
   }
-  if (!density_given && fluid_density && fluid_density->is_number())
+  if (fluid_density && fluid_density->is_number())
     recorded.report.metrics.density = *fluid_density->value<double>();
   return recorded;
 }
@@ -169,7 +167,7 @@ Json provenance_document(const fs::path& run_directory)
   if (fs::exists(record)) {
     try {
       out["run"] = Json::parse(io::read_text_file(record));
-    } catch (const Json::parse_error& error) {
+    } catch (const Json::exception& error) {
       throw InputError(record.string() + ": " + error.what());
     }
   }
@@ -177,8 +175,9 @@ Json provenance_document(const fs::path& run_directory)
       Json{{"ibvalve", base::version()}, {"commit", base::commit()}, {"written", base::utc_now()}};
   Json inputs = Json::object();
   if (const fs::path config = run_directory / "config.toml"; fs::exists(config))
-    for (const auto& [key, value] : io::flattened(io::parse_toml_file(config)))
-      if (is_input_key(key)) inputs[key] = value;
+    for (const io::RecordedEntry& entry : io::read_recorded_config(config))
+      if (is_input_key(entry.key))
+        inputs[entry.key] = entry.unit.empty() ? entry.value : entry.value + " " + entry.unit;
   out["inputs"] = inputs;
   return out;
 }
@@ -192,7 +191,7 @@ Json read_metrics_object(const fs::path& file)
   Json doc;
   try {
     doc = Json::parse(io::read_text_file(file));
-  } catch (const Json::parse_error& error) {
+  } catch (const Json::exception& error) {
     throw InputError(file.string() + ": " + error.what());
   }
   if (!doc.is_object()) throw InputError(file.string() + ": expected a JSON object of metrics");
@@ -476,7 +475,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     base::Logger::global().warn(files.warning);
   }
   files.directory = run_directory / "report";
-  fs::create_directories(files.directory);
+  io::create_output_folder(files.directory);
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";

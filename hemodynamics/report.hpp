@@ -46,7 +46,7 @@ struct RecordedReport {
   std::optional<double> period;
 };
 /// The settings of a run folder's config.toml, its [report] table validated against the [report] schema
-/// (the density, when that table has none, from fluid.density), defaults for keys it lacks (or when there
+/// (the density from fluid.density), defaults for keys it lacks (or when there
 /// is no config.toml or no [report] table). A key of the wrong type or value is an InputError naming the
 /// file; report.templates relative to the run folder.
 RecordedReport recorded_report(const std::filesystem::path& run_directory);

@@ -136,7 +136,35 @@ TextTemplate::TextTemplate(std::string_view text, std::string origin, Escaping e
     : origin_(std::move(origin)), template_(checked_and_prepared(text, origin_))
 {
   if (!template_.is_valid()) throw InputError(origin_ + ": " + template_.error_message());
-  if (escaping == Escaping::none) template_.set_custom_escape([](const std::string& s) { return s; });
+  // Names come from a user's files (case names, mesh groups): in Markdown, which passes HTML through, a
+  // '<' could start a tag and a '|' end a table cell.
+  if (escaping == Escaping::markdown)
+    template_.set_custom_escape([](const std::string& s) {
+      std::string out;
+      for (char c : s) {
+        switch (c) {
+        case '&':
+          out += "&amp;";
+          break;
+        case '<':
+          out += "&lt;";
+          break;
+        case '>':
+          out += "&gt;";
+          break;
+        case '|':
+          out += "\\|";
+          break;
+        case '\n':
+        case '\r':
+          out += ' ';
+          break;
+        default:
+          out += c;
+        }
+      }
+      return out;
+    });
   if (escaping == Escaping::html)
     template_.set_custom_escape([](const std::string& s) { return io::xml_escaped(s); });
 }

@@ -19,8 +19,9 @@ namespace ibvalve::hemodynamics {
 class TextTemplate {
  public:
   enum class Escaping {
-    none, // Markdown: values as they are
-    html, // {{name}} is made safe inside HTML ({{{name}}} is not)
+    markdown, // {{name}} is made safe in a Markdown table: <, >, & as HTML entities, | as \|, line breaks
+              // as blanks ({{{name}}} is not)
+    html,     // {{name}} is made safe inside HTML ({{{name}}} is not)
   };
   /// Parses `text`; an InputError "origin: ..." (origin names the file) when it is no valid template.
   TextTemplate(std::string_view text, std::string origin, Escaping escaping);

@@ -161,6 +161,8 @@ enum class Verdict { good, damaged, foreign };
 /// Whether a checkpoint file continues the case `record` (rank 0 alone reads it).
 std::pair<Verdict, std::string> inspect(const std::filesystem::path& file, const std::string& record)
 {
+  // A pipe or a device under a checkpoint's name would block the restart or never end.
+  if (!std::filesystem::is_regular_file(file)) return {Verdict::damaged, "it is not a regular file"};
   try {
     Hdf5File h5(MPI_COMM_SELF, file, Hdf5File::Mode::read);
     if (!h5.has_attribute("complete") || h5.read_attribute("complete") != 1.0)
@@ -285,6 +287,7 @@ CheckpointHeader Checkpoints::read(const std::filesystem::path& file,
 
 void truncate_csv_rows(const std::filesystem::path& path, std::int64_t rows)
 {
+  check_input_file(path, max_table_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot be read (the run to restart has no time series)");
   std::string kept, line;

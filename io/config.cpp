@@ -10,6 +10,7 @@
 
 #include "base/errors.hpp"
 #include "base/units.hpp"
+#include "io/files.hpp"
 
 namespace ibvalve::io {
 
@@ -713,8 +714,7 @@ std::vector<std::pair<std::string, std::string>> flattened(const toml::table& ta
 
 toml::table parse_toml_file(const std::filesystem::path& file)
 {
-  if (!std::filesystem::exists(file)) throw InputError(file.string() + ": no such file");
-  if (!std::filesystem::is_regular_file(file)) throw InputError(file.string() + ": not a regular file");
+  check_input_file(file, max_text_bytes);
   try {
     return toml::parse_file(file.string());
   } catch (const toml::parse_error& error) {
@@ -1050,22 +1050,35 @@ std::string unset_line(const toml::table& table, const KeySpec& spec, const std:
   return "# " + name + " = (not set)" + comment + "\n";
 }
 
-/// A value as written, except that a relative file path becomes absolute (resolved against `folder`, the
-/// case file's), so that a run folder's config.toml still names the same files (`ibvalve run --restart`).
-std::string format_value(const toml::node& node, const KeySpec& spec, const std::filesystem::path& folder)
-{
-  auto absolute = [&](const std::string& name) {
+/// How the file paths of a resolved configuration are written: read against the case file's folder,
+/// then absolute, or relative to `written_in` when it is given (the folder the file goes into, so that a
+/// run folder's config.toml names the same files from where it lies, on any machine).
+struct PathWriting {
+  std::filesystem::path case_folder;
+  std::filesystem::path written_in;
+
+  std::string operator()(const std::string& name) const
+  {
     const std::filesystem::path path(name);
-    return path.is_relative() && !path.empty()
-               ? std::filesystem::absolute(folder / path).lexically_normal().string()
-               : name;
-  };
+    if (path.empty()) return name;
+    const auto absolute = std::filesystem::absolute(case_folder / path).lexically_normal();
+    if (written_in.empty()) return path.is_relative() ? absolute.string() : name;
+    const auto relative =
+        absolute.lexically_relative(std::filesystem::absolute(written_in).lexically_normal());
+    return relative.empty() ? absolute.string() : relative.string();
+  }
+};
+
+/// A value as written, except that a file path is written as `paths` says, so that a run folder's
+/// config.toml still names the same files (`ibvalve run --restart`).
+std::string format_value(const toml::node& node, const KeySpec& spec, const PathWriting& paths)
+{
   if (spec.is_path && node.is_string())
-    return format_node(toml::value<std::string>(absolute(*node.value<std::string>())));
+    return format_node(toml::value<std::string>(paths(*node.value<std::string>())));
   if (spec.is_path && node.is_array()) { // a list of files (KeyBinder::paths)
     toml::array files;
     for (const auto& item : *node.as_array())
-      files.push_back(item.is_string() ? absolute(*item.value<std::string>()) : std::string());
+      files.push_back(item.is_string() ? paths(*item.value<std::string>()) : std::string());
     return format_node(files);
   }
   return format_node(node);
@@ -1074,7 +1087,7 @@ std::string format_value(const toml::node& node, const KeySpec& spec, const std:
 /// Writes the keys of `schema` found in `table`: plain keys as dotted keys under a [section] per first
 /// component, table lists as [[...]] blocks. Units and meanings go into comments.
 void write_table(std::ostringstream& os, const toml::table& table, const Schema& schema,
-                 std::string_view header_prefix, const std::filesystem::path& folder)
+                 std::string_view header_prefix, const PathWriting& paths)
 {
   auto comment = [](const KeySpec& spec) {
     std::string c = spec.unit.empty() ? "" : "[" + spec.unit + "] ";
@@ -1087,7 +1100,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
     const auto dot = spec->key.find('.');
     if (dot == std::string::npos) {
       if (const toml::node* n = table.get(spec->key))
-        os << spec->key << " = " << format_value(*n, *spec, folder) << comment(*spec) << "\n";
+        os << spec->key << " = " << format_value(*n, *spec, paths) << comment(*spec) << "\n";
     } else if (std::find(sections.begin(), sections.end(), spec->key.substr(0, dot)) == sections.end()) {
       sections.push_back(spec->key.substr(0, dot));
     }
@@ -1098,7 +1111,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       if (spec->kind == ValueKind::table_list || !spec->key.starts_with(section + ".")) continue;
       const std::string rest = spec->key.substr(section.size() + 1);
       if (const toml::node* n = table.at_path(spec->key).node())
-        os << rest << " = " << format_value(*n, *spec, folder) << comment(*spec) << "\n";
+        os << rest << " = " << format_value(*n, *spec, paths) << comment(*spec) << "\n";
       else
         os << unset_line(table, *spec, rest, comment(*spec));
     }
@@ -1111,7 +1124,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       const std::string name = join_key(header_prefix, spec->key);
       os << "\n[[" << name << "]]  # " << spec->doc << "\n";
       std::ostringstream inner;
-      write_table(inner, *element.as_table(), *spec->element, name, folder);
+      write_table(inner, *element.as_table(), *spec->element, name, paths);
       os << inner.str();
     }
   }
@@ -1119,12 +1132,13 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
 
 } // namespace
 
-std::string Config::resolved_toml() const
+std::string Config::resolved_toml(const std::filesystem::path& written_in) const
 {
+  const PathWriting paths{state_->file.parent_path(), written_in};
   std::ostringstream os;
-  os << "# Resolved configuration: every key, defaults written out. Read from " << state_->file.string()
-     << "\n";
-  write_table(os, *table_, *schema_, "", state_->file.parent_path());
+  os << "# Resolved configuration: every key, defaults written out. Read from "
+     << (written_in.empty() ? state_->file.string() : paths(state_->file.filename().string())) << "\n";
+  write_table(os, *table_, *schema_, "", paths);
   return os.str();
 }
 

@@ -182,7 +182,9 @@ class Config {
   const std::vector<std::string>& warnings() const { return state_->warnings; }
   /// The whole resolved configuration as TOML, every default written out, units in comments; a key a
   /// preset supplies is written with the preset's value (the file still validates as a case file).
-  std::string resolved_toml() const;
+  /// File paths are written absolute, or relative to `written_in` when given (the folder the text is
+  /// written into: a run folder's config.toml then holds no path of the machine it ran on).
+  std::string resolved_toml(const std::filesystem::path& written_in = {}) const;
 
  private:
   struct State {

@@ -1,5 +1,7 @@
 #include "io/files.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -57,8 +59,33 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   }
 }
 
-std::string read_text_file(const std::filesystem::path& path)
+void check_input_file(const std::filesystem::path& path, std::uintmax_t max_bytes)
 {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw InputError(path.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path.string() + ": not a regular file (" +
+                     (std::filesystem::is_directory(status) ? "a folder" : "a pipe, a device or a socket") +
+                     "); give a file");
+  const auto size = std::filesystem::file_size(path, error);
+  if (!error && size > max_bytes)
+    throw InputError(fmt::format("{}: {} bytes is more than the {} MiB this file is read up to",
+                                 path.string(), size, max_bytes >> 20));
+}
+
+void create_output_folder(const std::filesystem::path& folder)
+{
+  try {
+    std::filesystem::create_directories(folder);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError(folder.string() + ": cannot create the output folder (" + e.code().message() + ")");
+  }
+}
+
+std::string read_text_file(const std::filesystem::path& path, std::uintmax_t max_bytes)
+{
+  check_input_file(path, max_bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot be read");
   std::ostringstream os;
@@ -146,6 +173,18 @@ std::string xml_escaped(std::string_view text)
   return out;
 }
 
+std::string folder_name_problem(std::string_view name)
+{
+  if (name.empty()) return "must not be empty";
+  if (name == "." || name == "..")
+    return fmt::format("\"{}\" is not a name but a step of a path (this folder or its parent)", name);
+  for (char c : name) {
+    if (c == '/' || c == '\\') return fmt::format("\"{}\" holds '{}': a name, not a path", name, c);
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return "holds a control character";
+  }
+  return "";
+}
+
 std::size_t CsvTable::column(std::string_view name) const
 {
   for (std::size_t i = 0; i < columns.size(); ++i)
@@ -180,8 +219,9 @@ std::vector<std::string> split_csv_line(const std::string& line)
   return fields;
 }
 
-CsvTable read_csv(const std::filesystem::path& path, bool header)
+CsvTable read_csv(const std::filesystem::path& path, bool header, std::uintmax_t max_bytes)
 {
+  check_input_file(path, max_bytes);
   std::ifstream in(path);
   if (!in) throw InputError(path.string() + ": no such file or not readable");
   CsvTable table;
@@ -195,6 +235,19 @@ CsvTable read_csv(const std::filesystem::path& path, bool header)
     if (text.empty() || text[0] == '#') continue;
     auto fields = split_csv_line(text);
     if (!have_header) {
+      for (std::size_t i = 0; i < fields.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (fields[i] == fields[j]) {
+            // The name is shown when it is one (the file may be any readable file: its text is not echoed).
+            const bool identifier =
+                fields[i].size() <= 40 && std::all_of(fields[i].begin(), fields[i].end(), [](char c) {
+                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                });
+            throw InputError(fmt::format(
+                "{}:{}: column{} is named twice (columns {} and {}): a reader by name "
+                "would take one of them",
+                path.string(), line_number, identifier ? " '" + fields[i] + "'" : "", j + 1, i + 1));
+          }
       table.columns = fields;
       have_header = true;
       continue;

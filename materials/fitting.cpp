@@ -33,10 +33,13 @@ bool parse_number(const std::string& text, double& value)
 
 } // namespace
 
+/// The largest stress a biaxial sample may hold, kPa.
+constexpr double max_sample_stress_kpa = 1e6;
+
 BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
 {
   const std::string name = file.string();
-  if (!std::filesystem::is_regular_file(file)) throw InputError(name + ": no such file");
+  io::check_input_file(file, io::max_input_table_bytes);
   std::ifstream in(file);
   if (!in) throw InputError(name + ": cannot be read");
   static const std::array<std::string, 4> required{"lambda1", "lambda2", "sigma11_kPa", "sigma22_kPa"};
@@ -75,6 +78,12 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
       if (!parse_number(fields[column[k]], v[k]))
         fail(number, required[k] + ": '" + fields[column[k]] + "' is not a finite number");
     if (!(v[0] > 0.0) || !(v[1] > 0.0)) fail(number, "stretches must be positive");
+    // Tissue fails at some MPa: a stress beyond 1 GPa is another unit, and squared by the fit it overflows.
+    for (std::size_t k = 2; k < 4; ++k)
+      if (std::abs(v[k]) > max_sample_stress_kpa)
+        fail(number,
+             fmt::format("{}: {:g} kPa is beyond the {:g} kPa (1 GPa) a tissue sample holds (another unit?)",
+                         required[k], v[k], max_sample_stress_kpa));
     sample.points.push_back({v[0], v[1], v[2], v[3]});
   }
   if (!header_seen)

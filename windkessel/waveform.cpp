@@ -126,7 +126,7 @@ PeriodicWaveform PeriodicWaveform::from_csv(const std::filesystem::path& file, s
                                             std::string_view value_column, double value_factor,
                                             Interpolation interpolation)
 {
-  const io::CsvTable table = io::read_csv(file);
+  const io::CsvTable table = io::read_csv(file, true, io::max_input_table_bytes);
   std::vector<double> times = table.values(time_column);
   std::vector<double> values = table.values(value_column);
   for (double& v : values) v *= value_factor;

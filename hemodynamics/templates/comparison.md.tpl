@@ -1,5 +1,7 @@
 {{! The Markdown page of `ibvalve compare` (Mustache: https://mustache.github.io/mustache.5.html).
-    Values are inserted as they are (no escaping). What a template can use:
+    Values are inserted with <, >, & as HTML entities and | as \| (a name from a user's files cannot
+    open a tag or end a table cell; a tag in triple braces inserts a value as it is). What a template
+    can use:
       count                     the number of cases
       cases                     list: name
       metrics                   list, one per metric of any case: key, symbol, label ("symbol (`key`)",

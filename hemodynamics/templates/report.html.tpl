@@ -3,7 +3,7 @@
     those of report.md.tpl:
       run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
       unit, note, uncertainty, uncertainty_sources), phases (name, time), ejection_windows (condition, start, chosen, tpg, qrms, eoa), plots (file, caption, png_base64), notes (text),
-      provenance (name, value), inputs (key, value).
+      provenance (name, value), inputs (key, value: shortest exact numbers with their unit).
     The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
 <!DOCTYPE html>

@@ -1,5 +1,7 @@
 {{! The Markdown report of `ibvalve report` (Mustache: https://mustache.github.io/mustache.5.html).
-    Values are inserted as they are (no escaping). What a template can use:
+    Values are inserted with <, >, & as HTML entities and | as \| (a name from a user's files cannot
+    open a tag or end a table cell; a tag in triple braces inserts a value as it is). What a template
+    can use:
       run                       the run folder's name (or its config's `name`)
       cycle_start, cycle_end    the analysed cycle, s, 4 significant digits
       metrics                   list: key, label (description, else key), description, symbol,
@@ -15,7 +17,8 @@
       notes                     list: text
       provenance                list: name, value (case file, the build that ran it, start, ranks,
                                 restarts, the build and time of this report)
-      inputs                    list: key, value (the case's keys as config.toml records them)
+      inputs                    list: key, value (the case's keys as config.toml records them, numbers
+                                in their shortest exact form, with their unit: "3e-05 s")
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
 # ibvalve report: {{run}}
 

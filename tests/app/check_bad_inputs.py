@@ -31,7 +31,7 @@ CL = "command line"
 #   how:   ("edit", CASE, OLD, NEW) - the example case with OLD replaced by NEW (NEW's first line is where)
 #          ("append", CASE, TEXT)   - the example case with TEXT added at the end (TEXT's first line)
 #          ("set", CASE, KEY=VALUE...) - the example case with --set overrides
-#          ("args", [ARGS])         - a command line; {examples}, {work}, {case:NAME} expand
+#          ("args", [ARGS])         - a command line; {examples}, {work}, {out}, {cases} (tests/app/cases) expand
 #   key:   the key or option the one line must name
 #   where: CL ("command line" in the line), "case" (CASE:LINE of the edit; "case+1" the line after it),
 #          "default" or "nofile-line" (the case file named, no line: a key left out or at its default),
@@ -84,6 +84,10 @@ INPUTS = [
      False),
     ("lumped cycles beyond int64", "lumped", ("edit", LUMPED, "cycles = 4", "cycles = 99999999999999999999"),
      "TOML syntax error", "case", False),
+    # A time step so small that the step count overflows (or is beyond the bound of a run) is refused,
+    # not rounded to one step or to a step of the whole cycle.
+    ("lumped step subnormal", "lumped", ("set", LUMPED, "time.step=5e-324"), "time.step", CL, True),
+    ("lumped steps beyond the bound", "lumped", ("set", LUMPED, "time.step=1e-10"), "time.step", CL, False),
     # --- fluid
     ("fluid cells too few", "fluid", ("edit", DUCT, "cells = [32, 16, 16]", "cells = [32, 16, 2]"), "fluid.cells",
      "case", True),
@@ -117,6 +121,7 @@ INPUTS = [
      "fluid.max_iterations", CL, False),
     ("fluid taylor-green with walls", "fluid", ("set", DUCT, 'initial.condition="taylor_green"'),
      "initial.condition", CL, False),
+    ("fluid step tiny", "fluid", ("set", DUCT, "time.step=1e-300"), "time.step", CL, False),
     ("fluid checkpoint every negative", "fluid", ("set", TG, "checkpoint.every=-2"), "checkpoint.every", CL, False),
     ("fluid unknown side", "fluid", ("append", TG, "[boundary.w_lower]\ntype = \"wall\""), "boundary.w_lower", "case",
      False),
@@ -152,6 +157,7 @@ INPUTS = [
      "nested.margins", CL, False),
     ("ibfe tether group unknown", "ibfe", ("append", BLOCK, '[[ib.tether]]\ngroup = "nowhere"\nstiffness = 1.0'),
      "ib.tether[0].group", "case+1", False),
+    ("ibfe step tiny", "ibfe", ("set", BLOCK, "time.step=1e-300"), "time.step", CL, False),
     ("ibfe stretch negative", "ibfe", ("set", BLOCK, "structure.initial.stretch=[1.0, -1.0, 1.0]"),
      "structure.initial.stretch", CL, False),
     # --- aortic valve
@@ -174,6 +180,10 @@ INPUTS = [
     ("valve mesh file missing", "aortic-valve", ("set", VALVE, 'mesh.file="no_such.msh"'), "mesh.file", CL, False),
     ("valve petsc option writes a file", "aortic-valve", ("set", VALVE, 'petsc.options="-log_view :/tmp/x.txt"'),
      "petsc.options", CL, False),
+    ("valve step tiny", "aortic-valve", ("set", VALVE, "time.step=1e-300"), "time.step", CL, False),
+    ("valve coaptation step tiny", "aortic-valve",
+     ("set", VALVE, "time.coaptation_step=1e-300", "time.coaptation_window=[0.1, 0.2]"), "time.coaptation_step",
+     CL, False),
     ("valve report period differs", "aortic-valve", ("set", VALVE, "report.period=0.7"), "report.period", CL, False),
     ("valve orifice resolution beyond int", "aortic-valve", ("set", VALVE, "probes.orifice_resolution=4294967552"),
      "probes.orifice_resolution", CL, False),
@@ -197,6 +207,44 @@ INPUTS = [
      "tube radius", CL, False),
     ("mesh odd leaflet across", "commands", ("args", ["mesh", "aortic-valve", "-o", "{out}", "--leaflet-across=15"]),
      "leaflet elements across", CL, False),
+    # A name is a name, not a path: a run or study case named "..", "." or "../x" would write outside
+    # the folder meant for it (over an older run).
+    ("run name parent folder", "lumped", ("set", LUMPED, 'name=".."'), "name", CL, True),
+    ("run name a path", "lumped", ("edit", LUMPED, 'name = "lumped-default"', 'name = "../x"'), "name", "case",
+     False),
+    ("study case name parent folder", "commands", ("args", ["study", "{cases}/study_case_parent.toml", "-o", "{out}"]),
+     "study_case_parent.toml:6: case[0].name", "nofile-line", True),
+    ("study case name a path", "commands", ("args", ["study", "{cases}/study_case_path.toml", "-o", "{out}"]),
+     "study_case_path.toml:6: case[0].name", "nofile-line", False),
+    ("study source name parent folder", "commands",
+     ("args", ["study", "{cases}/study_source_parent.toml", "-o", "{out}"]),
+     "study_source_parent.toml:9: uncertainty[0].name", "nofile-line", False),
+    # Input files that are no regular files (a device, a FIFO) or beyond bounds; outputs that cannot be
+    # written; numbers no tissue or run has: bad input (exit 2), not an internal error or a hang.
+    ("fibers mesh a device", "commands", ("args", ["fibers", "/dev/zero", "--rule", "FD1", "-o", "{out}"]),
+     "/dev/zero: not a regular file", "path", False),
+    ("mesh tube around beyond bound", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{out}/valve.msh", "--tube-around", "100000000"]), "--tube-around",
+     CL, True),
+    ("mesh elements beyond bound", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{out}/valve.msh", "--tube-around", "4096", "--tube-along", "4096"]),
+     "hexahedra", CL, False),
+    ("mesh output below a file", "commands",
+     ("args", ["mesh", "aortic-valve", "-o", "{cases}/syntax_error.toml/valve.msh", "--tube-around", "12",
+               "--tube-along", "8", "--leaflet-across", "4", "--leaflet-radial", "2"]),
+     "syntax_error.toml: cannot create the output folder", "path", False),
+    ("fibers axis not a number", "commands",
+     ("args", ["fibers", "{examples}/fibers/leaflet.msh", "--rule", "FD1", "--axis", "nan", "0", "0", "0", "0", "1",
+               "-o", "{out}"]), "--axis", CL, False),
+    ("fit stresses beyond a tissue", "commands",
+     ("args", ["fit", "--law", "W1", "{cases}/biaxial_stress_beyond_tissue.csv"]),
+     "biaxial_stress_beyond_tissue.csv:4: sigma11_kPa", "path", False),
+    ("run stop after beyond int64", "commands",
+     ("args", ["run", "{examples}/lumped/default.toml", "-o", "{out}", "--stop-after-steps",
+               "99999999999999999999"]), "--stop-after-steps", CL, False),
+    ("run output empty", "commands", ("args", ["run", "{examples}/lumped/default.toml", "-o", ""]), "empty path",
+     CL, False),
+    ("compare output empty", "commands", ("args", ["compare", "{work}", "-o", ""]), "empty path", CL, False),
     ("study missing file", "commands", ("args", ["study", "{work}/no_such_study.toml"]), "no_such_study.toml",
      "nofile-line", False),
     ("unknown subcommand", "commands", ("args", ["simulate"]), "subcommand", CL, False),
@@ -259,8 +307,9 @@ def prepare(row, examples, work):
             location = None
         return args, location, out, case, text
     given = work / "given"
+    cases = pathlib.Path(__file__).resolve().parent / "cases"
     args = [a.replace("{examples}", str(examples)).replace("{work}", str(given)).replace("{out}", str(out))
-            for a in how[1]]
+            .replace("{cases}", str(cases)) for a in how[1]]
     return args, location, out, None, None
 
 

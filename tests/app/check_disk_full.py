@@ -149,8 +149,10 @@ def main():
     whole = work / "whole"
     runner.run(whole, "-q")
     size = budget(whole, args.when, args.at, args.every)
-    mount, copy = work / "disk", work / "copied"
+    # The copy lies as deep as the run on the tmpfs: its config.toml names the files relative to it.
+    mount, copy = work / "disk", work / "copied" / "run"
     mount.mkdir()
+    copy.parent.mkdir()
     command = unshare() + ["sh", "-c", IN_NAMESPACE, "sh", str(size), str(mount), str(copy)]
     command += runner.command(mount / "run", "-q")
     print(f"+ (a {size} byte tmpfs at {mount}) " + " ".join(runner.command(mount / "run", "-q")), flush=True)

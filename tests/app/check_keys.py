@@ -19,7 +19,8 @@ Scenarios:
       typical range; the run goes on (exit 0).
   config-presets
       The lumped run's config.toml writes the Windkessel preset's values (not "(not set)"), numbers in
-      their shortest form; run as a case file it gives the same timeseries.csv byte for byte.
+      their shortest form, file paths relative to the run folder (no path of the machine); run as a
+      case file it gives the same timeseries.csv byte for byte.
   petsc-example
       The example `ibvalve --help` gives for PETSc options (-- -fluid_stokes_ksp_converged_reason), run
       on a small duct flow, prints a line per Stokes solve saying why it converged; `ibvalve run --help`
@@ -158,6 +159,14 @@ def config_presets(run, source, work):
     if "from windkessel.preset = \"stergiopulos-typeA\"" not in config:
         fail("config.toml does not name the preset the values come from", config)
     print("ok: config.toml writes the preset's values (naming it) and 2e-05")
+    # No path of this machine: the case's absolute waveform path is written relative to the run folder.
+    for machine_path in {str(source.resolve()), str(work.resolve())}:
+        if machine_path in config:
+            fail(f"config.toml holds the absolute path {machine_path}", config)
+    waveform = next(l for l in config.splitlines() if l.startswith("file = "))
+    if not waveform.startswith("file = '../"):
+        fail("config.toml does not name the waveform relative to the run folder", waveform)
+    print(f"ok: config.toml holds no absolute path ({waveform.split('  #')[0]})")
     expect_ok(run("run", work / "first/config.toml", "-o", work / "second", "--overwrite"),
               "config.toml run as a case file")
     if (work / "first/timeseries.csv").read_bytes() != (work / "second/timeseries.csv").read_bytes():

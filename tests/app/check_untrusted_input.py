@@ -15,14 +15,26 @@ Scenarios:
       as lv_pressure.file: exit 2, one error line naming FILE:LINE and what was expected, no line (or
       comma-separated field) of the file in the output, no run folder.
   petsc-options
-      petsc.options in a case file that would write or read a file (-log_view :TARGET, -options_file
-      FILE, -malloc_dump FILE, -ksp_view binary, -prefix_push): exit 2, one error line naming the case
-      file's line, petsc.options and the option, TARGET neither created nor truncated, no run folder.
+      petsc.options in a case file that would write or read a file, draw, or reach beyond ibvalve's
+      solvers (-log_view :TARGET, a bare -log_view, -options_file FILE, -malloc_dump FILE, -draw_type
+      tikz, -fluid_stokes_ksp_view_mat binary, -prefix_push, a quote inside a token, which PETSc does
+      not honour there): exit 2, one error line naming the case file's line, petsc.options and the
+      option, TARGET neither created nor truncated, no run folder. Solver settings and monitors to the
+      terminal under ibvalve's solver prefixes pass.
   report-period
       `ibvalve report` takes the period from the run's config.toml (0.8 s for the lumped case); a
       --period other than the run's cycle (0.0096 s: RF of hundreds of %) prints one warning line
       naming both; a period holding only a few rows of the series, or longer than the series, is
       refused (exit 2, one error line naming --period) and writes nothing.
+  input-files
+      Files a run or a command reads, and folders it writes:
+      - a sparse 100 MiB waveform table is refused at once (exit 2, naming the file and its limit);
+      - a FIFO named as the newest checkpoint is passed over by --restart (a warning naming it),
+        which continues from the one before;
+      - a timeseries.csv with a column named twice is refused by `report` and `compare` (exit 2,
+        naming the file, the line and the column), not read as the one column;
+      - a metrics.json holding 1e999, and `compare -o /proc/...`, are bad input (exit 2 naming the
+        file or folder), not internal errors.
 Prints what it checked; exits 1 on the first failure.
 """
 import json
@@ -45,9 +57,12 @@ class Runner:
     def __init__(self, ibvalve, mpiexec, ranks):
         self.prefix = [mpiexec, "--oversubscribe", "-n", str(ranks), ibvalve]
 
-    def __call__(self, *args, cwd=None):
-        p = subprocess.run(self.prefix + [str(a) for a in args], stdin=subprocess.DEVNULL,
-                           capture_output=True, text=True, cwd=cwd, timeout=240)
+    def __call__(self, *args, cwd=None, timeout=240):
+        try:
+            p = subprocess.run(self.prefix + [str(a) for a in args], stdin=subprocess.DEVNULL,
+                               capture_output=True, text=True, cwd=cwd, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            fail(f"no answer within {timeout} s: {' '.join(str(a) for a in args)}")
         return p.returncode, p.stdout, p.stderr
 
 
@@ -151,7 +166,7 @@ def petsc_options(run, case, work):
     readable.write_text("-SECRET_option_line 1\n")
     attempts = [
         ("-log_view", f"-log_view :{target}"),
-        ("-log_view", f"-ksp_type gmres -log_view :{target}:ascii_info_detail"),
+        ("-log_view", f"-fluid_stokes_ksp_type gmres -log_view :{target}:ascii_info_detail"),
         ("-options_file", f"-options_file {readable}"),
         ("-options_file", "-options_file /etc/hostname"),
         ("-malloc_dump", f"-malloc_dump {target}"),
@@ -159,6 +174,15 @@ def petsc_options(run, case, work):
         ("-fluid_ksp_monitor", f"-fluid_ksp_monitor ascii:{target}"),
         ("-prefix_push", "-prefix_push log_ -view"),
         ("-on_error_attach_debugger", "-on_error_attach_debugger"),
+        # PETSc honours a double quote only at a token's start: this is three options to PETSc, the
+        # second of which writes the matrix to TARGET.
+        ('-x: \'"\'', f'-x" -fluid_stokes_ksp_view_mat ascii:{target} -y"'),
+        ("-fluid_stokes_ksp_view_mat binary", "-fluid_stokes_ksp_view_mat binary"),
+        ("-fluid_stokes_ksp_monitor_lg_residualnorm", "-fluid_stokes_ksp_monitor_lg_residualnorm"),
+        ("-fluid_stokes_ksp_type python", "-fluid_stokes_ksp_type python -fluid_stokes_ksp_python_type x.Y"),
+        ("-fluid_stokes_ksp_rtol", "-fluid_stokes_ksp_rtol\t1e-8"),
+        ("-draw_type", "-draw_type tikz"),
+        ("-log_view", "-log_view"),
     ]
     for option, value in attempts:
         target.write_text("keep\n")
@@ -181,12 +205,13 @@ def petsc_options(run, case, work):
         print(f"ok: {value!r}: {line}")
     # What stays allowed in a case file: solver settings and monitors to the terminal.
     case_file = work / "case.toml"
-    case_file.write_text(lumped_case(case, work, 'petsc.options = "-ksp_type gmres -ksp_rtol 1e-8 -ksp_monitor"\n'))
+    allowed = "-fluid_stokes_ksp_type gmres -fluid_stokes_ksp_rtol 1e-8 -fluid_stokes_ksp_monitor"
+    case_file.write_text(lumped_case(case, work, f"petsc.options = {json.dumps(allowed)}\n"))
     directory = work / "run"
     code, out, err = run("run", case_file, "-o", directory, "--set", "time.cycles=1", "--set", "report.plots=false")
     if code != 0:
         fail(f"a case with harmless PETSc options exited with {code}", out + err)
-    print("ok: -ksp_type gmres -ksp_rtol 1e-8 -ksp_monitor accepted")
+    print(f"ok: {allowed} accepted")
 
 
 def report_period(run, case, work):
@@ -220,6 +245,70 @@ def report_period(run, case, work):
         print(f"ok: {line}")
 
 
+def input_files(run, case, work):
+    # A waveform table of 100 MiB, sparse (no disk used): named with its limit in seconds, not read.
+    sparse = work / "sparse.csv"
+    with open(sparse, "w") as f:
+        f.write("t,p\n")
+        f.truncate(100 << 20)
+    code, out, err = run("run", case, "-o", work / "sparse_run",
+                         "--set", f"lv_pressure.file={json.dumps(str(sparse))}", timeout=30)
+    line = one_error_line(code, out, err)
+    if str(sparse) not in line or "MiB" not in line:
+        fail(f"the error line does not name {sparse} and its limit: {line}")
+    print(f"ok: {line}")
+    # A FIFO under the newest checkpoint's name: passed over, not opened.
+    stopped = work / "stopped"
+    code, out, err = run("run", case, "-o", stopped, "--set", "time.cycles=1", "--set", "report.plots=false",
+                         "--stop-after-steps", "3000")
+    if code != 0:
+        fail(f"the stopped run exited with {code}", out + err)
+    fifo = stopped / "checkpoints" / "step_000999999.h5"
+    os.mkfifo(fifo)
+    code, out, err = run("run", "--restart", stopped, timeout=60)
+    if code != 0:
+        fail(f"--restart with a FIFO checkpoint exited with {code}", out + err)
+    warnings = [l for l in (out + err).splitlines() if l.startswith("warning:") and str(fifo) in l]
+    if len(warnings) != 1 or "not a regular file" not in warnings[0]:
+        fail("--restart did not warn once that the FIFO is not a regular file", out + err)
+    print(f"ok: {warnings[0]}")
+
+    directory = work / "run"
+    lumped_run(run, case, directory)
+    # A column named twice: the report and the comparison refuse the series, naming file, line, column.
+    twice = work / "twice"
+    shutil.copytree(directory, twice)
+    series = (twice / "timeseries.csv").read_text().split("\n", 1)
+    header = series[0].split(",")
+    header[header.index("Q_outlet")] = "Q_valve"
+    (twice / "timeseries.csv").write_text(",".join(header) + "\n" + series[1])
+    shutil.rmtree(twice / "report")
+    for args in (("report", twice, "--no-plots"),
+                 ("compare", twice, directory, "-o", work / "twice_cmp", "--no-plots")):
+        code, out, err = run(*args)
+        line = one_error_line(code, out, err)
+        if f"{twice / 'timeseries.csv'}:1:" not in line or "'Q_valve'" not in line:
+            fail(f"{args[0]}: the error line does not name timeseries.csv:1 and 'Q_valve': {line}")
+        print(f"ok: {args[0]}: {line}")
+
+    # A number beyond a double in metrics.json.
+    huge = work / "huge"
+    shutil.copytree(directory, huge)
+    metrics = huge / "report" / "metrics.json"
+    metrics.write_text(re.sub(r'"value": [-0-9.eE+]+', '"value": 1e999', metrics.read_text(), count=1))
+    code, out, err = run("compare", huge, directory, "-o", work / "huge_cmp", "--no-plots")
+    line = one_error_line(code, out, err)
+    if str(metrics) not in line:
+        fail(f"the error line does not name {metrics}: {line}")
+    print(f"ok: {line}")
+    # An output folder that cannot be made.
+    code, out, err = run("compare", directory, "-o", "/proc/ibvalve/comparison", "--no-plots")
+    line = one_error_line(code, out, err)
+    if "/proc/ibvalve/comparison: cannot create the output folder" not in line:
+        fail(f"the error line does not name /proc/ibvalve/comparison: {line}")
+    print(f"ok: {line}")
+
+
 def main():
     scenario, ibvalve, mpiexec, ranks, case, work = sys.argv[1:7]
     work = pathlib.Path(work).resolve()
@@ -227,7 +316,7 @@ def main():
     work.mkdir(parents=True)
     run = Runner(ibvalve, mpiexec, int(ranks))
     scenarios = {"report-planted-modules": report_planted_modules, "waveform-content": waveform_content,
-                 "petsc-options": petsc_options, "report-period": report_period}
+                 "petsc-options": petsc_options, "report-period": report_period, "input-files": input_files}
     scenarios[scenario](run, pathlib.Path(case).resolve(), work)
 
 

@@ -7,6 +7,10 @@ usage: check_lumped_run.py report RUN_DIR      the run covers full cycles; the m
        check_lumped_run.py converged RUN RUN_HALF_DT
                                                the metrics of the run and of the run at half the
                                                time step agree to 1e-4 relative (time convergence)
+       check_lumped_run.py density RUN DENSITY IBVALVE
+                                               the run's own report and `IBVALVE report RUN` take
+                                               the EOA's density from fluid.density (DENSITY): one
+                                               density for the run and its report
 """
 import csv
 import json
@@ -78,6 +82,13 @@ def check_report(run):
         fail(f"run.json lacks the case file or the commit: {record}")
     if provenance["inputs"].get("windkessel.compliance") is None:
         fail("metrics.json's provenance lacks the case's inputs (windkessel.compliance)")
+    # Inputs in their shortest exact form with their unit: 0.6, not 0.59999999999999998; 0, not -0.0.
+    for key, shown in (("valve.max_area_fraction", "0.6"), ("windkessel.distal_pressure", "0 mmHg"),
+                       ("time.step", "0.0001 s"), ("windkessel.compliance", "1.75 mL/mmHg")):
+        if provenance["inputs"].get(key) != shown:
+            fail(f"metrics.json's provenance shows {key} as {provenance['inputs'].get(key)!r}, not {shown!r}")
+        if f"| `{key}` | {shown} |" not in md:
+            fail(f"report.md does not show {key} as {shown}")
     for text in (record["case_file"], record["commit"], "`windkessel.compliance`"):
         if text not in md:
             fail(f"report.md does not show {text}")
@@ -137,9 +148,37 @@ def check_converged(run, run_half):
     print(f"largest relative change {worst:.2e}")
 
 
+def check_density(run, density, ibvalve):
+    import subprocess
+
+    density = float(density)
+
+    def check(who):
+        with open(os.path.join(run, "report", "metrics.json")) as f:
+            doc = json.load(f)
+        used = doc["settings"]["density_g_per_mL"]
+        m = {k: v["value"] for k, v in doc["metrics"].items()}
+        # EOA = Q_rms / (51.6 sqrt(TPG / rho)) over the ejection window (docs/hemodynamics.md).
+        eoa = m["rms_forward_flow"] / (51.6 * math.sqrt(m["transvalvular_pressure_gradient"] / density))
+        if used != density:
+            fail(f"{who}: the EOA's density is {used} g/mL, not the run's fluid.density {density}")
+        if abs(m["effective_orifice_area"] - eoa) > 1e-12 * eoa:
+            fail(f"{who}: EOA {m['effective_orifice_area']} is not Q_rms / (51.6 sqrt(TPG / {density})) = {eoa}")
+        print(f"{who}: density {used} g/mL, EOA {m['effective_orifice_area']:.6g} cm^2")
+
+    check("the run's report")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    result = subprocess.run([ibvalve, "report", run, "--no-plots"], capture_output=True, text=True, env=env)
+    if result.returncode != 0:
+        fail(f"ibvalve report exited with {result.returncode}: {result.stderr}")
+    check("ibvalve report")
+
+
 if __name__ == "__main__":
     mode = sys.argv[1]
-    if mode == "converged":
+    if mode == "density":
+        check_density(sys.argv[2], sys.argv[3], sys.argv[4])
+    elif mode == "converged":
         check_converged(sys.argv[2], sys.argv[3])
     else:
         {"report": check_report, "compare": check_compare}[mode](sys.argv[2])

@@ -146,13 +146,13 @@ TEST(Template, StandaloneTagLinesLeaveNoTraceWhetherTheirSectionIsRenderedOrNot)
 TEST(Template, ABrokenTemplateIsAnInputErrorNamingFileAndLine)
 {
   try {
-    hd::TextTemplate("line 1\n{{#rows}}\nno end\n", "mine.tpl", hd::TextTemplate::Escaping::none);
+    hd::TextTemplate("line 1\n{{#rows}}\nno end\n", "mine.tpl", hd::TextTemplate::Escaping::markdown);
     FAIL() << "an unclosed section was accepted";
   } catch (const ibvalve::InputError& error) {
     EXPECT_EQ(std::string(error.what()).rfind("mine.tpl:2: Unclosed section \"rows\"", 0), 0u)
         << error.what();
   }
-  EXPECT_THROW(hd::TextTemplate("{{value", "mine.tpl", hd::TextTemplate::Escaping::none),
+  EXPECT_THROW(hd::TextTemplate("{{value", "mine.tpl", hd::TextTemplate::Escaping::markdown),
                ibvalve::InputError);
 }
 
@@ -254,6 +254,48 @@ TEST(Compare, ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes)
   EXPECT_NE(md.find("fit_error (missing for: b)"), std::string::npos);
   EXPECT_NE(ibvalve::io::read_text_file(files.ranking_csv).find("b,missing,missing"), std::string::npos);
   EXPECT_TRUE(fs::exists(files.html));
+  fs::remove_all(out);
+}
+
+TEST(Report, NamesInTheMarkdownPagesCannotOpenATagOrEndATableCell)
+{
+  // A run folder (the report's name for the run) and cases named with HTML and a table's bar.
+  const auto run = scratch("names") / "<script>a|b";
+  fs::create_directories(run);
+  write_run(run, 300.0);
+  hd::ReportOptions options;
+  options.plots = false;
+  const std::string report = ibvalve::io::read_text_file(hd::write_report(run, options).markdown);
+  EXPECT_NE(report.find("# ibvalve report: &lt;script&gt;a\\|b\n"), std::string::npos)
+      << report.substr(0, 200);
+  EXPECT_EQ(report.find("<script>"), std::string::npos);
+
+  auto make = [](const std::string& name, double vf) {
+    hd::CaseResult c;
+    c.name = name;
+    c.metrics = hd::Json{{"forward_volume", hd::Json{{"value", vf}, {"unit", "mL"}, {"symbol", "V_F"}}}};
+    return c;
+  };
+  const std::vector<hd::CaseResult> cases{make("<b>x</b> & y", 60), make("a|b", 80)};
+  const auto out = scratch("names_compare");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const std::string md = ibvalve::io::read_text_file(hd::write_comparison(cases, out, pages_only).markdown);
+  EXPECT_NE(md.find("| &lt;b&gt;x&lt;/b&gt; &amp; y | a\\|b |"), std::string::npos) << md.substr(0, 400);
+  EXPECT_EQ(md.find("<b>"), std::string::npos);
+  // Every row of the metrics table has as many cells as its header.
+  const auto header = md.find("| metric | unit |");
+  ASSERT_NE(header, std::string::npos);
+  const auto cells = [](std::string_view line) {
+    std::size_t bars = 0;
+    for (std::size_t i = 0; i < line.size(); ++i) bars += line[i] == '|' && (i == 0 || line[i - 1] != '\\');
+    return bars;
+  };
+  const std::string header_line = md.substr(header, md.find('\n', header) - header);
+  const auto row = md.find("| V_F");
+  ASSERT_NE(row, std::string::npos) << md;
+  EXPECT_EQ(cells(md.substr(row, md.find('\n', row) - row)), cells(header_line));
+  fs::remove_all(run.parent_path());
   fs::remove_all(out);
 }
 

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include "base/errors.hpp"
 #include "base/units.hpp"
 #include "io/config.hpp"
+#include "io/recorded_config.hpp"
 
 namespace ibvalve::io {
 namespace {
@@ -123,6 +125,49 @@ TEST(Config, ResolvedFileReadsBackToTheSameValues)
   EXPECT_DOUBLE_EQ(again.real("fluid.viscosity"), c.real("fluid.viscosity"));
   EXPECT_EQ(again.tables("fluid.boundary")[0].string("type"), "no-slip");
   EXPECT_NE(c.resolved_toml().find("viscosity = 4.0  # [cP]"), std::string::npos) << c.resolved_toml();
+}
+
+TEST(Config, ARunFoldersFileNamesItsFilesRelativeToItself)
+{
+  // The case names a mesh beside it; the resolved file written into a run folder two levels down names
+  // it from there, holds no absolute path, and read from the run folder finds the same file.
+  const auto top =
+      std::filesystem::temp_directory_path() / fmt::format("ibvalve_config_paths_{}", ::getpid());
+  std::filesystem::create_directories(top / "runs" / "a");
+  std::ofstream(top / "valve.msh") << "mesh\n";
+  std::ofstream(top / "case.toml") << "model = \"fluid\"\n[time]\ndt = 1e-3\n[mesh]\nfile = \"valve.msh\"\n";
+  const Config c = Config::load(top / "case.toml", example_schema());
+  const std::string written = c.resolved_toml(top / "runs" / "a");
+  EXPECT_NE(written.find("file = '../../valve.msh'"), std::string::npos) << written;
+  EXPECT_NE(written.find("Read from ../../case.toml"), std::string::npos) << written;
+  EXPECT_EQ(written.find(top.string()), std::string::npos) << written;
+  std::ofstream(top / "runs" / "a" / "config.toml") << written;
+  const Config again = Config::load(top / "runs" / "a" / "config.toml", example_schema());
+  EXPECT_TRUE(std::filesystem::equivalent(again.path("mesh.file"), top / "valve.msh"));
+  // Without a folder (a checkpoint's record of the case), paths are absolute.
+  EXPECT_NE(c.resolved_toml().find((top / "valve.msh").string()), std::string::npos);
+  std::filesystem::remove_all(top);
+}
+
+TEST(Config, ARecordedConfigReadsBackInShortestNumbersWithUnits)
+{
+  CaseFile file(
+      "model = \"fluid\"\n[time]\ndt = 0.6\n[grid]\nlengths = [0.1, 2.0, 3e-05]\n[wk]\npreset = \"typeA\"\n");
+  const Config c = Config::load(file.path(), example_schema());
+  CaseFile resolved(c.resolved_toml() + "[extra]\nnegative_zero = -0.0  # [mmHg] a sign that is not there\n");
+  std::map<std::string, RecordedEntry> entries;
+  for (const RecordedEntry& e : read_recorded_config(resolved.path())) entries[e.key] = e;
+  EXPECT_EQ(entries.at("time.dt").value, "0.6");
+  EXPECT_EQ(entries.at("time.dt").unit, "s");
+  EXPECT_EQ(entries.at("grid.lengths").value, "[0.1, 2, 3e-05]");
+  EXPECT_EQ(entries.at("grid.lengths").unit, "cm");
+  EXPECT_EQ(entries.at("time.steps").value, "10");
+  EXPECT_EQ(entries.at("time.steps").unit, "");
+  EXPECT_EQ(entries.at("model").value, "'fluid'");
+  EXPECT_EQ(entries.at("wk.compliance").value, "1.75"); // written by the preset ("# from wk.preset = ...")
+  EXPECT_EQ(entries.at("wk.compliance").unit, "mL/mmHg");
+  EXPECT_EQ(entries.at("extra.negative_zero").value, "0");
+  EXPECT_EQ(entries.at("extra.negative_zero").unit, "mmHg");
 }
 
 TEST(Config, CommandLineOverridesReplaceFileValues)

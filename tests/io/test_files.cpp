@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <fstream>
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include "base/errors.hpp"
@@ -118,6 +120,77 @@ TEST(Files, ATornLastRowIsNamedAsTorn)
         << error.what();
   }
   std::filesystem::remove(path);
+}
+
+TEST(Files, ACsvColumnNamedTwiceIsRefusedNamingFileLineAndColumn)
+{
+  // A reader by name would take one of the two silently (the first Q_valve, and the report's V_F of it).
+  const auto path = temp("twice.csv");
+  std::ofstream(path) << "# a comment\nt,Q_valve,Q_valve\n0,1,2\n";
+  try {
+    read_csv(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find(path.string() + ":2: column 'Q_valve' is named twice (columns 2 and 3)"),
+              std::string::npos)
+        << error.what();
+  }
+  std::filesystem::remove(path);
+}
+
+TEST(Files, InputFilesAreRegularFilesOfBoundedSize)
+{
+  // A device or a pipe could be read without end or block: refused without being opened.
+  for (const char* device : {"/dev/null", "/dev/zero"}) {
+    EXPECT_THROW(read_text_file(device), InputError) << device;
+    EXPECT_THROW(read_csv(device), InputError) << device;
+  }
+  const auto fifo = temp("fifo.csv");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  try {
+    read_csv(fifo);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              fifo.string() + ": not a regular file (a pipe, a device or a socket); give a file");
+  }
+  std::filesystem::remove(fifo);
+  // A file beyond its limit (sparse: no disk used) is refused before it is read.
+  const auto big = temp("big.csv");
+  std::ofstream(big) << "t,p\n0,1\n";
+  std::filesystem::resize_file(big, (std::uintmax_t{3} << 20) + 1);
+  EXPECT_THROW(read_csv(big, true, std::uintmax_t{3} << 20), InputError);
+  try {
+    read_text_file(big, std::uintmax_t{3} << 20);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              big.string() + ": 3145729 bytes is more than the 3 MiB this file is read up to");
+  }
+  std::filesystem::remove(big);
+}
+
+TEST(Files, ANameIsNotAPath)
+{
+  EXPECT_EQ(folder_name_problem("W1FD1"), "");
+  EXPECT_EQ(folder_name_problem("time step 1"), "");
+  for (const char* path : {"", ".", "..", "../x", "a/b", "a\\b", "x\n"})
+    EXPECT_NE(folder_name_problem(path), "") << path;
+}
+
+TEST(Files, AnOutputFolderThatCannotBeMadeIsBadInput)
+{
+  for (const char* folder : {"/proc/ibvalve/out", "/dev/null/out"}) {
+    try {
+      create_output_folder(folder);
+      FAIL() << "no error for " << folder;
+    } catch (const InputError& error) {
+      EXPECT_EQ(
+          std::string(error.what()).rfind(std::string(folder) + ": cannot create the output folder (", 0), 0u)
+          << error.what();
+    }
+  }
 }
 
 } // namespace
