@@ -101,10 +101,10 @@ std::array<double, kinematic_count> ExpressionLaw::switched(std::array<double, k
   return values;
 }
 
-template <int N>
+template <int N, int Order>
 ExpressionResponse ExpressionLaw::response_in(const std::array<double, kinematic_count>& raw) const
 {
-  using Number = Dual2<double, N>;
+  using Number = Dual2<double, N, Order>;
   thread_local std::vector<Number> symbols, scratch;
   const std::array<double, kinematic_count> x = switched(raw);
   auto invariant = [&](int k) {
@@ -129,38 +129,40 @@ ExpressionResponse ExpressionLaw::response_in(const std::array<double, kinematic
   symbols[sI8] = invariant(kI8);
   symbols[sJ] = J;
   // The parameters are in the program (they depend on no invariant); their symbols stay unused.
-  const Number W = program_.run<N>(symbols, scratch);
+  const Number W = program_.run<N, Order>(symbols, scratch);
 
   ExpressionResponse r;
   r.psi = W.v;
   for (int i = 0; i < N; ++i) {
     const auto ki = static_cast<std::size_t>(active_[static_cast<std::size_t>(i)]);
     r.d[ki] = W.g[static_cast<std::size_t>(i)];
-    for (int j = i; j < N; ++j) {
-      const auto kj = static_cast<std::size_t>(active_[static_cast<std::size_t>(j)]);
-      r.dd[ki][kj] = r.dd[kj][ki] = W.h[static_cast<std::size_t>(Number::at(i, j))];
-    }
+    if constexpr (Order == 2)
+      for (int j = i; j < N; ++j) {
+        const auto kj = static_cast<std::size_t>(active_[static_cast<std::size_t>(j)]);
+        r.dd[ki][kj] = r.dd[kj][ki] = W.h[static_cast<std::size_t>(Number::at(i, j))];
+      }
   }
   return r;
 }
 
-ExpressionResponse ExpressionLaw::response(const std::array<double, kinematic_count>& values) const
+ExpressionResponse ExpressionLaw::response(const std::array<double, kinematic_count>& values, int order) const
 {
+  const bool second = order == 2;
   switch (active_.size()) {
   case 0:
-    return response_in<0>(values);
+    return response_in<0, 2>(values);
   case 1:
-    return response_in<1>(values);
+    return second ? response_in<1, 2>(values) : response_in<1, 1>(values);
   case 2:
-    return response_in<2>(values);
+    return second ? response_in<2, 2>(values) : response_in<2, 1>(values);
   case 3:
-    return response_in<3>(values);
+    return second ? response_in<3, 2>(values) : response_in<3, 1>(values);
   case 4:
-    return response_in<4>(values);
+    return second ? response_in<4, 2>(values) : response_in<4, 1>(values);
   case 5:
-    return response_in<5>(values);
+    return second ? response_in<5, 2>(values) : response_in<5, 1>(values);
   default:
-    return response_in<6>(values);
+    return second ? response_in<6, 2>(values) : response_in<6, 1>(values);
   }
 }
 
@@ -187,24 +189,38 @@ double ExpressionLaw::energy(const Mat3& F, const FiberFrame& fibers) const
 Mat3 ExpressionLaw::stress(const Mat3& F, const FiberFrame& fibers) const
 {
   Mat3 P;
-  assemble(F, fibers, P, nullptr);
+  assemble(F, fibers, P, nullptr, true);
   return P;
+}
+
+Mat3 ExpressionLaw::invariant_stress(const Mat3& F, const FiberFrame& fibers) const
+{
+  Mat3 P;
+  assemble(F, fibers, P, nullptr, false);
+  return P;
+}
+
+void ExpressionLaw::invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P,
+                                                 Tangent& T) const
+{
+  assemble(F, fibers, P, &T, false);
 }
 
 Tangent ExpressionLaw::tangent(const Mat3& F, const FiberFrame& fibers) const
 {
   Mat3 P;
   Tangent T;
-  assemble(F, fibers, P, &T);
+  assemble(F, fibers, P, &T, true);
   return T;
 }
 
 void ExpressionLaw::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
 {
-  assemble(F, fibers, P, &T);
+  assemble(F, fibers, P, &T, true);
 }
 
-void ExpressionLaw::assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent* T) const
+void ExpressionLaw::assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent* T,
+                             bool reference) const
 {
   const Mat3 C = F.transpose() * F;
   const double I1 = C.trace();
@@ -213,17 +229,19 @@ void ExpressionLaw::assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, T
   const double J = F.determinant();
   const std::array<double, kinematic_count> x{
       I1, 0.5 * (I1 * I1 - C.squaredNorm()), f.dot(C * f), s.dot(C * s), s.dot(C * f), J};
-  ExpressionResponse r = response(x);
+  ExpressionResponse r = response(x, T ? 2 : 1);
   // The reference term -p_ref ln J: dW/dJ = -p_ref / J, d2W/dJ2 = p_ref / J^2.
-  r.d[kJ] -= reference_pressure_ / J;
-  r.dd[kJ][kJ] += reference_pressure_ / (J * J);
+  const double p_ref = reference ? reference_pressure_ : 0.0;
+  r.d[kJ] -= p_ref / J;
+  r.dd[kJ][kJ] += p_ref / (J * J);
 
-  // dI_k/dF over the invariants assembled (H = F^{-T}).
-  const bool volumetric = slot_[kJ] >= 0 || reference_pressure_ != 0.0;
+  // dI_k/dF over the invariants assembled (H = F^{-T}); J only when W reads it or for the reference.
+  const bool volumetric = slot_[kJ] >= 0 || p_ref != 0.0;
   const Mat3 H = volumetric ? Mat3(F.inverse().transpose()) : Mat3::Zero();
   std::array<Mat3, kinematic_count> G;
   P.setZero();
   for (const int k : assembled_) {
+    if (k == kJ && !volumetric) continue;
     switch (k) {
     case kI1:
       G[k] = 2.0 * F;
@@ -272,7 +290,8 @@ void ExpressionLaw::assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, T
   }
   // sum_kl d_kl dI_k/dF (x) dI_l/dF.
   std::array<Vec9, kinematic_count> g;
-  for (const int k : assembled_) g[k] = flat(G[k]);
+  for (const int k : assembled_)
+    if (k != kJ || volumetric) g[k] = flat(G[k]);
   for (const int k : assembled_)
     for (const int l : assembled_)
       if (const double c = r.dd[k][l]; c != 0.0) T->noalias() += c * g[k] * g[l].transpose();

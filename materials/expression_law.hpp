@@ -59,6 +59,11 @@ class ExpressionLaw : public StrainEnergy {
   Tangent tangent(const Mat3& F, const FiberFrame& fibers) const override;
   void stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const override;
 
+  /// P and dP/dF of W alone (without the reference term), for a Material that adds every volumetric
+  /// term in one pass (as for InvariantLaw).
+  Mat3 invariant_stress(const Mat3& F, const FiberFrame& fibers) const;
+  void invariant_stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const;
+
   const Formula& formula() const { return formula_; }
   std::span<const ExpressionParameter> parameters() const { return parameters_; }
   const LawOptions& options() const { return options_; }
@@ -68,8 +73,8 @@ class ExpressionLaw : public StrainEnergy {
   int fiber_families() const;
 
   /// W (without the reference term) and its derivatives at the invariants' values `values`
-  /// (indexed by KinematicInvariant), the fiber switch applied.
-  ExpressionResponse response(const std::array<double, kinematic_count>& values) const;
+  /// (indexed by KinematicInvariant), the fiber switch applied; `order` 1 leaves dd at zero.
+  ExpressionResponse response(const std::array<double, kinematic_count>& values, int order = 2) const;
   /// The invariants of F with `fibers`.
   static std::array<double, kinematic_count> invariants_of(const Mat3& F, const FiberFrame& fibers);
   /// W with `parameter_values` (CGS, in the order of parameters()) in place of the law's own: for checks.
@@ -77,9 +82,9 @@ class ExpressionLaw : public StrainEnergy {
                      const std::array<double, kinematic_count>& values) const;
 
  private:
-  /// P and, when T is given, dP/dF, the reference term included.
-  void assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent* T) const;
-  template <int N>
+  /// P and, when T is given, dP/dF, with the reference term or without.
+  void assemble(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent* T, bool reference) const;
+  template <int N, int Order>
   ExpressionResponse response_in(const std::array<double, kinematic_count>& values) const;
   std::array<double, kinematic_count> switched(std::array<double, kinematic_count> values) const;
 

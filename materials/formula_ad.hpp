@@ -10,16 +10,16 @@
 // is symmetric and stored as its upper triangle, row by row.
 //
 // The scalar S is double for the finite elements and a Ceres Jet when a fit also needs derivatives in
-// the parameters.
+// the parameters. With Order = 1 the Hessian is left out (what a stress alone needs).
 #include <array>
 #include <cmath>
 #include <type_traits>
 
 namespace ibvalve::materials {
 
-template <class S, int N>
+template <class S, int N, int Order = 2>
 struct Dual2 {
-  static constexpr int hessian_size = N * (N + 1) / 2;
+  static constexpr int hessian_size = Order == 2 ? N * (N + 1) / 2 : 0;
 
   S v{0.0};
   std::array<S, N> g{};
@@ -47,91 +47,94 @@ struct Dual2 {
 };
 
 /// u = f(a) given f(a), f'(a), f''(a).
-template <class S, int N>
-Dual2<S, N> chain(const Dual2<S, N>& a, const S& f0, const S& f1, const S& f2)
+template <class S, int N, int O>
+Dual2<S, N, O> chain(const Dual2<S, N, O>& a, const S& f0, const S& f1, const S& f2)
 {
-  Dual2<S, N> u;
+  Dual2<S, N, O> u;
   u.v = f0;
   for (int i = 0, k = 0; i < N; ++i) {
     u.g[i] = f1 * a.g[i];
-    for (int j = i; j < N; ++j, ++k) u.h[k] = f1 * a.h[k] + f2 * a.g[i] * a.g[j];
+    if constexpr (O == 2)
+      for (int j = i; j < N; ++j, ++k) u.h[k] = f1 * a.h[k] + f2 * a.g[i] * a.g[j];
   }
   return u;
 }
 
-template <class S, int N>
-Dual2<S, N> operator+(const Dual2<S, N>& a, const Dual2<S, N>& b)
+template <class S, int N, int O>
+Dual2<S, N, O> operator+(const Dual2<S, N, O>& a, const Dual2<S, N, O>& b)
 {
-  Dual2<S, N> u = a;
+  Dual2<S, N, O> u = a;
   u.v += b.v;
   for (int i = 0; i < N; ++i) u.g[i] += b.g[i];
-  for (int k = 0; k < Dual2<S, N>::hessian_size; ++k) u.h[k] += b.h[k];
+  for (int k = 0; k < Dual2<S, N, O>::hessian_size; ++k) u.h[k] += b.h[k];
   return u;
 }
 
-template <class S, int N>
-Dual2<S, N> operator-(const Dual2<S, N>& a)
+template <class S, int N, int O>
+Dual2<S, N, O> operator-(const Dual2<S, N, O>& a)
 {
-  Dual2<S, N> u;
+  Dual2<S, N, O> u;
   u.v = -a.v;
   for (int i = 0; i < N; ++i) u.g[i] = -a.g[i];
-  for (int k = 0; k < Dual2<S, N>::hessian_size; ++k) u.h[k] = -a.h[k];
+  for (int k = 0; k < Dual2<S, N, O>::hessian_size; ++k) u.h[k] = -a.h[k];
   return u;
 }
 
-template <class S, int N>
-Dual2<S, N> operator-(const Dual2<S, N>& a, const Dual2<S, N>& b)
+template <class S, int N, int O>
+Dual2<S, N, O> operator-(const Dual2<S, N, O>& a, const Dual2<S, N, O>& b)
 {
-  Dual2<S, N> u = a;
+  Dual2<S, N, O> u = a;
   u.v -= b.v;
   for (int i = 0; i < N; ++i) u.g[i] -= b.g[i];
-  for (int k = 0; k < Dual2<S, N>::hessian_size; ++k) u.h[k] -= b.h[k];
+  for (int k = 0; k < Dual2<S, N, O>::hessian_size; ++k) u.h[k] -= b.h[k];
   return u;
 }
 
-template <class S, int N>
-Dual2<S, N> operator*(const Dual2<S, N>& a, const Dual2<S, N>& b)
+template <class S, int N, int O>
+Dual2<S, N, O> operator*(const Dual2<S, N, O>& a, const Dual2<S, N, O>& b)
 {
-  Dual2<S, N> u;
+  Dual2<S, N, O> u;
   u.v = a.v * b.v;
   for (int i = 0, k = 0; i < N; ++i) {
     u.g[i] = a.v * b.g[i] + b.v * a.g[i];
-    for (int j = i; j < N; ++j, ++k) u.h[k] = a.v * b.h[k] + b.v * a.h[k] + a.g[i] * b.g[j] + a.g[j] * b.g[i];
+    if constexpr (O == 2)
+      for (int j = i; j < N; ++j, ++k)
+        u.h[k] = a.v * b.h[k] + b.v * a.h[k] + a.g[i] * b.g[j] + a.g[j] * b.g[i];
   }
   return u;
 }
 
-template <class S, int N>
-Dual2<S, N> operator/(const Dual2<S, N>& a, const Dual2<S, N>& b)
+template <class S, int N, int O>
+Dual2<S, N, O> operator/(const Dual2<S, N, O>& a, const Dual2<S, N, O>& b)
 {
   const S r = S(1.0) / b.v; // 1/b: f' = -1/b^2, f'' = 2/b^3
   return a * chain(b, r, -r * r, S(2.0) * r * r * r);
 }
 
-template <class S, int N>
-bool operator<(const Dual2<S, N>& a, const Dual2<S, N>& b)
+template <class S, int N, int O>
+bool operator<(const Dual2<S, N, O>& a, const Dual2<S, N, O>& b)
 {
   return a.v < b.v;
 }
 
-template <class S, int N>
-Dual2<S, N> exp(const Dual2<S, N>& a)
+template <class S, int N, int O>
+Dual2<S, N, O> exp(const Dual2<S, N, O>& a)
 {
   using std::exp;
   const S e = exp(a.v);
   return chain(a, e, e, e);
 }
 
-template <class S, int N>
-Dual2<S, N> log(const Dual2<S, N>& a)
+template <class S, int N, int O>
+Dual2<S, N, O> log(const Dual2<S, N, O>& a)
 {
   using std::log;
   const S r = S(1.0) / a.v;
   return chain(a, log(a.v), r, -r * r);
 }
 
-template <class S, int N>
-Dual2<S, N> sqrt(const Dual2<S, N>& a)
+template <class S, int N, int O>
+Dual2<S, N, O> sqrt(const Dual2<S, N, O>& a)
 {
   using std::sqrt;
   const S s = sqrt(a.v);
@@ -140,8 +143,8 @@ Dual2<S, N> sqrt(const Dual2<S, N>& a)
 }
 
 /// a^p for a constant p that is not a small integer (formula_power handles those by products).
-template <class S, int N>
-Dual2<S, N> pow(const Dual2<S, N>& a, double p)
+template <class S, int N, int O>
+Dual2<S, N, O> pow(const Dual2<S, N, O>& a, double p)
 {
   using std::pow; // three powers rather than quotients, so that a = 0 gives 0, not 0/0, where p > 2
   return chain(a, pow(a.v, p), S(p) * pow(a.v, p - 1.0), S(p * (p - 1.0)) * pow(a.v, p - 2.0));

@@ -21,9 +21,9 @@ class FormulaProgram {
 
   /// The formula's value with its derivatives; `inputs[s]` is the value of symbol s (used for the
   /// variables only); `registers` is a buffer (resized as needed).
-  template <int N>
-  Dual2<double, N> run(std::span<const Dual2<double, N>> inputs,
-                       std::vector<Dual2<double, N>>& registers) const;
+  template <int N, int Order = 2>
+  Dual2<double, N, Order> run(std::span<const Dual2<double, N, Order>> inputs,
+                              std::vector<Dual2<double, N, Order>>& registers) const;
 
  private:
   struct Operand {
@@ -43,8 +43,8 @@ class FormulaProgram {
 
 namespace formula_program_detail {
 
-template <int N>
-Dual2<double, N> scaled(Dual2<double, N> x, double c)
+template <int N, int O>
+Dual2<double, N, O> scaled(Dual2<double, N, O> x, double c)
 {
   x.v *= c;
   for (auto& gi : x.g) gi *= c;
@@ -53,11 +53,11 @@ Dual2<double, N> scaled(Dual2<double, N> x, double c)
 }
 
 /// A binary operation with at least one operand that carries derivatives.
-template <int N>
-Dual2<double, N> binary(FormulaOp op, const Dual2<double, N>* a, double ca, const Dual2<double, N>* b,
-                        double cb)
+template <int N, int O>
+Dual2<double, N, O> binary(FormulaOp op, const Dual2<double, N, O>* a, double ca, const Dual2<double, N, O>* b,
+                           double cb)
 {
-  using Number = Dual2<double, N>;
+  using Number = Dual2<double, N, O>;
   switch (op) {
   case FormulaOp::add:
     if (!a) return Number(ca) + *b; // (constants as Dual2: additions are cheap either way)
@@ -100,11 +100,11 @@ Dual2<double, N> binary(FormulaOp op, const Dual2<double, N>* a, double ca, cons
 
 } // namespace formula_program_detail
 
-template <int N>
-Dual2<double, N> FormulaProgram::run(std::span<const Dual2<double, N>> inputs,
-                                     std::vector<Dual2<double, N>>& r) const
+template <int N, int Order>
+Dual2<double, N, Order> FormulaProgram::run(std::span<const Dual2<double, N, Order>> inputs,
+                                            std::vector<Dual2<double, N, Order>>& r) const
 {
-  using Number = Dual2<double, N>;
+  using Number = Dual2<double, N, Order>;
   if (code_.empty()) return Number(result_);
   r.resize(nodes_);
   for (const Instruction& in : code_) {
@@ -134,7 +134,7 @@ Dual2<double, N> FormulaProgram::run(std::span<const Dual2<double, N>> inputs,
       t = Number(a->v < 0.0 ? 0.0 : 1.0);
       break;
     default:
-      t = formula_program_detail::binary<N>(in.op, a, in.a.value, b, in.b.value);
+      t = formula_program_detail::binary<N, Order>(in.op, a, in.a.value, b, in.b.value);
     }
   }
   return r[static_cast<std::size_t>(code_.back().target)];

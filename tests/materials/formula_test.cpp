@@ -134,7 +134,7 @@ TEST(Formula, SecondOrderDerivativesAreExact)
     if (!varying[i]) fixed[i] = nodes[i];
   const FormulaProgram program(f, fixed);
   std::vector<D> registers;
-  const D w = program.run<2>(values, registers);
+  const D w = program.run<2, 2>(values, registers);
   EXPECT_EQ(w.v, u.v);
   for (int k = 0; k < 2; ++k) EXPECT_NEAR(w.g[k], u.g[k], 1e-15 * std::abs(u.g[k]));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(w.h[k], u.h[k], 1e-14 * std::abs(u.h[k]));
@@ -182,7 +182,7 @@ TEST(Formula, EveryOperationDifferentiatesLikeItsRule)
       if (!varying[i]) fixed[i] = nodes[i];
     const std::vector<D> values{D(2.0), D(0.0), D(0.0), D::variable(x, 0), D(0.0)};
     std::vector<D> registers;
-    const D u = FormulaProgram(f, fixed).run<1>(values, registers);
+    const D u = FormulaProgram(f, fixed).run<1, 2>(values, registers);
     const D v = f.evaluate<D>(values);
     EXPECT_NEAR(u.g[0], c.d1, 1e-14 * (1 + std::abs(c.d1))) << c.text;
     EXPECT_NEAR(u.h[0], c.d2, 1e-13 * (1 + std::abs(c.d2))) << c.text;
