@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "base/units.hpp"
+#include "materials/expression_checks.hpp"
 #include "materials/expression_law.hpp"
 #include "materials/material.hpp"
 
@@ -233,6 +234,48 @@ TEST(ExpressionLaw, ASlackFiberFamilyBearsNoLoadWhenCompressionIsExcluded)
   EXPECT_LT(relative(w1.tangent(F, frame), isotropic.tangent(F, frame)), 1e-15);
   const Mat3 G = Vec3(1.1, 0.95, 1.0 / (1.1 * 0.95)).asDiagonal(); // I4 = 1.21: the fiber pulls
   EXPECT_GT((w1.stress(G, frame) - isotropic.stress(G, frame)).norm(), 1 * kPa);
+}
+
+TEST(ExpressionLaw, TheCatalogueLawsPassTheChecks)
+{
+  // docs/materials.md, "A catalogue of leaflet laws written as formulas" (illustrative values).
+  struct Entry {
+    const char* energy;
+    std::vector<ExpressionParameter> parameters;
+    FiberCompression fibers;
+  };
+  const std::vector<Entry> catalogue{
+      {"c1*(I1 - 3) + c2*(I2 - 3)",
+       {{"c1", 10 * kPa, true}, {"c2", 2 * kPa, true}},
+       FiberCompression::excluded},
+      {"c0*(exp(c1*(I1 - 3)^2 + c2*(sqrt(I4) - 1)^4) - 1)",
+       {{"c0", 0.4 * kPa, true}, {"c1", 5.0, false}, {"c2", 200.0, false}},
+       FiberCompression::excluded},
+      {"c0/2*(I1 - 3) + c1/2*(delta*exp(c2*(I1 - 3)^2) + (1 - delta)*exp(c3*(I4 - 1)^2) - 1)",
+       {{"c0", 10 * kPa, true},
+        {"c1", 0.2 * kPa, true},
+        {"delta", 0.1, false},
+        {"c2", 10.0, false},
+        {"c3", 50.0, false}},
+       FiberCompression::excluded},
+      {"c/2*(exp(b1*(I4 - 1)^2/4 + b2*(I6 - 1)^2/4 + b3*(I4 - 1)*(I6 - 1)/2 + b4*I8^2/4) - 1)",
+       {{"c", 1 * kPa, true},
+        {"b1", 40.0, false},
+        {"b2", 10.0, false},
+        {"b3", 5.0, false},
+        {"b4", 8.0, false}},
+       FiberCompression::included},
+  };
+  for (const Entry& e : catalogue) {
+    const ExpressionLaw law(e.energy, e.parameters, {e.fibers});
+    const auto problem = check_expression_law(law);
+    EXPECT_FALSE(problem) << e.energy << ": " << (problem ? problem->message : "");
+    EXPECT_LT(law.stress(Mat3::Identity(), FiberFrame{Vec3::UnitX(), Vec3::UnitY()}).norm(), 1e-10 * kPa);
+  }
+  for (const BuiltIn& b : built_ins()) {
+    const ExpressionLaw law(b.energy, b.parameters, {FiberCompression::included});
+    EXPECT_FALSE(check_expression_law(law)) << b.label;
+  }
 }
 
 } // namespace
