@@ -142,6 +142,11 @@ KeyBuilder Schema::add_integer_list(std::string key, std::string doc)
 {
   return add(std::move(key), ValueKind::integer_list, std::move(doc));
 }
+KeyBuilder Schema::add_real_table(std::string key, std::string doc)
+{
+  return add(std::move(key), ValueKind::real_table, std::move(doc));
+}
+
 KeyBuilder Schema::add_string_list(std::string key, std::string doc)
 {
   return add(std::move(key), ValueKind::string_list, std::move(doc));
@@ -207,6 +212,8 @@ std::string kind_name(ValueKind kind)
     return "a list of strings";
   case ValueKind::table_list:
     return "a list of tables ([[...]])";
+  case ValueKind::real_table:
+    return "a table of numbers ({ name = number, ... })";
   }
   return "?";
 }
@@ -605,6 +612,17 @@ struct Validator {
         input_error(&node, file, display_key, fmt::format("expected at least {} entries", spec.min_size));
       return; // elements are validated by validate_table
     }
+    case ValueKind::real_table: {
+      const auto* table = node.as_table();
+      if (!table)
+        input_error(&node, file, display_key,
+                    "expected " + kind_name(spec.kind) + ", got " + display_value(node));
+      for (auto&& [name, item] : *table) {
+        const std::string item_key = join_key(display_key, name.str());
+        check_number(item, spec, item_key, number(item, item_key, false));
+      }
+      return;
+    }
     }
   }
 
@@ -942,6 +960,18 @@ std::vector<std::string> Config::strings(std::string_view key) const
   return out;
 }
 
+std::vector<std::pair<std::string, double>> Config::named_reals(std::string_view key) const
+{
+  std::vector<std::pair<std::string, double>> out;
+  const toml::node* n = node(key);
+  if (!n) return out;
+  for (auto&& [name, item] : *n->as_table())
+    out.emplace_back(std::string(name.str()), item.is_integer()
+                                                  ? static_cast<double>(*item.value<std::int64_t>())
+                                                  : *item.value<double>());
+  return out;
+}
+
 std::vector<Config> Config::tables(std::string_view key) const
 {
   std::vector<Config> out;
@@ -979,6 +1009,12 @@ std::string format_node(const toml::node& node)
     std::string out = "[";
     for (std::size_t i = 0; i < array->size(); ++i) out += (i ? ", " : "") + format_node(*array->get(i));
     return out + "]";
+  }
+  if (const auto* table = node.as_table()) { // an inline table (a real_table key)
+    std::string out;
+    for (auto&& [name, item] : *table)
+      out += (out.empty() ? "{ " : ", ") + std::string(name.str()) + " = " + format_node(item);
+    return out.empty() ? "{}" : out + " }";
   }
   std::ostringstream os;
   node.visit([&](const auto& v) { os << v; });

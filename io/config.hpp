@@ -23,7 +23,17 @@
 
 namespace ibvalve::io {
 
-enum class ValueKind { boolean, integer, real, string, real_list, integer_list, string_list, table_list };
+enum class ValueKind {
+  boolean,
+  integer,
+  real,
+  string,
+  real_list,
+  integer_list,
+  string_list,
+  table_list,
+  real_table
+};
 
 using Value = std::variant<bool, std::int64_t, double, std::string, std::vector<double>,
                            std::vector<std::int64_t>, std::vector<std::string>>;
@@ -97,6 +107,9 @@ class Schema {
   KeyBuilder add_real_list(std::string key, std::string doc);
   KeyBuilder add_integer_list(std::string key, std::string doc);
   KeyBuilder add_string_list(std::string key, std::string doc);
+  /// A table of numbers under names the user chooses (`key = { a = 1.0, b = 2.5 }`), for named
+  /// parameters; the range applies to each number. Read with Config::named_reals.
+  KeyBuilder add_real_table(std::string key, std::string doc);
   /// An array of tables ([[key]] in TOML), each element checked against `element`.
   KeyBuilder add_table_list(std::string key, Schema element, std::string doc);
 
@@ -170,6 +183,9 @@ class Config {
   std::vector<std::int64_t> integers(std::string_view key) const;
   std::vector<std::string> strings(std::string_view key) const;
   std::vector<Config> tables(std::string_view key) const;
+  /// A real_table key's (name, value) pairs, in name order, as written (no unit conversion: the unit
+  /// of each depends on what the names mean).
+  std::vector<std::pair<std::string, double>> named_reals(std::string_view key) const;
 
   /// "case.toml:12" for a key (the file alone for a default).
   std::string where(std::string_view key) const;

@@ -13,6 +13,7 @@
 #include <ceres/ceres.h>
 
 #include "base/errors.hpp"
+#include "base/units.hpp"
 #include "io/files.hpp"
 
 namespace ibvalve::materials {
@@ -97,8 +98,8 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
 // ---------------------------------------------------------------------------------------------
 // Quality
 
-FitQuality fit_quality(const BiaxialSample& sample, const BiaxialSetup& setup,
-                       std::span<const double> parameters)
+FitQuality fit_quality(const BiaxialSample& sample,
+                       const std::function<std::array<double, 2>(const BiaxialPoint&)>& model)
 {
   FitQuality q;
   double sum = 0.0, sum_abs = 0.0;
@@ -107,7 +108,7 @@ FitQuality fit_quality(const BiaxialSample& sample, const BiaxialSetup& setup,
   const double mean = sum / n;
   double sst = 0.0;
   for (const auto& pt : sample.points) {
-    const auto s = biaxial_cauchy<double>(setup, parameters.data(), pt.lambda1, pt.lambda2);
+    const std::array<double, 2> s = model(pt);
     const double e1 = s[0] - pt.sigma11, e2 = s[1] - pt.sigma22;
     q.sse += e1 * e1 + e2 * e2;
     sum_abs += std::abs(e1) + std::abs(e2);
@@ -116,6 +117,22 @@ FitQuality fit_quality(const BiaxialSample& sample, const BiaxialSetup& setup,
   q.mae = sum_abs / n;
   q.r_squared = sst > 0.0 ? 1.0 - q.sse / sst : 0.0;
   return q;
+}
+
+FitQuality fit_quality(const BiaxialSample& sample, const BiaxialSetup& setup,
+                       std::span<const double> parameters)
+{
+  return fit_quality(sample, [&](const BiaxialPoint& pt) {
+    return biaxial_cauchy<double>(setup, parameters.data(), pt.lambda1, pt.lambda2);
+  });
+}
+
+FitQuality fit_quality(const BiaxialSample& sample, const StrainEnergy& law, const FiberFrame& frame)
+{
+  return fit_quality(sample, [&](const BiaxialPoint& pt) {
+    const auto s = biaxial_cauchy_through_stress(law, frame, pt.lambda1, pt.lambda2); // dyn/cm^2
+    return std::array<double, 2>{s[0] / units::kPa, s[1] / units::kPa};
+  });
 }
 
 // ---------------------------------------------------------------------------------------------

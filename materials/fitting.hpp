@@ -12,7 +12,9 @@
 // (exactly), and the best few grid points start full nonlinear solves (multi-start); the best end
 // point wins. Quality: MAE = mean |model - data| over all 2N stresses (kPa) and
 // R^2 = 1 - SSE/SST with SST about the mean of all 2N measured stresses.
+#include <array>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,6 +45,13 @@ struct FitQuality {
 /// The model's stresses for `parameters` (user units: kPa moduli) against the sample.
 FitQuality fit_quality(const BiaxialSample& sample, const BiaxialSetup& setup,
                        std::span<const double> parameters);
+
+/// The same for any model of the stresses: `model(point)` = (sigma11, sigma22) in kPa.
+FitQuality fit_quality(const BiaxialSample& sample,
+                       const std::function<std::array<double, 2>(const BiaxialPoint&)>& model);
+
+/// The same for any law, through its 3-D stress (biaxial_cauchy_through_stress) with fibers `frame`.
+FitQuality fit_quality(const BiaxialSample& sample, const StrainEnergy& law, const FiberFrame& frame);
 
 struct FitOptions {
   BiaxialSetup setup;

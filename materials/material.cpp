@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "materials/expression_law.hpp"
 #include "materials/law.hpp"
 
 namespace ibvalve::materials {
@@ -122,6 +123,9 @@ Material::Material(std::shared_ptr<const StrainEnergy> law, VolumetricPenalty pe
 {
   if (!law_) throw std::invalid_argument("Material: no law");
   invariant_law_ = dynamic_cast<const InvariantLaw*>(law_.get());
+  expression_law_ = dynamic_cast<const ExpressionLaw*>(law_.get());
+  if (invariant_law_) reference_g_ = -2.0 * invariant_law_->reference_d1();
+  if (expression_law_) reference_g_ = -expression_law_->reference_pressure();
 }
 
 std::string Material::name() const
@@ -137,10 +141,11 @@ double Material::energy(const Mat3& F, const FiberFrame& fibers) const
 
 Mat3 Material::stress(const Mat3& F, const FiberFrame& fibers) const
 {
-  if (!invariant_law_) return law_->stress(F, fibers) + penalty_.stress(F, fibers);
+  if (!invariant_law_ && !expression_law_) return law_->stress(F, fibers) + penalty_.stress(F, fibers);
   // Psi's stress, then every volumetric term at once: (J U'(J) - 2 d1_ref) F^{-T}.
-  Mat3 P = invariant_law_->invariant_stress(F, fibers);
-  double g = -2.0 * invariant_law_->reference_d1();
+  Mat3 P = invariant_law_ ? invariant_law_->invariant_stress(F, fibers)
+                          : expression_law_->invariant_stress(F, fibers);
+  double g = reference_g_;
   if (penalty_.kind() != PenaltyKind::none) {
     const double J = F.determinant();
     g += J * penalty_.dU(J);
@@ -160,9 +165,12 @@ Tangent Material::tangent(const Mat3& F, const FiberFrame& fibers) const
 void Material::stress_and_tangent(const Mat3& F, const FiberFrame& fibers, Mat3& P, Tangent& T) const
 {
   double g = 0.0, g_prime_J = 0.0;
-  if (invariant_law_) {
-    invariant_law_->invariant_stress_and_tangent(F, fibers, P, T);
-    g = -2.0 * invariant_law_->reference_d1(); // the reference term -2 d1_ref ln J (J g' = 0)
+  if (invariant_law_ || expression_law_) {
+    if (invariant_law_)
+      invariant_law_->invariant_stress_and_tangent(F, fibers, P, T);
+    else
+      expression_law_->invariant_stress_and_tangent(F, fibers, P, T);
+    g = reference_g_; // the reference term: -2 d1_ref ln J or -p_ref ln J (J g' = 0)
   } else {
     law_->stress_and_tangent(F, fibers, P, T);
   }

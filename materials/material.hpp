@@ -19,6 +19,7 @@
 namespace ibvalve::materials {
 
 class InvariantLaw;
+class ExpressionLaw;
 
 enum class PenaltyKind { none, log, quadratic_log, quadratic };
 
@@ -66,8 +67,12 @@ class Material : public StrainEnergy {
  private:
   std::shared_ptr<const StrainEnergy> law_;
   VolumetricPenalty penalty_;
-  /// The law when it is an InvariantLaw: its reference term and the penalty then share one F^{-T}.
+  /// The law when it is an InvariantLaw or an ExpressionLaw: its reference term and the penalty then
+  /// share one F^{-T}.
   const InvariantLaw* invariant_law_ = nullptr;
+  const ExpressionLaw* expression_law_ = nullptr;
+  /// The coefficient g of the law's reference term g F^{-T} (-2 d1_ref or -p_ref), 0 for other laws.
+  double reference_g_ = 0.0;
 };
 
 } // namespace ibvalve::materials

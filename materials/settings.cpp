@@ -1,9 +1,11 @@
 #include "materials/settings.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <sstream>
 
 #include "base/units.hpp"
+#include "materials/expression_checks.hpp"
 
 namespace ibvalve::materials {
 
@@ -94,10 +96,13 @@ io::Schema material_schema(const std::string& prefix)
   const std::string p = prefix.empty() ? "" : prefix + ".";
   std::vector<std::string> law_choices, preset_choices;
   for (const LawInfo& law : all_laws()) law_choices.push_back(law.name);
+  law_choices.push_back(expression_law_name);
   for (const Preset& preset : presets()) preset_choices.push_back(preset.name);
   // Keys left out take the preset's values (config.toml writes them out, naming the preset).
   const std::string preset_key = p + "preset";
-  schema.add_string(p + "law", "constitutive law (" + law_names() + "); implied by `preset` when omitted")
+  schema
+      .add_string(p + "law", "constitutive law (" + law_names() +
+                                 ", or expression: a formula in `energy`); implied by `preset` when omitted")
       .choices(law_choices)
       .preset(preset_key, [](const std::string& name) -> std::optional<io::Value> {
         const Preset* preset = find_preset(name);
@@ -129,6 +134,12 @@ io::Schema material_schema(const std::string& prefix)
     if (info->is_modulus) key.unit("kPa");
     if (info->upper < 1e300) key.at_most(info->upper);
   }
+  schema.add_string(p + "energy",
+                    "law expression: the strain energy as a formula of I1, I1bar, I2, I4, I6, I8, J and the "
+                    "parameters (docs/materials.md)");
+  schema.add_real_table(p + "parameters", "law expression: the formula's parameters, { name = value, ... }");
+  schema.add_string_list(p + "moduli",
+                         "law expression: the parameters given in kPa (the others are dimensionless)");
   schema
       .add_string(
           p + "fiber_compression",
@@ -164,21 +175,28 @@ io::Schema material_schema(const std::string& prefix)
   return schema;
 }
 
-MaterialSettings read_material(const io::Config& config, const std::string& prefix)
+namespace {
+
+bool is_identifier(const std::string& name)
 {
-  const std::string p = prefix.empty() ? "" : prefix + ".";
-  MaterialSettings s;
-  const Preset* preset = config.has(p + "preset") ? find_preset(config.string(p + "preset")) : nullptr;
-  if (config.has(p + "law")) {
-    s.law = *find_law(config.string(p + "law"));
-    if (preset && preset->law != s.law)
-      config.fail(p + "preset", "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
-                                    ", not " + law_info(s.law).name);
-  } else if (preset) {
-    s.law = preset->law;
-  } else {
-    config.fail(p + "law", "give a law (" + law_names() + ") or a preset");
-  }
+  if (name.empty() || !(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_')) return false;
+  return std::all_of(name.begin(), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; });
+}
+
+/// "character 17: " for a position in a formula (1-based, as an editor counts).
+std::string at_character(std::size_t position)
+{
+  return position == std::string::npos ? "" : "character " + std::to_string(position + 1) + ": ";
+}
+
+/// The built-in law's parameters: from the preset, overridden by explicit keys.
+void read_builtin_law(const io::Config& config, const std::string& p, const Preset* preset,
+                      MaterialSettings& s)
+{
+  for (const char* key : {"energy", "parameters", "moduli"})
+    if (config.has(p + key))
+      config.fail(p + key, "only for law = \"expression\" (law " + law_info(s.law).name + " is built in)");
   const LawInfo& info = law_info(s.law);
   if (preset) {
     s.preset = preset->name;
@@ -203,6 +221,60 @@ MaterialSettings read_material(const io::Config& config, const std::string& pref
     if (s.parameters[i] < 0.0)
       config.fail(p + "law", "law " + info.name + " needs parameter " + info.parameters[i].name +
                                  " (give it, or a preset)");
+}
+
+/// law = "expression": the formula and its parameters, parsed and checked (expression_checks.hpp).
+void read_expression_law(const io::Config& config, const std::string& p, MaterialSettings& s)
+{
+  for (const auto& [name, spec] : all_parameters())
+    if (config.has(p + name))
+      config.fail(p + name, "not a key of law expression (its parameters go in `parameters = { ... }`)");
+  if (!config.has(p + "energy"))
+    config.fail(p + "law",
+                "law expression needs `energy`, a formula of the invariants, and its `parameters`");
+  ExpressionDefinition definition;
+  definition.energy = config.string(p + "energy");
+  const std::vector<std::string> moduli =
+      config.has(p + "moduli") ? config.strings(p + "moduli") : std::vector<std::string>{};
+  std::string names;
+  for (const auto& [name, value] : config.named_reals(p + "parameters")) {
+    const std::string key = p + "parameters." + name;
+    if (!is_identifier(name))
+      config.fail(key, "a parameter's name is a letter or _ followed by letters, digits or _");
+    if (std::find(expression_invariants.begin(), expression_invariants.end(), name) !=
+        expression_invariants.end())
+      config.fail(key, "'" + name + "' is an invariant, not a parameter");
+    const bool modulus = std::find(moduli.begin(), moduli.end(), name) != moduli.end();
+    definition.parameters.push_back({name, modulus ? value * units::kPa : value, modulus});
+    names += (names.empty() ? "" : ", ") + name;
+  }
+  for (const std::string& name : moduli)
+    if (std::none_of(definition.parameters.begin(), definition.parameters.end(),
+                     [&](const ExpressionParameter& q) { return q.name == name; }))
+      config.fail(p + "moduli", "'" + name + "' is not one of the parameters (" + names + ")");
+  const auto fail_at = [&](std::size_t position, const std::string& message) {
+    config.fail(p + "energy", at_character(position) + message);
+  };
+  try {
+    const ExpressionLaw law(definition.energy, definition.parameters, s.options);
+    for (std::size_t i = 0; i < definition.parameters.size(); ++i)
+      if (!law.formula().uses(static_cast<int>(expression_invariants.size() + i)))
+        config.fail(p + "parameters." + definition.parameters[i].name, "not used in the energy");
+    if (const auto problem = check_expression_law(law)) fail_at(problem->position, problem->message);
+    for (const std::string& warning : convexity_warnings(law))
+      s.warnings.push_back(config.where(p + "energy") + ": " + p + "energy: " + warning);
+  } catch (const FormulaError& e) {
+    fail_at(e.position(), e.what());
+  }
+  s.expression = std::move(definition);
+}
+
+} // namespace
+
+MaterialSettings read_material(const io::Config& config, const std::string& prefix)
+{
+  const std::string p = prefix.empty() ? "" : prefix + ".";
+  MaterialSettings s;
   s.options.fiber_compression = config.string(p + "fiber_compression") == "on" ? FiberCompression::included
                                                                                : FiberCompression::excluded;
   s.options.reference_state = config.string(p + "reference_state") == "as-written"
@@ -213,21 +285,74 @@ MaterialSettings read_material(const io::Config& config, const std::string& pref
                                       : IsotropicInvariant::I1;
   s.penalty = *find_penalty(config.string(p + "penalty"));
   s.bulk_modulus = config.real(p + "bulk_modulus");
+
+  const Preset* preset = config.has(p + "preset") ? find_preset(config.string(p + "preset")) : nullptr;
+  if (config.has(p + "law") && config.string(p + "law") == expression_law_name) {
+    if (preset)
+      config.fail(p + "preset", "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
+                                    ", not expression");
+    read_expression_law(config, p, s);
+    return s;
+  }
+  if (config.has(p + "law")) {
+    s.law = *find_law(config.string(p + "law"));
+    if (preset && preset->law != s.law)
+      config.fail(p + "preset", "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
+                                    ", not " + law_info(s.law).name);
+  } else if (preset) {
+    s.law = preset->law;
+  } else {
+    config.fail(p + "law", "give a law (" + law_names() + ", expression) or a preset");
+  }
+  read_builtin_law(config, p, preset, s);
   return s;
+}
+
+void check_fiber_families(const MaterialSettings& material, int families, const io::Config& config,
+                          const std::string& prefix)
+{
+  if (!material.expression) return;
+  const ExpressionLaw law = material.expression_law();
+  if (law.fiber_families() <= families) return;
+  // The invariants this part cannot give: I4 (symbol 3) without fibers; I6, I8 (4, 5) with one family.
+  std::size_t first = std::string::npos;
+  for (int symbol = families == 0 ? 3 : 4; symbol <= 5; ++symbol)
+    first = std::min(first, law.formula().first_use(symbol));
+  const std::string p = prefix.empty() ? "" : prefix + ".";
+  config.fail(p + "energy",
+              at_character(first) + "the energy reads " +
+                  (families == 0 ? "a fiber invariant, but this part has no fibers"
+                                 : "a second fiber family (I6 or I8), but this part has one (I4)"));
 }
 
 std::string MaterialSettings::describe() const
 {
+  std::string text;
+  if (expression) {
+    text = "expression W = " + expression->energy + " (";
+    for (std::size_t i = 0; i < expression->parameters.size(); ++i) {
+      const auto& q = expression->parameters[i];
+      text += (i ? ", " : "") + q.name + " = " + format(q.is_modulus ? q.value / units::kPa : q.value) +
+              (q.is_modulus ? " kPa" : "");
+    }
+    return text + ")" + describe_options();
+  }
   const LawInfo& info = law_info(law);
   const auto user = to_user_units(law, parameters);
-  std::string text = info.name + " (";
+  text = info.name + " (";
   for (std::size_t i = 0; i < user.size(); ++i)
     text += (i ? ", " : "") + info.parameters[i].name + " = " + format(user[i]) +
             (info.parameters[i].is_modulus ? " kPa" : "");
   text += ")";
   if (!preset.empty()) text += " from preset " + preset;
-  text += options.fiber_compression == FiberCompression::excluded ? ", fibers in tension only"
-                                                                  : ", fibers in tension and compression";
+  return text + describe_options();
+}
+
+std::string MaterialSettings::describe_options() const
+{
+  std::string text = options.fiber_compression == FiberCompression::excluded
+                         ? ", fibers in tension only"
+                         : ", fibers in tension and compression";
   if (options.isotropic_invariant == IsotropicInvariant::isochoric)
     text += ", isotropic part in J^(-2/3) I1";
   else if (options.reference_state == ReferenceState::as_written)
@@ -240,9 +365,19 @@ std::string MaterialSettings::describe() const
   return text;
 }
 
+ExpressionLaw MaterialSettings::expression_law() const
+{
+  if (!expression) throw std::logic_error("expression_law: the material's law is built in");
+  return ExpressionLaw(expression->energy, expression->parameters, options);
+}
+
 std::shared_ptr<const Material> MaterialSettings::build() const
 {
-  auto law_ptr = std::make_shared<InvariantLaw>(law, parameters, options);
+  std::shared_ptr<const StrainEnergy> law_ptr;
+  if (expression)
+    law_ptr = std::make_shared<ExpressionLaw>(expression_law());
+  else
+    law_ptr = std::make_shared<InvariantLaw>(law, parameters, options);
   return std::make_shared<Material>(std::move(law_ptr), VolumetricPenalty(penalty, bulk_modulus));
 }
 

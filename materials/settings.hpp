@@ -14,17 +14,27 @@
 //   fiber_compression = "off"  # fibers carry no load when shortened (I4 < 1)
 //   penalty = "log"            # kappa/2 (ln J)^2
 //   bulk_modulus = 1000.0      # kPa
+// or a law written as a formula of the invariants (expression_law.hpp, docs/materials.md):
+//   law = "expression"
+//   energy = "c10*(I1bar - 3) + k1/(2*k2)*(exp(k2*(I4 - 1)^2) - 1)"
+//   parameters = { c10 = 1.21, k1 = 24.23, k2 = 57.62 }
+//   moduli = ["c10", "k1"]     # the parameters in kPa; the others are dimensionless
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "io/config.hpp"
+#include "materials/expression_law.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 
 namespace ibvalve::materials {
+
+/// The `law` value of a law written as a formula.
+inline constexpr const char* expression_law_name = "expression";
 
 struct Preset {
   std::string name;
@@ -43,22 +53,43 @@ std::vector<double> to_user_units(LawKind law, std::span<const double> cgs_value
 io::Schema material_schema(const std::string& prefix);
 
 /// Everything a material table resolves to.
+/// The law = "expression" part of a material: the formula and its named parameters (CGS).
+struct ExpressionDefinition {
+  std::string energy;
+  std::vector<ExpressionParameter> parameters;
+};
+
 struct MaterialSettings {
-  LawKind law = LawKind::neo_hookean;
-  std::vector<double> parameters; ///< CGS
+  LawKind law = LawKind::neo_hookean; ///< the built-in law, unless `expression` is set
+  std::vector<double> parameters;     ///< CGS
+  std::optional<ExpressionDefinition> expression;
   LawOptions options;
   PenaltyKind penalty = PenaltyKind::log;
   double bulk_modulus = 0.0; ///< dyn/cm^2
   std::string preset;        ///< empty when none was named
+  /// Warnings about the law (an expression's loss of convexity), for the caller to log.
+  std::vector<std::string> warnings;
 
   /// "W1 (C10 = 1.21 kPa, C01 = 7.99, ...), fibers tension only, log penalty, kappa = 1000 kPa".
   std::string describe() const;
   std::shared_ptr<const Material> build() const;
+  /// The expression law (only when `expression` is set).
+  ExpressionLaw expression_law() const;
+
+ private:
+  /// ", fibers in tension only, log penalty with bulk modulus 1000 kPa".
+  std::string describe_options() const;
 };
 
 /// Reads the material table under `prefix` of a validated case (schema from material_schema).
 /// Errors (no law, a parameter of another law, a preset of another law, a missing parameter) name
 /// the file, line and key.
 MaterialSettings read_material(const io::Config& config, const std::string& prefix);
+
+/// Checks that an expression law reads no more fiber families than the part has (0, 1 or 2): an energy
+/// reading I4 where there are no fibers, or I6/I8 with one family, is an input error naming the
+/// `energy` key and the character where the invariant is first read.
+void check_fiber_families(const MaterialSettings& material, int families, const io::Config& config,
+                          const std::string& prefix);
 
 } // namespace ibvalve::materials

@@ -51,6 +51,7 @@ Schema example_schema()
   s.add_table_list("fluid.boundary", boundary, "boundary conditions");
   s.add_string("fibers.rule", "fiber rule").defaults(std::string("FD1")).choices({"FD1", "FD2"});
   s.add_string_list("tether.surfaces", "tethered surfaces").defaults(std::vector<std::string>{});
+  s.add_real_table("law.parameters", "named parameters").at_least(0.0);
   s.add_string("wk.preset", "named parameters").defaults(std::string("typeA")).choices({"none", "typeA"});
   s.add_real("wk.compliance", "C")
       .unit("mL/mmHg")
@@ -233,6 +234,28 @@ TEST(Config, EachBadInputGivesItsOwnOneLineMessage)
     EXPECT_EQ(message.rfind(bad.expected, 0), 0u)
         << "got:      " << message << "\nexpected: " << bad.expected;
   }
+}
+
+TEST(Config, ATableOfNamedNumbersKeepsTheNamesAndReadsBack)
+{
+  CaseFile file(
+      "model = \"fluid\"\n[time]\ndt = 1e-3\n[law]\nparameters = { mu = 1.5, k2 = 57, a_1 = 0.0 }\n");
+  const Config c = Config::load(file.path(), example_schema());
+  const std::vector<std::pair<std::string, double>> expected{{"a_1", 0.0}, {"k2", 57.0}, {"mu", 1.5}};
+  EXPECT_EQ(c.named_reals("law.parameters"), expected);
+  EXPECT_EQ(c.where("law.parameters.k2"), file.path().string() + ":5");
+  EXPECT_NE(c.resolved_toml().find("parameters = { a_1 = 0.0, k2 = 57, mu = 1.5 }"), std::string::npos)
+      << c.resolved_toml();
+  CaseFile resolved(c.resolved_toml());
+  EXPECT_EQ(Config::load(resolved.path(), example_schema()).named_reals("law.parameters"), expected);
+  // Each entry is a number in the key's range, named in the error.
+  EXPECT_EQ(load_error("model = \"fluid\"\n[time]\ndt = 1\n[law]\nparameters = { mu = \"x\" }\n"),
+            ":5: law.parameters.mu: expected a number, got 'x'");
+  EXPECT_EQ(load_error("model = \"fluid\"\n[time]\ndt = 1\n[law]\nparameters = { mu = -1.0 }\n")
+                .rfind(":5: law.parameters.mu: -1 is out of range", 0),
+            0u);
+  EXPECT_EQ(load_error("model = \"fluid\"\n[time]\ndt = 1\n[law]\nparameters = 3\n"),
+            ":5: law.parameters: expected a table of numbers ({ name = number, ... }), got 3");
 }
 
 TEST(Config, MissingCaseFileIsAnInputError)

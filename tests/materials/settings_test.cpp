@@ -103,5 +103,115 @@ TEST(MaterialSettings, EveryPresetBuildsAStressFreeMaterial)
   }
 }
 
+// law = "expression": the formula and its parameters, moduli in kPa.
+const std::string w1_formula =
+    "[leaflet.material]\nlaw = \"expression\"\n"
+    "energy = \"C10*(exp(C01*(I1 - 3)) - 1) + k1/(2*k2)*(exp(k2*(I4 - 1)^2) - 1)\"\n"
+    "parameters = { C10 = 1.21, C01 = 7.99, k1 = 24.23, k2 = 57.62 }\n"
+    "moduli = [\"C10\", \"k1\"]\n";
+
+TEST(MaterialSettings, AnExpressionLawTakesItsModuliInKpaAndBuildsTheLawItWrites)
+{
+  const MaterialSettings s = read(w1_formula);
+  ASSERT_TRUE(s.expression);
+  ASSERT_EQ(s.expression->parameters.size(), 4u);
+  EXPECT_EQ(s.expression->parameters[1].name, "C10");
+  EXPECT_DOUBLE_EQ(s.expression->parameters[1].value, 1.21 * units::kPa);
+  EXPECT_DOUBLE_EQ(s.expression->parameters[0].value, 7.99); // C01: dimensionless
+  EXPECT_TRUE(s.warnings.empty());
+  EXPECT_NE(s.describe().find("C10 = 1.21 kPa, k1 = 24.23 kPa, k2 = 57.62)"), std::string::npos)
+      << s.describe();
+  // The same material as the built-in W1 of the same parameters.
+  MaterialSettings w1 = read("[leaflet.material]\npreset = \"zhu2021-W1\"\n");
+  FiberFrame frame;
+  frame.f0 = Vec3(1.0, 0.2, 0.0).normalized();
+  Mat3 F;
+  F << 1.12, 0.05, 0.0, -0.02, 0.93, 0.03, 0.01, 0.0, 0.97;
+  const Mat3 P = s.build()->stress(F, frame), P_w1 = w1.build()->stress(F, frame);
+  EXPECT_LT((P - P_w1).norm(), 1e-13 * P_w1.norm());
+}
+
+/// The error line for `w1_formula` with `from` replaced by `to`.
+std::string error_with(const std::string& from, const std::string& to)
+{
+  std::string text = w1_formula;
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return error_of(text.replace(at, from.size(), to));
+}
+
+TEST(MaterialSettings, EachMistakeInAnExpressionLawNamesFileLineKeyAndCharacter)
+{
+  EXPECT_EQ(error_with("(I1 - 3))", "(I1 - 3)"),
+            "case.toml:3: leaflet.material.energy: character 5: ')' missing: the formula ends before it");
+  EXPECT_EQ(error_with("C01*(I1", "C01*(I5"),
+            "case.toml:3: leaflet.material.energy: character 15: unknown symbol 'I5' (known: I1, I1bar, I2, "
+            "I4, I6, I8, J, C01, C10, k1, k2)");
+  EXPECT_EQ(
+      error_with("exp(C01", "expo(C01"),
+      "case.toml:3: leaflet.material.energy: character 6: unknown function 'expo' (functions: exp, log, "
+      "sqrt, abs, step, pow, min, max)");
+  EXPECT_EQ(error_with(", k2 = 57.62 }", ", k2 = 57.62, k3 = 1.0 }"),
+            "case.toml:4: leaflet.material.parameters.k3: not used in the energy");
+  EXPECT_EQ(error_with("[\"C10\", \"k1\"]", "[\"C10\", \"k1\", \"k9\"]"),
+            "case.toml:5: leaflet.material.moduli: 'k9' is not one of the parameters (C01, C10, k1, k2)");
+  EXPECT_EQ(error_with("C10 = 1.21,", "I4 = 1.21, C10 = 1.21,"),
+            "case.toml:4: leaflet.material.parameters.I4: 'I4' is an invariant, not a parameter");
+  EXPECT_EQ(
+      error_with("[\"C10\", \"k1\"]", "[\"C10\"]"),
+      "case.toml:3: leaflet.material.energy: the energy is not a stress in the moduli (C10): doubling them "
+      "does not double it. List in `moduli` every parameter given in kPa, and only those (the others are "
+      "dimensionless)");
+  EXPECT_EQ(
+      error_with("(I4 - 1)^2", "log(I4 - 1)"),
+      "case.toml:3: leaflet.material.energy: character 49: the energy or its derivatives are not finite at "
+      "I1 = 3, I4 = 1, J = 1 (F = diag(1, 1, 1))");
+  EXPECT_EQ(
+      error_with("(I4 - 1)^2", "(I4 - 1)"),
+      "case.toml:3: leaflet.material.energy: character 50: the stress at F = I is not zero: dW/dI4 = 12.115 "
+      "kPa there (I4 = I6 = 1, I8 = 0); a fiber term must vanish with its slope at the reference, e.g. (I4 "
+      "- 1)^2");
+  EXPECT_EQ(
+      error_with("law = \"expression\"\n", "law = \"expression\"\nk1 = 2.0\n"),
+      "case.toml:3: leaflet.material.k1: not a key of law expression (its parameters go in `parameters = "
+      "{ ... }`)");
+  EXPECT_EQ(
+      error_of("[leaflet.material]\nlaw = \"expression\"\n"),
+      "case.toml:2: leaflet.material.law: law expression needs `energy`, a formula of the invariants, and "
+      "its `parameters`");
+  EXPECT_EQ(error_of("[leaflet.material]\nlaw = \"W3\"\nC1 = 1\na = 1\nb = 1\nenergy = \"a\"\n"),
+            "case.toml:6: leaflet.material.energy: only for law = \"expression\" (law W3 is built in)");
+}
+
+TEST(MaterialSettings, AnExpressionReadingFibersThePartLacksIsAnInputError)
+{
+  const std::string text = w1_formula;
+  const io::Schema schema = material_schema("leaflet.material");
+  const io::Config config = io::Config::validate(
+      toml::parse(std::string_view{text}, std::string_view{"case.toml"}), "case.toml", schema);
+  const MaterialSettings s = read_material(config, "leaflet.material");
+  EXPECT_NO_THROW(check_fiber_families(s, 1, config, "leaflet.material"));
+  try {
+    check_fiber_families(s, 0, config, "leaflet.material");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "case.toml:3: leaflet.material.energy: character 50: the energy reads a fiber "
+                           "invariant, but this part has no fibers");
+  }
+}
+
+TEST(MaterialSettings, AnEnergyThatLosesConvexityAlongTheFitsPathsIsWarnedAbout)
+{
+  const MaterialSettings s =
+      read("[leaflet.material]\nlaw = \"expression\"\nenergy = \"mu*(I1 - 3) - k*(I4 - 1)^2\"\n"
+           "parameters = { mu = 1.0, k = 10.0 }\nmoduli = [\"mu\", \"k\"]\nfiber_compression = \"on\"\n");
+  ASSERT_FALSE(s.warnings.empty());
+  EXPECT_EQ(s.warnings[0].rfind("case.toml:3: leaflet.material.energy: the energy is not convex along the "
+                                "equibiaxial stretch",
+                                0),
+            0u)
+      << s.warnings[0];
+}
+
 } // namespace
 } // namespace ibvalve::materials
