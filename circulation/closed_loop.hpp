@@ -119,7 +119,8 @@ class ClosedLoop {
   Derived derived(double t, std::span<const double> y) const;
   /// dy/dt at time t.
   void rate(double t, std::span<const double> y, std::span<double> dydt) const;
-  /// One classical Runge–Kutta 4 step from (t, y) to t + dt, in place.
+  /// One classical Runge–Kutta 4 step from (t, y) to t + dt, in place. Uses this object's scratch
+  /// stages: one caller at a time.
   void step(double t, State& y, double dt) const;
   /// V_tot, cm^3 (the invariant above).
   double total_volume(std::span<const double> y) const;
