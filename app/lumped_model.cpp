@@ -378,7 +378,7 @@ class CirculationRun : public LumpedRun {
     if (orifice()) {
       loop.columns.push_back("valve_state");
       loop.units.push_back("1");
-    } else { // no area: the report then reads the closure from the flow
+    } else { // no area (the standard columns end with orifice_area): the report reads closure from the flow
       loop.columns.pop_back();
       loop.units.pop_back();
     }
