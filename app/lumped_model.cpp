@@ -1,14 +1,20 @@
-// `model = "lumped"`: a pressure-driven valve between the LV pressure waveform and the three-element
-// Windkessel, in 0-D, then the hemodynamic report. It explores outlet and valve parameters in about
-// a second and exercises the metrics/report pipeline end to end before a 3-D run exists.
+// `model = "lumped"`: the 0-D valve and the hemodynamic report, in about a second. Two hearts drive it
+// (`heart`): "table", the LV pressure waveform pushing the Mynard-type valve into the three-element
+// Windkessel (open loop); "circulation", the closed-loop lumped circulation of circulation/ (elastance
+// chambers, four valves, systemic and pulmonary compartments), its aortic valve the published diode or
+// the same Mynard-type valve. Either explores parameters in seconds and exercises the metrics/report
+// pipeline end to end before a 3-D run exists.
 //
 // The valve's equations and their Runge–Kutta 4 step (Mynard et al. 2012) are
-// windkessel/lumped_valve.hpp; this file holds the case-file keys, the run's time loop and its output.
+// windkessel/lumped_valve.hpp, the closed loop's circulation/closed_loop.hpp; this file holds the
+// case-file keys, the runs' time loops and their output.
 #include <array>
 #include <cmath>
 #include <fmt/format.h>
 #include <functional>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <sstream>
 
 #include <mpi.h>
@@ -21,6 +27,8 @@
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "base/units.hpp"
+#include "circulation/cycle.hpp"
+#include "circulation/keys.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
 #include "io/checkpoint.hpp"
@@ -37,9 +45,21 @@ namespace {
 using windkessel::LumpedSystem;
 using windkessel::ValveParameters;
 
+enum class Heart { table, circulation };
+
+/// The LV pressure table's section (windkessel/waveform.hpp), and its file key, which heart = "table" needs.
+constexpr const char* table_section = "lv_pressure";
+std::string table_file_key()
+{
+  return std::string(table_section) + ".file";
+}
+
 /// The model's own keys and where they go (io/key_binder.hpp); the LV pressure table, the Windkessel and
-/// checkpoints are their folders' sections, [report] is bound by hemodynamics/.
+/// checkpoints are their folders' sections, [circulation] is bound by circulation/, [report] by
+/// hemodynamics/.
 struct LumpedKeys {
+  Heart heart = Heart::table;
+  circulation::CirculationKeys circulation;
   std::int64_t cycles = 4, every = 1;
   double step = 0, annulus_radius = 0;
   double opening_rate = 0, closing_rate = 0; // 1/(mmHg s) as written
@@ -49,6 +69,11 @@ struct LumpedKeys {
 
 void bind(io::KeyBinder& keys, LumpedKeys& k)
 {
+  keys.choice("heart",
+              "what drives the valve: the LV pressure table into the Windkessel (open loop), or the "
+              "closed-loop circulation of [circulation] (docs/circulation.md)",
+              k.heart, {{"table", Heart::table}, {"circulation", Heart::circulation}})
+      .defaults(std::string("table"));
   keys.integer("time.cycles", "cardiac cycles to run (the report analyses the last)", k.cycles)
       .defaults(std::int64_t{4})
       .at_least(1)
@@ -62,10 +87,14 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
       .defaults(std::int64_t{1})
       .at_least(1);
   keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure driving the valve, in mmHg");
+    windkessel::add_waveform_schema(
+        s, table_section, "LV pressure driving the valve, in mmHg (with the pressure table)", false);
     windkessel::add_schema(s, "windkessel");
   });
+  circulation::bind(keys, k.circulation);
   ValveParameters& v = k.valve;
+  // The valve: the table's, and the closed loop's aortic valve when circulation.aortic_valve.model =
+  // "orifice".
   keys.real("valve.annulus_radius", "radius of the annulus (A_ann = pi r^2)", k.annulus_radius)
       .unit("cm")
       .defaults(1.3)
@@ -104,37 +133,20 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
   keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
 }
 
+/// The case's heart, read as every key is (the runs read all the keys again).
+Heart heart_of(const io::Config& config)
+{
+  LumpedKeys k;
+  io::KeyBinder keys(config);
+  bind(keys, k);
+  return k.heart;
+}
+
+/// What both hearts share: the keys read (the valve in CGS), the cycle's steps, checkpoints, the report,
+/// and the 0-D run itself on rank 0, the other ranks joining its agreements on a stop signal.
 class LumpedRun : public PreparedRun {
  public:
-  explicit LumpedRun(const io::Config& config)
-      : config_(config), keys_(config_),
-        lv_pressure_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
-        outlet_(windkessel::parameters_from_config(config, "windkessel"))
-  {
-    bind(keys_, k_);
-    const LumpedKeys& k = k_;
-    hemodynamics::check_report_templates(keys_, k.report);
-    valve_ = k.valve;
-    valve_.annulus_area = std::numbers::pi * k.annulus_radius * k.annulus_radius;
-    if (valve_.min_area_fraction >= valve_.max_area_fraction)
-      keys_.fail(k.valve.min_area_fraction, "must be below " + keys_.key_of(k.valve.max_area_fraction));
-    valve_.opening_rate = k.opening_rate / units::mmHg;
-    valve_.closing_rate = k.closing_rate / units::mmHg;
-    if (valve_.closing_pressure > valve_.opening_pressure)
-      keys_.fail(k.valve.closing_pressure, "must not exceed " + keys_.key_of(k.valve.opening_pressure));
-    period_ = lv_pressure_.period();
-    const double report_period = k.report.metrics.period;
-    if (std::abs(report_period - period_) > 1e-9 * period_)
-      keys_.fail(k.report.metrics.period,
-                 fmt::format("is {} s but the LV pressure table's period is {} s", report_period, period_));
-    if (const std::string why = step_count_problem(static_cast<double>(k.cycles) * period_, k.step);
-        !why.empty())
-      keys_.fail(k.step, why);
-    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k.step));
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-  }
-
-  RunSummary run(const RunContext& context) override
+  RunSummary run(const RunContext& context) final
   {
     int rank = 0;
     MPI_Comm_rank(context.comm, &rank);
@@ -159,6 +171,84 @@ class LumpedRun : public PreparedRun {
     return summary;
   }
 
+ protected:
+  explicit LumpedRun(const io::Config& config) : config_(config), keys_(config_)
+  {
+    bind(keys_, k_);
+    const LumpedKeys& k = k_;
+    hemodynamics::check_report_templates(keys_, k.report);
+    valve_ = k.valve;
+    valve_.annulus_area = std::numbers::pi * k.annulus_radius * k.annulus_radius;
+    if (valve_.min_area_fraction >= valve_.max_area_fraction)
+      keys_.fail(k.valve.min_area_fraction, "must be below " + keys_.key_of(k.valve.max_area_fraction));
+    valve_.opening_rate = k.opening_rate / units::mmHg;
+    valve_.closing_rate = k.closing_rate / units::mmHg;
+    if (valve_.closing_pressure > valve_.opening_pressure)
+      keys_.fail(k.valve.closing_pressure, "must not exceed " + keys_.key_of(k.valve.opening_pressure));
+    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+  }
+
+  /// The cycle is `period` s (`source` says whose): report.period must match it, and a cycle holds a
+  /// whole number of steps.
+  void set_period(double period, const std::string& source)
+  {
+    period_ = period;
+    const double report_period = k_.report.metrics.period;
+    if (std::abs(report_period - period_) > 1e-9 * period_)
+      keys_.fail(k_.report.metrics.period,
+                 fmt::format("is {} s but {} is {} s", report_period, source, period_));
+    if (const std::string why = step_count_problem(static_cast<double>(k_.cycles) * period_, k_.step);
+        !why.empty())
+      keys_.fail(k_.step, why);
+    steps_per_cycle_ = std::max<long>(1, std::lround(period_ / k_.step));
+  }
+  double step() const { return period_ / static_cast<double>(steps_per_cycle_); }
+
+  virtual RunSummary simulate(const RunContext& context) = 0;
+
+  /// The loop's settings both hearts share; the model fills in columns, advance, row, save and restore.
+  TimeLoop loop_settings(const RunContext& context, std::function<void(RunSummary&)> extra_lines)
+  {
+    const double dt = step();
+    TimeLoop loop;
+    loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
+    loop.steps = k_.cycles * steps_per_cycle_;
+    loop.end_time = static_cast<double>(loop.steps) * dt;
+    loop.checkpoints = checkpoint_settings_;
+    loop.record_every = k_.every;
+    loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
+    // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
+    // millisecond of this model) every 1000 steps.
+    loop.progress_every = 1000;
+    loop.stop_check_every = 1000;
+    loop.time = [dt](std::int64_t n) { return static_cast<double>(n) * dt; };
+    loop.stop_signal = [comm = context.comm] { return agree_on_stop(comm, false).signal; };
+    loop.finish = [this, directory = context.run_directory, extra_lines](RunSummary& summary, bool finished,
+                                                                         std::size_t) {
+      if (!finished) return;
+      write_report(directory, summary);
+      extra_lines(summary);
+    };
+    return loop;
+  }
+
+  /// "lumped model: the state is not finite" when a step went wrong.
+  void check_finite(std::span<const double> y, double t) const
+  {
+    for (const double v : y)
+      if (!std::isfinite(v))
+        throw RunError(fmt::format("lumped model: the state is not finite at t = {:g} s (try a smaller {})",
+                                   t, keys_.key_of(k_.step)));
+  }
+
+  io::Config config_;
+  io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
+  LumpedKeys k_;
+  ValveParameters valve_; // in CGS
+  double period_ = 0.8;
+  long steps_per_cycle_ = 1;
+  io::CheckpointSettings checkpoint_settings_;
+
  private:
   struct Agreement {
     bool done = false; // rank 0 has finished (or failed)
@@ -170,67 +260,6 @@ class LumpedRun : public PreparedRun {
     int mine[2] = {done ? 1 : 0, noted_stop_signal()}, all[2] = {0, 0};
     MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MAX, comm);
     return {all[0] != 0, all[1]};
-  }
-
-  RunSummary simulate(const RunContext& context)
-  {
-    const std::filesystem::path& directory = context.run_directory;
-    auto& log = base::Logger::global();
-    const double dt = period_ / static_cast<double>(steps_per_cycle_);
-    LumpedSystem system{lv_pressure_, outlet_, valve_};
-    LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
-    log.info(
-        fmt::format("lumped valve + Windkessel: {} cycle(s) of {:g} s, dt = {:g} s", k_.cycles, period_, dt));
-    TimeLoop loop;
-    loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
-    loop.steps = k_.cycles * steps_per_cycle_;
-    loop.end_time = static_cast<double>(loop.steps) * dt;
-    loop.checkpoints = checkpoint_settings_;
-    loop.columns = hemodynamics::standard_columns();
-    loop.columns.push_back("valve_state");
-    loop.units = hemodynamics::standard_units();
-    loop.units.push_back("1");
-    loop.record_every = k_.every;
-    loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
-    // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
-    // millisecond of this model) every 1000 steps.
-    loop.progress_every = 1000;
-    loop.stop_check_every = 1000;
-    loop.time = [&](std::int64_t n) { return static_cast<double>(n) * dt; };
-    loop.advance = [&](std::int64_t n) {
-      const double t = static_cast<double>(n - 1) * dt;
-      y = system.step(t, y, dt);
-      if (!std::isfinite(y[0]) || !std::isfinite(y[2]))
-        throw RunError(fmt::format("lumped model: the state is not finite at t = {:g} s (try a smaller {})",
-                                   t + dt, keys_.key_of(k_.step)));
-    };
-    loop.row = [&](std::int64_t n) {
-      const double t = static_cast<double>(n) * dt;
-      const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
-      const double q = y[0];
-      return std::vector<double>{t,
-                                 q / units::mL,
-                                 q / units::mL,
-                                 p_lv / units::mmHg,
-                                 p_ao / units::mmHg,
-                                 y[2] / units::mmHg,
-                                 p_lv / units::mmHg,
-                                 p_ao / units::mmHg,
-                                 valve_.area(y[1]),
-                                 y[1]};
-    };
-    loop.save = [&](io::Hdf5File& h5) { h5.write_root("lumped/state", y, std::array<hsize_t, 1>{y.size()}); };
-    loop.restore = [&](const io::Hdf5File& h5) {
-      const std::vector<double> saved = h5.read("lumped/state");
-      if (saved.size() != y.size())
-        throw InputError(h5.path().string() + ": lumped/state has the wrong size");
-      std::copy(saved.begin(), saved.end(), y.begin());
-    };
-    loop.stop_signal = [&] { return agree_on_stop(context.comm, false).signal; };
-    loop.finish = [&](RunSummary& summary, bool finished, std::size_t) {
-      if (finished) write_report(directory, summary);
-    };
-    return run_time_loop(context, loop);
   }
 
   void write_report(const std::filesystem::path& directory, RunSummary& summary) const
@@ -255,16 +284,215 @@ class LumpedRun : public PreparedRun {
                             show("effective_orifice_area") + ", E_L " + show("energy_loss"));
     summary.lines.push_back("report: " + files.html.string());
   }
+};
 
-  io::Config config_;
-  io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
-  LumpedKeys k_;
+/// heart = "table": the LV pressure table drives the valve into the three-element Windkessel.
+class TableRun : public LumpedRun {
+ public:
+  explicit TableRun(const io::Config& config)
+      : LumpedRun(config), lv_pressure_(table(config)),
+        outlet_(windkessel::parameters_from_config(config, "windkessel"))
+  {
+    set_period(lv_pressure_.period(), "the LV pressure table's period");
+  }
+
+ private:
+  static windkessel::PeriodicWaveform table(const io::Config& config)
+  {
+    if (!config.has(table_file_key()))
+      config.fail(table_file_key(), "missing: the pressure table drives the valve");
+    return windkessel::waveform_from_config(config, table_section, units::mmHg);
+  }
+
+  RunSummary simulate(const RunContext& context) override
+  {
+    const double dt = step();
+    LumpedSystem system{lv_pressure_, outlet_, valve_};
+    LumpedSystem::State y{0.0, 0.0, outlet_.parameters().initial_pressure};
+    base::Logger::global().info(
+        fmt::format("lumped valve + Windkessel: {} cycle(s) of {:g} s, dt = {:g} s", k_.cycles, period_, dt));
+    TimeLoop loop = loop_settings(context, [](RunSummary&) {});
+    loop.columns = hemodynamics::standard_columns();
+    loop.columns.push_back("valve_state");
+    loop.units = hemodynamics::standard_units();
+    loop.units.push_back("1");
+    loop.advance = [&](std::int64_t n) {
+      const double t = static_cast<double>(n - 1) * dt;
+      y = system.step(t, y, dt);
+      check_finite(y, t + dt);
+    };
+    loop.row = [&](std::int64_t n) {
+      const double t = static_cast<double>(n) * dt;
+      const double p_lv = lv_pressure_(t), p_ao = system.aortic_pressure(y);
+      const double q = y[0];
+      return std::vector<double>{t,
+                                 q / units::mL,
+                                 q / units::mL,
+                                 p_lv / units::mmHg,
+                                 p_ao / units::mmHg,
+                                 y[2] / units::mmHg,
+                                 p_lv / units::mmHg,
+                                 p_ao / units::mmHg,
+                                 valve_.area(y[1]),
+                                 y[1]};
+    };
+    loop.save = [&](io::Hdf5File& h5) { h5.write_root("lumped/state", y, std::array<hsize_t, 1>{y.size()}); };
+    loop.restore = [&](const io::Hdf5File& h5) {
+      const std::vector<double> saved = h5.read("lumped/state");
+      if (saved.size() != y.size())
+        throw InputError(h5.path().string() + ": lumped/state has the wrong size");
+      std::copy(saved.begin(), saved.end(), y.begin());
+    };
+    return run_time_loop(context, loop);
+  }
+
   windkessel::PeriodicWaveform lv_pressure_;
   windkessel::ThreeElementWindkessel outlet_;
-  ValveParameters valve_; // in CGS
-  double period_ = 0.8;
-  long steps_per_cycle_ = 1;
-  io::CheckpointSettings checkpoint_settings_;
+};
+
+/// heart = "circulation": the closed-loop circulation; the valve analysed is its aortic valve, the
+/// "aortic" pressure its systemic arteries'.
+class CirculationRun : public LumpedRun {
+ public:
+  explicit CirculationRun(const io::Config& config) : LumpedRun(config), loop_(parameters(config))
+  {
+    set_period(loop_.period(), "the circulation's heartbeat (60 s / " +
+                                   keys_.key_of(k_.circulation.parameters.heart_rate) + ")");
+  }
+
+ private:
+  circulation::CirculationParameters parameters(const io::Config& config) const
+  {
+    if (config.has(table_file_key()))
+      config.fail(table_file_key(), "not used with " + keys_.key_of(k_.heart) +
+                                        " = \"circulation\" (the loop computes the LV pressure)");
+    circulation::check(keys_, k_.circulation);
+    circulation::CirculationParameters p = k_.circulation.parameters;
+    p.aortic_orifice = valve_;
+    return p; // ClosedLoop checks it again (std::invalid_argument: a bug, not bad input)
+  }
+
+  bool orifice() const { return loop_.parameters().aortic_kind == circulation::AorticValveKind::orifice; }
+
+  /// timeseries.csv: the report's columns (the orifice's area and state only for the orifice valve), then
+  /// every chamber's volume and pressure, every compartment's pressure and flow, every valve's flow.
+  void add_columns(TimeLoop& loop) const
+  {
+    loop.columns = hemodynamics::standard_columns();
+    loop.units = hemodynamics::standard_units();
+    if (orifice()) {
+      loop.columns.push_back("valve_state");
+      loop.units.push_back("1");
+    } else { // no area (the standard columns end with orifice_area): the report reads closure from the flow
+      loop.columns.pop_back();
+      loop.units.pop_back();
+    }
+    for (const char* name : {"V_LA", "V_LV", "V_RA", "V_RV"}) {
+      loop.columns.push_back(name);
+      loop.units.push_back("mL");
+    }
+    for (const char* name : {"p_LA", "p_RA", "p_RV", "p_AR_SYS", "p_VEN_SYS", "p_AR_PUL", "p_VEN_PUL"}) {
+      loop.columns.push_back(name);
+      loop.units.push_back("mmHg");
+    }
+    for (const char* name :
+         {"Q_MV", "Q_AV", "Q_TV", "Q_PV", "Q_AR_SYS", "Q_VEN_SYS", "Q_AR_PUL", "Q_VEN_PUL"}) {
+      loop.columns.push_back(name);
+      loop.units.push_back("mL/s");
+    }
+  }
+
+  std::vector<double> row(double t) const
+  {
+    using namespace circulation;
+    const circulation::Derived d = loop_.derived(t, y_);
+    const double mmHg = units::mmHg, mL = units::mL;
+    std::vector<double> r{t,
+                          d.Q_AV / mL,
+                          d.Q_AV / mL,
+                          d.p_LV / mmHg,
+                          y_[p_AR_SYS] / mmHg,
+                          y_[p_AR_SYS] / mmHg,
+                          d.p_LV / mmHg,
+                          y_[p_AR_SYS] / mmHg};
+    if (orifice()) {
+      r.push_back(valve_.area(y_[zeta_AV]));
+      r.push_back(y_[zeta_AV]);
+    }
+    for (const double v : {y_[V_LA], y_[V_LV], y_[V_RA], y_[V_RV]}) r.push_back(v / mL);
+    for (const double p : {d.p_LA, d.p_RA, d.p_RV, y_[p_AR_SYS], y_[p_VEN_SYS], y_[p_AR_PUL], y_[p_VEN_PUL]})
+      r.push_back(p / mmHg);
+    for (const double q :
+         {d.Q_MV, d.Q_AV, d.Q_TV, d.Q_PV, y_[Q_AR_SYS], y_[Q_VEN_SYS], y_[Q_AR_PUL], y_[Q_VEN_PUL]})
+      r.push_back(q / mL);
+    return r;
+  }
+
+  /// The last full beat's figures and the blood volume's drift, for the summary.
+  void beat_lines(RunSummary& summary) const
+  {
+    if (!last_beat_) return;
+    const circulation::CycleFigures& f = *last_beat_;
+    summary.lines.push_back(fmt::format(
+        "last beat: EDV {:.2f} mL, ESV {:.2f} mL, SV {:.2f} mL, EF {:.3f}, peak P_LV {:.1f} mmHg, "
+        "P_AR_SYS {:.1f}/{:.1f} mmHg, periodicity {:.1e}",
+        f.end_diastolic_volume / units::mL, f.end_systolic_volume / units::mL, f.stroke_volume / units::mL,
+        f.ejection_fraction, f.lv_peak_pressure / units::mmHg, f.aortic_systolic / units::mmHg,
+        f.aortic_diastolic / units::mmHg, f.periodicity_error));
+    summary.lines.push_back(
+        fmt::format("blood volume {:.3f} mL, changed by {:.1e} of it", loop_.total_volume(y_) / units::mL,
+                    std::abs(loop_.total_volume(y_) - initial_volume_) / initial_volume_));
+  }
+
+  RunSummary simulate(const RunContext& context) override
+  {
+    const double dt = step();
+    y_ = loop_.initial_state();
+    initial_volume_ = loop_.total_volume(y_);
+    base::Logger::global().info(
+        fmt::format("closed-loop circulation ({} aortic valve): {} beat(s) of {:g} s, dt = {:g} s",
+                    orifice() ? "orifice" : "diode", k_.cycles, period_, dt));
+    TimeLoop loop = loop_settings(context, [this](RunSummary& summary) { beat_lines(summary); });
+    add_columns(loop);
+    std::optional<circulation::CycleRecorder> beat;
+    loop.advance = [&](std::int64_t n) {
+      const double t = static_cast<double>(n - 1) * dt;
+      if ((n - 1) % steps_per_cycle_ == 0) beat.emplace(loop_, t, y_);
+      loop_.step(t, y_, dt);
+      check_finite(y_, t + dt);
+      if (beat) beat->add(t + dt, y_);
+      if (beat && n % steps_per_cycle_ == 0) last_beat_ = beat->figures();
+    };
+    loop.row = [&](std::int64_t n) { return row(static_cast<double>(n) * dt); };
+    // The state by name: circulation/<entry> for each entry of ClosedLoop::state_names(), and the blood
+    // volume it started with.
+    loop.save = [&](io::Hdf5File& h5) {
+      const std::array<hsize_t, 1> one{1};
+      for (std::size_t i = 0; i < y_.size(); ++i)
+        h5.write_root("circulation/" + loop_.state_names()[i], std::span<const double>(&y_[i], 1), one);
+      h5.write_root("circulation/initial_volume", std::span<const double>(&initial_volume_, 1), one);
+    };
+    loop.restore = [&](const io::Hdf5File& h5) {
+      auto read = [&](const std::string& name) {
+        const std::string path = "circulation/" + name;
+        if (!h5.has(path))
+          throw InputError(h5.path().string() + ": " + path +
+                           " is missing (a checkpoint of the pressure-table run?)");
+        const std::vector<double> value = h5.read(path);
+        if (value.size() != 1) throw InputError(h5.path().string() + ": " + path + " is not one number");
+        return value[0];
+      };
+      for (std::size_t i = 0; i < y_.size(); ++i) y_[i] = read(loop_.state_names()[i]);
+      initial_volume_ = read("initial_volume");
+      beat.reset(); // a beat's figures need the whole beat: the next one starts them again
+    };
+    return run_time_loop(context, loop);
+  }
+
+  circulation::ClosedLoop loop_;
+  circulation::ClosedLoop::State y_;
+  double initial_volume_ = 0.0;
+  std::optional<circulation::CycleFigures> last_beat_;
 };
 
 } // namespace
@@ -272,10 +500,12 @@ class LumpedRun : public PreparedRun {
 Model lumped_model()
 {
   return Model{"lumped",
-               "0-D valve (Mynard et al. 2012) between the LV pressure table and a three-element Windkessel; "
-               "writes timeseries.csv and the report in about a second",
+               "0-D valve (Mynard et al. 2012) between the LV pressure table and a three-element Windkessel, "
+               "or inside the closed-loop circulation of circulation/; writes timeseries.csv and the "
+               "report in seconds",
                add_bound_schema<LumpedKeys>, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
-                 return std::make_unique<LumpedRun>(config);
+                 if (heart_of(config) == Heart::circulation) return std::make_unique<CirculationRun>(config);
+                 return std::make_unique<TableRun>(config);
                }};
 }
 

@@ -26,7 +26,7 @@ const std::vector<Model>& models()
   static const std::vector<Model> all = [] {
     std::vector<Model> list;
     // A build of a subset of the folders (IBVALVE_FOLDERS) has the models whose folders it has.
-#if IBVALVE_HAVE_WINDKESSEL && IBVALVE_HAVE_HEMODYNAMICS
+#if IBVALVE_HAVE_WINDKESSEL && IBVALVE_HAVE_CIRCULATION && IBVALVE_HAVE_HEMODYNAMICS
     list.push_back(lumped_model());
 #endif
 #if IBVALVE_HAVE_IB

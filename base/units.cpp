@@ -7,7 +7,7 @@ namespace ibvalve::units {
 
 std::optional<double> to_cgs(std::string_view unit)
 {
-  static constexpr std::array<std::pair<std::string_view, double>, 28> table{{
+  static constexpr std::array<std::pair<std::string_view, double>, 31> table{{
       {"", 1.0},
       {"1", 1.0},
       {"cm", 1.0},
@@ -33,9 +33,12 @@ std::optional<double> to_cgs(std::string_view unit)
       {"m/s", m_per_s},
       {"mmHg s/mL", mmHg / mL},
       {"mL/mmHg", mL / mmHg},
+      {"mmHg/mL", mmHg / mL},     // elastance
+      {"mmHg s^2/mL", mmHg / mL}, // inertance
       {"dyn/cm^3", 1.0},
       {"dyn s/cm^3", 1.0},
       {"1/s", 1.0},
+      {"1/min", per_minute},
   }};
   for (const auto& [name, factor] : table)
     if (name == unit) return factor;

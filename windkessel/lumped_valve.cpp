@@ -6,19 +6,25 @@
 
 namespace ibvalve::windkessel {
 
+std::array<double, 2> ValveParameters::rates(double dp, double q, double zeta_in) const
+{
+  const double zeta = std::clamp(zeta_in, 0.0, 1.0);
+  const double a = area(zeta);
+  const double bernoulli = density / (2.0 * a * a);
+  const double inertance = density * effective_length / a;
+  double dzeta = 0.0;
+  if (dp > opening_pressure)
+    dzeta = (1.0 - zeta) * opening_rate * (dp - opening_pressure);
+  else if (dp < closing_pressure)
+    dzeta = zeta * closing_rate * (dp - closing_pressure);
+  return {(dp - bernoulli * q * std::abs(q)) / inertance, dzeta};
+}
+
 LumpedSystem::State LumpedSystem::rate(double t, const State& y) const
 {
-  const double q = y[0], zeta = std::clamp(y[1], 0.0, 1.0);
-  const double dp = lv_pressure(t) - aortic_pressure(y);
-  const double area = valve.area(zeta);
-  const double bernoulli = valve.density / (2.0 * area * area);
-  const double inertance = valve.density * valve.effective_length / area;
-  double dzeta = 0.0;
-  if (dp > valve.opening_pressure)
-    dzeta = (1.0 - zeta) * valve.opening_rate * (dp - valve.opening_pressure);
-  else if (dp < valve.closing_pressure)
-    dzeta = zeta * valve.closing_rate * (dp - valve.closing_pressure);
-  return {(dp - bernoulli * q * std::abs(q)) / inertance, dzeta, outlet.reservoir_rate(y[2], q)};
+  const double q = y[0];
+  const auto [dq, dzeta] = valve.rates(lv_pressure(t) - aortic_pressure(y), q, y[1]);
+  return {dq, dzeta, outlet.reservoir_rate(y[2], q)};
 }
 
 LumpedSystem::State LumpedSystem::step(double t, const State& y, double dt) const

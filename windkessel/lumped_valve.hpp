@@ -35,6 +35,10 @@ struct ValveParameters {
   {
     return annulus_area * ((max_area_fraction - min_area_fraction) * zeta + min_area_fraction);
   }
+  /// (dQ/dt, dzeta/dt) for the pressure difference dp = upstream - downstream across the valve, the
+  /// flow q and the state zeta (clamped to [0, 1]): the valve's own equations above, for any circuit
+  /// that places it between two pressures (this file's LumpedSystem, circulation/closed_loop.hpp).
+  std::array<double, 2> rates(double dp, double q, double zeta) const;
 };
 
 /// The valve driven by `lv_pressure` and loaded by `outlet` (whose parameters and right-hand side are

@@ -137,14 +137,13 @@ PeriodicWaveform PeriodicWaveform::from_csv(const std::filesystem::path& file, s
   }
 }
 
-void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc)
+void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc,
+                         bool file_required)
 {
-  schema
-      .add_string(prefix + ".file",
-                  doc + ": CSV table with a header, one period, last row = first row one period later")
-      .required()
-      .example(std::string("lv_pressure.csv"))
-      .file();
+  io::KeyBuilder file = schema.add_string(
+      prefix + ".file", doc + ": CSV table with a header, one period, last row = first row one period later");
+  if (file_required) file.required();
+  file.example(std::string("lv_pressure.csv")).file();
   schema.add_string(prefix + ".time_column", "the table's time column (s)").defaults(std::string("time"));
   schema.add_string(prefix + ".value_column", "the table's value column").defaults(std::string("pressure"));
   schema.add_string(prefix + ".interpolation", "between table points")

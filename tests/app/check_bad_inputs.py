@@ -39,6 +39,7 @@ CL = "command line"
 LUMPED, DUCT, TG, BLOCK, SHELL_NESTED, VALVE = ("lumped/default.toml", "duct/case.toml", "taylor_green/case.toml",
                                                 "ibfe/block.toml", "ibfe/shell_nested.toml",
                                                 "aortic_valve/default.toml")
+CLOSED_LOOP = "lumped/closed_loop.toml"
 INPUTS = [
     # --- the model key and the common keys
     ("model misspelt key", "lumped", ("edit", LUMPED, 'model = "lumped"', 'modle = "lumped"'), "modle", "case", True),
@@ -73,6 +74,27 @@ INPUTS = [
      False),
     ("lumped unknown key in table", "lumped", ("edit", LUMPED, "annulus_radius = 1.3", "anulus_radius = 1.3"),
      "valve.anulus_radius", "case", False),
+    # --- lumped, heart = "circulation"
+    ("lumped table without its file", "lumped",
+     ("edit", LUMPED, 'file = "../waveforms/lv_pressure_typeA.csv"', '# no file'), "lv_pressure.file",
+     "nofile-line", False),
+    ("closed loop given a table", "lumped",
+     ("append", CLOSED_LOOP, '[lv_pressure]\nfile = "../waveforms/lv_pressure_typeA.csv"'), "lv_pressure.file",
+     "case+1", True),
+    ("closed loop preset unknown", "lumped",
+     ("edit", CLOSED_LOOP, 'preset = "regazzoni2022"', 'preset = "smith2004"'), "circulation.preset", "case",
+     False),
+    ("closed loop elastance negative", "lumped",
+     ("set", CLOSED_LOOP, "circulation.left_ventricle.passive_elastance=-0.1"),
+     "circulation.left_ventricle.passive_elastance", CL, False),
+    ("closed loop beat overfull", "lumped",
+     ("set", CLOSED_LOOP, "circulation.left_ventricle.contraction_time=0.6",
+      "circulation.left_ventricle.relaxation_time=0.5"), "circulation.left_ventricle.relaxation_time", CL, True),
+    ("closed loop valve never closes", "lumped",
+     ("set", CLOSED_LOOP, "circulation.mitral_valve.closed_resistance=0.001"),
+     "circulation.mitral_valve.closed_resistance", CL, False),
+    ("closed loop report period", "lumped", ("edit", CLOSED_LOOP, "period = 0.8333333333333334", "period = 0.8"),
+     "report.period", "case", False),
     ("lumped misspelt table", "lumped", ("append", LUMPED, "[windkesel]\npreset = \"stergiopulos-typeA\""),
      "windkesel", "case", False),
     ("lumped closure rule unknown", "lumped", ("edit", LUMPED, 'closure_rule = "flow"', 'closure_rule = "pressure"'),
