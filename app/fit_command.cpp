@@ -143,16 +143,7 @@ int fit_expression_law(const FitCommandOptions& options, const std::vector<mater
   fit_options.fiber_compression =
       options.fiber_compression == "on" ? FiberCompression::included : FiberCompression::excluded;
   fit_options.fiber_angle = options.fiber_angle_degrees * M_PI / 180.0;
-  auto& log = base::Logger::global();
-  log.info("fit of expression: W = " + options.energy);
-  log.info(
-      "planar biaxial, incompressible (lambda3 = 1/(lambda1 lambda2), sigma33 = 0), fiber families at +- " +
-      cell(options.fiber_angle_degrees, 0) + " deg from axis 1, fibers " +
-      (options.fiber_compression == "off" ? "in tension only" : "in tension and compression") +
-      "; bounded least squares (Ceres) from the given starting values");
-  check_before_fit(fit_options);
-  std::vector<FitResult> results;
-  for (const auto& sample : samples) results.push_back(fit_expression(sample, fit_options));
+  check_before_fit(fit_options); // bad input stops here, before any output
   std::vector<std::string> names;
   std::vector<bool> moduli;
   std::vector<ExpressionParameter> start;
@@ -162,6 +153,15 @@ int fit_expression_law(const FitCommandOptions& options, const std::vector<mater
     start.push_back({p.name, p.start, p.is_modulus});
   }
   const ExpressionLaw law(options.energy, start, {fit_options.fiber_compression});
+  auto& log = base::Logger::global();
+  const std::string angle = cell(options.fiber_angle_degrees, 0) + " deg from axis 1";
+  log.info("fit of expression: W = " + options.energy);
+  log.info("planar biaxial, incompressible (lambda3 = 1/(lambda1 lambda2), sigma33 = 0), " +
+           (law.fiber_families() == 2 ? "fiber families at +- " + angle : "fiber at " + angle) + ", fibers " +
+           (options.fiber_compression == "off" ? "in tension only" : "in tension and compression") +
+           "; bounded least squares (Ceres) from the given starting values");
+  std::vector<FitResult> results;
+  for (const auto& sample : samples) results.push_back(fit_expression(sample, fit_options));
   report_fits(
       names, moduli, samples, results,
       [&](std::size_t k, const BiaxialPoint& pt) {
