@@ -359,8 +359,15 @@ double leaflet_fit_error(const materials::MaterialSettings& material,
                          const std::vector<std::filesystem::path>& files)
 {
   const materials::BiaxialSetup setup{material.law, material.options.fiber_compression, 0.0};
-  const std::vector<double> parameters = materials::to_user_units(material.law, material.parameters);
   double sum = 0.0;
+  if (material.expression) { // through the law's 3-D stress, the fiber along axis 1
+    const materials::ExpressionLaw law = material.expression_law();
+    for (const auto& file : files)
+      sum +=
+          materials::fit_quality(materials::read_biaxial_csv(file), law, materials::biaxial_frame(setup)).mae;
+    return sum / static_cast<double>(files.size());
+  }
+  const std::vector<double> parameters = materials::to_user_units(material.law, material.parameters);
   for (const auto& file : files)
     sum += materials::fit_quality(materials::read_biaxial_csv(file), setup, parameters).mae;
   return sum / static_cast<double>(files.size());
@@ -413,9 +420,10 @@ class AorticValveRun : public PreparedRun {
         if (!(X[d] > box_.lower[d] && X[d] < box_.upper[d]))
           keys_.fail(k.lower, "the valve and tube must lie inside the box");
 
-    leaflet_material_ = materials::read_material(config, "leaflets.material");
+    // The leaflets carry one fiber family (fibers.rule), the tube none.
+    leaflet_material_ = read_part_material(config, "leaflets.material", 1);
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
-    tube_material_ = materials::read_material(config, "tube.material");
+    tube_material_ = read_part_material(config, "tube.material", 0);
     ib_ = k.coupling;
     for (const std::string& surface : k.tube_surfaces) {
       if (!mesh_.has_group(surface)) keys_.fail(k.tube_surfaces, "the mesh has no group '" + surface + "'");

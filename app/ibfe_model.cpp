@@ -393,8 +393,9 @@ class IbfeRun : public PreparedRun {
     if (k_.parts.empty()) {
       std::vector<int> all(mesh_.num_elements());
       for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
+      const int families = fiber_frame(k_.fiber_direction).f0.norm() > 0.0 ? 1 : 0;
       parts_.push_back(material_part("structure", std::move(all),
-                                     materials::read_material(config, structure_material).build(),
+                                     read_part_material(config, structure_material, families).build(),
                                      integration));
       return;
     }
@@ -403,9 +404,10 @@ class IbfeRun : public PreparedRun {
       const std::string group = p.string("group");
       if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
         p.fail("group", "the mesh has no volume group '" + group + "'");
-      fe::BodyPart part = material_part(group, mesh_.group(group).elements,
-                                        materials::read_material(p, "material").build(), integration);
       const materials::FiberFrame frame = fiber_frame(p.reals("fiber_direction"));
+      fe::BodyPart part = material_part(
+          group, mesh_.group(group).elements,
+          read_part_material(p, "material", frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
       for (int e : part.elements) {
         if (owner[e] >= 0) p.fail("group", fmt::format("element {} is already in another part", e));
         owner[e] = static_cast<int>(parts_.size());

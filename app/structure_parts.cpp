@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "base/logger.hpp"
+
 namespace ibvalve::app {
 
 void add_volumetric_integration_key(io::Schema& schema, VolumetricIntegration default_value)
@@ -41,6 +43,15 @@ fe::BodyPart material_part(std::string name, std::vector<int> elements,
   part.laws.emplace_back(material, &material->law());
   part.centre_laws.emplace_back(material, &material->penalty());
   return part;
+}
+
+materials::MaterialSettings read_part_material(const io::Config& config, const std::string& prefix,
+                                               int fiber_families)
+{
+  materials::MaterialSettings material = materials::read_material(config, prefix);
+  materials::check_fiber_families(material, fiber_families, config, prefix);
+  for (const std::string& warning : material.warnings) base::Logger::global().warn(warning);
+  return material;
 }
 
 } // namespace ibvalve::app

@@ -14,6 +14,7 @@
 #include "fe/solid.hpp"
 #include "io/config.hpp"
 #include "materials/material.hpp"
+#include "materials/settings.hpp"
 
 namespace ibvalve::app {
 
@@ -30,5 +31,10 @@ std::string volumetric_integration_name(VolumetricIntegration integration);
 fe::BodyPart material_part(std::string name, std::vector<int> elements,
                            const std::shared_ptr<const materials::Material>& material,
                            VolumetricIntegration integration);
+
+/// read_material for a body part with `fiber_families` fiber families (0, 1 or 2): an expression law
+/// reading fibers the part lacks is an input error; its warnings (loss of convexity) are logged.
+materials::MaterialSettings read_part_material(const io::Config& config, const std::string& prefix,
+                                               int fiber_families);
 
 } // namespace ibvalve::app

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "base/units.hpp"
+#include "materials/expression_law.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
 
@@ -44,13 +45,19 @@ int main(int argc, char** argv)
     std::string name;
     LawKind kind;
     std::vector<double> parameters;
+    std::string formula; ///< when set, the law written as this formula (parameters in the same order)
   };
   const std::vector<Case> cases{
-      {"neo-hookean", LawKind::neo_hookean, {50 * kPa}},
-      {"W1", LawKind::W1, {1.21 * kPa, 7.99, 24.23 * kPa, 57.62}},
-      {"W2", LawKind::W2, {1.18 * kPa, 55.04 * kPa, 8.08, 54.0}},
-      {"W3", LawKind::W3, {19.59 * kPa, 12.94 * kPa, 77.79}},
-      {"hgo (kappa 0.226)", LawKind::hgo, {7.64 * kPa, 996.6 * kPa, 524.6, 0.226}},
+      {"neo-hookean", LawKind::neo_hookean, {50 * kPa}, ""},
+      {"W1", LawKind::W1, {1.21 * kPa, 7.99, 24.23 * kPa, 57.62}, ""},
+      {"W2", LawKind::W2, {1.18 * kPa, 55.04 * kPa, 8.08, 54.0}, ""},
+      {"W3", LawKind::W3, {19.59 * kPa, 12.94 * kPa, 77.79}, ""},
+      {"hgo (kappa 0.226)", LawKind::hgo, {7.64 * kPa, 996.6 * kPa, 524.6, 0.226}, ""},
+      // The same W1 written as a formula (docs/materials.md, "Laws written as formulas").
+      {"W1 as a formula",
+       LawKind::W1,
+       {1.21 * kPa, 7.99, 24.23 * kPa, 57.62},
+       "C10*(exp(C01*(I1 - 3)) - 1) + k1/(2*k2)*(exp(k2*(I4 - 1)^2) - 1)"},
   };
   // A pool of deformation gradients near the reference (half the fibers stretched, half shortened).
   std::mt19937 rng(1);
@@ -69,8 +76,17 @@ int main(int argc, char** argv)
               "ns per P + dP/dF");
   double sink = 0.0;
   for (const auto& c : cases) {
-    const Material material(std::make_shared<InvariantLaw>(c.kind, c.parameters),
-                            VolumetricPenalty(PenaltyKind::log, 1000 * kPa));
+    std::shared_ptr<const StrainEnergy> law;
+    if (c.formula.empty()) {
+      law = std::make_shared<InvariantLaw>(c.kind, c.parameters);
+    } else {
+      const auto& info = law_info(c.kind);
+      std::vector<ExpressionParameter> parameters;
+      for (std::size_t i = 0; i < c.parameters.size(); ++i)
+        parameters.push_back({info.parameters[i].name, c.parameters[i], info.parameters[i].is_modulus});
+      law = std::make_shared<ExpressionLaw>(c.formula, parameters);
+    }
+    const Material material(law, VolumetricPenalty(PenaltyKind::log, 1000 * kPa));
     const double stress_rate = median_rate(n, [&] {
       for (long i = 0; i < n; ++i)
         sink += material.stress(Fs[static_cast<std::size_t>(i) & 1023], frame)(0, 0);

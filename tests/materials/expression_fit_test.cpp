@@ -84,6 +84,81 @@ TEST(ExpressionFit, TheW1FormulaFitsLikeTheBuiltInW1)
   EXPECT_NEAR(fit.quality.sse, built_in.quality.sse, 1e-9 * built_in.quality.sse);
 }
 
+TEST(ExpressionFit, EveryBuiltInLawWrittenAsAFormulaFitsLikeItsBuiltInSelf)
+{
+  // Data of each law (with a fixed perturbation), fitted by the built-in fit and by its formula started
+  // 20 % away from the built-in optimum; both reach the same parameters.
+  struct Case {
+    const char* label;
+    BiaxialSetup setup;
+    std::vector<double> truth; // kPa for moduli
+    std::string energy;
+    std::vector<FittedParameter> parameters; // name, (start), modulus, lower, upper
+    FiberCompression fibers;
+  };
+  const double hgo_angle = 30.0 * M_PI / 180.0;
+  const std::string family = "k1/(2*k2)*(exp(k2*(kappa*(I1 - 3) + (1 - 3*kappa)*(I@ - 1))^2) - 1)";
+  auto hgo_family = [&](const char* i) { return std::string(family).replace(family.find('@'), 1, i); };
+  const std::vector<Case> cases{
+      {"neo-Hookean",
+       {LawKind::neo_hookean},
+       {50.0},
+       "mu/2*(I1 - 3)",
+       {{"mu", 0, true, 0.0}},
+       FiberCompression::excluded},
+      {"W2",
+       {LawKind::W2},
+       {1.18, 55.04, 8.08, 54.0},
+       "mu*(I1 - 3) + c0*(exp(c1*(I1 - 3)^2 + c2*(I4 - 1)^4) - 1)",
+       {{"mu", 0, true, 0.0}, {"c0", 0, true, 0.0}, {"c1", 0, false, 0.0}, {"c2", 0, false, 0.0}},
+       FiberCompression::excluded},
+      {"W3",
+       {LawKind::W3},
+       {19.59, 12.94, 77.79},
+       "C1*(I1 - 3) + a/(2*b)*(exp(b*(I4 - 1)^2) - 1)",
+       {{"C1", 0, true, 0.0}, {"a", 0, true, 0.0}, {"b", 0, false, 0.0}},
+       FiberCompression::excluded},
+      {"hgo",
+       {LawKind::hgo, FiberCompression::excluded, hgo_angle},
+       {7.64, 99.66, 52.46, 0.226},
+       "mu/2*(I1 - 3) + step(I4 - 1)*" + hgo_family("4") + " + step(I6 - 1)*" + hgo_family("6"),
+       {{"mu", 0, true, 0.0},
+        {"k1", 0, true, 0.0},
+        {"k2", 0, false, 0.0},
+        {"kappa", 0, false, 0.0, 1.0 / 3.0}},
+       FiberCompression::included},
+  };
+  for (const Case& c : cases) {
+    BiaxialSample sample;
+    sample.name = c.label;
+    for (int k = 1; k <= 60; ++k) {
+      const double l1 = 1.0 + 0.12 * std::fmod(0.37 * k, 1.0), l2 = 1.0 + 0.2 * std::fmod(0.61 * k, 1.0);
+      const auto s = biaxial_cauchy<double>(c.setup, c.truth.data(), l1, l2);
+      sample.points.push_back({l1, l2, s[0] * (1.0 + 0.02 * std::sin(7.0 * k)) + 0.2 * std::cos(3.0 * k),
+                               s[1] * (1.0 + 0.02 * std::cos(5.0 * k)) + 0.2 * std::sin(2.0 * k)});
+    }
+    FitOptions built_in_options;
+    built_in_options.setup = c.setup;
+    const FitResult built_in = fit_biaxial(sample, built_in_options);
+    ExpressionFitOptions options;
+    options.energy = c.energy;
+    options.parameters = c.parameters;
+    options.fiber_compression = c.fibers;
+    options.fiber_angle = c.setup.fiber_angle;
+    for (std::size_t i = 0; i < options.parameters.size(); ++i)
+      options.parameters[i].start = std::min(built_in.parameters[i] * 1.2, options.parameters[i].upper);
+    const FitResult fit = fit_expression(sample, options);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < fit.parameters.size(); ++i)
+      worst = std::max(worst, std::abs(fit.parameters[i] - built_in.parameters[i]) /
+                                  std::max(std::abs(built_in.parameters[i]), 1e-12));
+    std::cout << c.label << " formula against built-in fit: max relative parameter difference " << worst
+              << ", SSE " << fit.quality.sse << " and " << built_in.quality.sse << "\n";
+    EXPECT_LT(worst, 1e-6) << c.label;
+    EXPECT_NEAR(fit.quality.sse, built_in.quality.sse, 1e-8 * built_in.quality.sse) << c.label;
+  }
+}
+
 TEST(ExpressionFit, BoundsHoldAndAStartOutsideThemIsAnInputError)
 {
   const BiaxialSample sample = w1_sample();
