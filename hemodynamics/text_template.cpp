@@ -141,27 +141,11 @@ TextTemplate::TextTemplate(std::string_view text, std::string origin, Escaping e
   if (escaping == Escaping::markdown)
     template_.set_custom_escape([](const std::string& s) {
       std::string out;
-      for (char c : s) {
-        switch (c) {
-        case '&':
-          out += "&amp;";
-          break;
-        case '<':
-          out += "&lt;";
-          break;
-        case '>':
-          out += "&gt;";
-          break;
-        case '|':
+      for (char c : io::xml_escaped(s)) {
+        if (c == '|')
           out += "\\|";
-          break;
-        case '\n':
-        case '\r':
-          out += ' ';
-          break;
-        default:
-          out += c;
-        }
+        else
+          out += (c == '\n' || c == '\r') ? ' ' : c;
       }
       return out;
     });

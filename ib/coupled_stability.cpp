@@ -44,17 +44,7 @@ std::vector<double> IbfeIntegrator::coupled_operator(const std::vector<double>& 
   // S M^{-1}: the force density's L2 projection, spread from the points as the step spreads it.
   const NodalMass& mass = force_mass_ ? *force_mass_ : velocity_mass_;
   const std::vector<double> density = mass.solve(stiffness, 4);
-  std::vector<Vec3> point_forces(prepared_.size());
-  for (std::size_t i = 0; i < prepared_.size(); ++i) {
-    const std::size_t q = prepared_.index[i];
-    const auto element = solid_.mesh().element(points_.element(q));
-    const auto N = points_.shape_values(q);
-    Vec3 f = Vec3::Zero();
-    for (std::size_t a = 0; a < element.size(); ++a)
-      f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
-    point_forces[i] = f * points_.weight(q);
-  }
-  interaction_.spread(prepared_, point_forces, probe_force_);
+  interaction_.spread(prepared_, point_forces(density), probe_force_);
   // P_h J: interpolated at the same points and projected to the nodes; 1/rho turns the force density
   // into the faces' acceleration.
   std::vector<double> response = project_velocity(probe_force_, 5);

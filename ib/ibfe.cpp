@@ -225,7 +225,13 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
     projection_iterations_ += mass.last_iterations();
   }
   Stopwatch watch(timings_.spreading);
-  std::vector<Vec3> point_forces(prepared_.size());
+  interaction_.spread(prepared_, point_forces(density), fluid_.force());
+  fluid_.apply_force();
+}
+
+std::vector<Vec3> IbfeIntegrator::point_forces(std::span<const double> density) const
+{
+  std::vector<Vec3> forces(prepared_.size());
   for (std::size_t i = 0; i < prepared_.size(); ++i) {
     const std::size_t q = prepared_.index[i];
     const auto element = solid_.mesh().element(points_.element(q));
@@ -233,10 +239,9 @@ void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)
     Vec3 f = Vec3::Zero();
     for (std::size_t a = 0; a < element.size(); ++a)
       f += N[a] * Vec3(density[3 * element[a]], density[3 * element[a] + 1], density[3 * element[a] + 2]);
-    point_forces[i] = f * points_.weight(q);
+    forces[i] = f * points_.weight(q);
   }
-  interaction_.spread(prepared_, point_forces, fluid_.force());
-  fluid_.apply_force();
+  return forces;
 }
 
 void IbfeIntegrator::step(double dt)

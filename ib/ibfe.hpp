@@ -191,6 +191,9 @@ class IbfeIntegrator {
   std::vector<double> structure_forces(std::span<const double> displacement,
                                        std::span<const double> velocity);
   void spread_force_density(std::span<const double> nodal_forces);
+  /// The prepared points' forces of a nodal force density (3 per node): its value there times the
+  /// point's weight.
+  std::vector<Vec3> point_forces(std::span<const double> density) const;
 
   std::unique_ptr<EulerianFluid> owned_fluid_; // the view made by the FlowSolver constructor
   EulerianFluid& fluid_;

@@ -5,6 +5,8 @@
 
 #include <ceres/ceres.h>
 
+#include "materials/ceres_fit_options.hpp"
+
 #include "base/errors.hpp"
 #include "materials/formula_ad.hpp"
 
@@ -107,13 +109,7 @@ FitResult fit_expression(const BiaxialSample& sample, const ExpressionFitOptions
     if (std::isfinite(q.lower)) problem.SetParameterLowerBound(p.data(), static_cast<int>(i), q.lower);
     if (std::isfinite(q.upper)) problem.SetParameterUpperBound(p.data(), static_cast<int>(i), q.upper);
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = 1e-16;
-  solver.gradient_tolerance = 1e-16;
-  solver.parameter_tolerance = 1e-14;
-  solver.logging_type = ceres::SILENT;
+  const ceres::Solver::Options solver = fit_solver_options(options.max_iterations);
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
   FitResult result;

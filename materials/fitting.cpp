@@ -12,6 +12,8 @@
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
 
+#include "materials/ceres_fit_options.hpp"
+
 #include "base/errors.hpp"
 #include "base/units.hpp"
 #include "io/files.hpp"
@@ -195,14 +197,7 @@ Solve solve_from(const BiaxialSample& sample, const FitOptions& options, std::ve
     if (info.parameters[i].upper < 1e300)
       problem.SetParameterUpperBound(p, static_cast<int>(i), info.parameters[i].upper);
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = 1e-16;
-  solver.gradient_tolerance = 1e-16;
-  solver.parameter_tolerance = 1e-14;
-  solver.logging_type = ceres::SILENT;
-  solver.minimizer_progress_to_stdout = false;
+  const ceres::Solver::Options solver = fit_solver_options(options.max_iterations);
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
   Solve result;
