@@ -54,8 +54,8 @@ Dual2<double, N, O> scaled(Dual2<double, N, O> x, double c)
 
 /// A binary operation with at least one operand that carries derivatives.
 template <int N, int O>
-Dual2<double, N, O> binary(FormulaOp op, const Dual2<double, N, O>* a, double ca, const Dual2<double, N, O>* b,
-                           double cb)
+Dual2<double, N, O> binary(FormulaOp op, const Dual2<double, N, O>* a, double ca,
+                           const Dual2<double, N, O>* b, double cb)
 {
   using Number = Dual2<double, N, O>;
   switch (op) {
