@@ -106,8 +106,8 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .unit("s")
       .positive();
   keys.real("time.step",
-            "time step (rounded so a cycle holds a whole number of steps); with time.adaptive the longest "
-            "sub-step",
+            "time step (rounded so a cycle holds a whole number of steps); with the adaptive step the "
+            "longest sub-step",
             k.step)
       .unit("s")
       .defaults(3e-5)
@@ -126,27 +126,27 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .size(2)
       .defaults(std::vector<double>{0.37, 0.47});
   keys.boolean("time.adaptive",
-               "choose the step from the state: the run moves through intervals of time.interval, each "
-               "taken in equal sub-steps within the structure's current stability estimate (times "
-               "time.safety), the fluid's advective limit (time.cfl) and time.step, the longest "
-               "(docs/runs.md, \"The adaptive step\"); false = time.step throughout",
+               "choose the step from the state: fixed intervals, each taken in equal sub-steps within the "
+               "structure's current stability estimate and the fluid's advective limit (docs/runs.md, "
+               "\"The adaptive step\"); false = one step as set throughout",
                k.adaptive)
       .defaults(false);
+  const std::string adaptive = keys.key_of(k.adaptive);
   keys.real("time.interval",
-            "with time.adaptive: the run's rows, snapshots, checkpoints and cycle ends fall on these "
-            "(rounded so a cycle holds a whole number); output.every and checkpoint.every count them",
+            "with " + adaptive +
+                ": the run's rows, snapshots, checkpoints and cycle ends fall on these (rounded so a cycle "
+                "holds a whole number), and the counts of its steps count them",
             k.adaptive_step.interval)
       .unit("s")
       .defaults(1.6e-3)
       .positive();
   keys.real("time.safety",
-            "with time.adaptive: the fraction of the structure's stability estimate a "
-            "sub-step may take",
+            "with " + adaptive + ": the fraction of the structure's stability estimate a sub-step may take",
             k.adaptive_step.safety)
       .defaults(0.9)
       .positive()
       .at_most(2.0);
-  keys.real("time.cfl", "with time.adaptive: the largest advective CFL number max|u| dt / h of a sub-step",
+  keys.real("time.cfl", "with " + adaptive + ": the largest advective CFL number max|u| dt / h of a sub-step",
             k.adaptive_step.cfl)
       .defaults(0.5)
       .positive()
