@@ -2,10 +2,10 @@
 """The first systole of aortic-valve runs, from their timeseries.csv: how wide the valve opens and how
 much of that opening the jet uses.
 
-usage: first_systole.py RUN_DIR... [--end 0.45]
+usage: first_systole.py RUN_DIR... [--start 0] [--end 0.45]
 
-For each run, over t <= END (the first cycle's ejection; a run stopped there with --set time.end=0.45
-needs no full cycle): the largest geometric orifice GOA_max; the peak flow Q_max and, at that instant,
+For each run, over START <= t <= END (the first cycle's ejection; a run stopped there with --set
+time.end=0.45 needs no full cycle; --start 0.8 --end 1.25 for the second cycle's): the largest geometric orifice GOA_max; the peak flow Q_max and, at that instant,
 where dQ/dt = 0 and the drop across the valve is the jet's alone, the jet's area
 A_jet = Q / sqrt(2 (P_nlv - P_nao) / rho) against the orifice then; the ejection window [t_bs, t_es]
 by the report's rule (docs/hemodynamics.md: the valve open and the flow forward) and on it the TPG,
@@ -25,9 +25,9 @@ MMHG = 1333.22  # dyn/cm^2
 RHO = 1.0  # g/mL
 
 
-def first_systole(series, end):
+def first_systole(series, end, start=0.0):
     d = np.genfromtxt(series, delimiter=",", names=True, comments="#")
-    keep = d["t"] <= end + 1e-12
+    keep = (d["t"] >= start - 1e-12) & (d["t"] <= end + 1e-12)
     t, q, area = d["t"][keep], d["Q_valve"][keep], d["orifice_area"][keep]
     gradient = (d["P_nlv"] - d["P_nao"])[keep]
     i = int(np.argmax(q))
@@ -57,11 +57,12 @@ def first_systole(series, end):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("runs", nargs="+", type=pathlib.Path)
-    parser.add_argument("--end", type=float, default=0.45, help="s: the end of the first systole")
+    parser.add_argument("--start", type=float, default=0.0, help="s: the start of the systole's cycle")
+    parser.add_argument("--end", type=float, default=0.45, help="s: the end of the systole")
     args = parser.parse_args()
     header = False
     for run in args.runs:
-        r = first_systole(run / "timeseries.csv", args.end)
+        r = first_systole(run / "timeseries.csv", args.end, args.start)
         if r is None:
             print(f"{run}: forward flow has not ended by t = {args.end} s")
             continue
