@@ -221,15 +221,45 @@ Mat3 SolidModel::centre_cauchy_stress(int p, std::span<const double> u, std::siz
   return P * F.transpose() / F.determinant();
 }
 
+std::vector<Mat3> SolidModel::filtered_centre_stress(std::span<const double> u) const
+{
+  std::vector<Mat3> filtered(mesh_.num_elements(), Mat3::Zero());
+  if (!centre_) return filtered;
+  // Per part and node: the volume-weighted sums of the six stress components and of the volumes.
+  constexpr int stride = 7;
+  const std::size_t nodes = mesh_.num_nodes();
+  std::vector<double> sums(parts_.size() * nodes * stride, 0.0);
+  for (const auto& [p, e] : local_items_) {
+    const Mat3 s = centre_cauchy_stress(p, u, e);
+    const double volume = centre_->JxW(e, 0);
+    const double components[stride] = {s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(0, 2), s(1, 2), 1.0};
+    for (const int a : mesh_.element(e))
+      for (int k = 0; k < stride; ++k) sums[(p * nodes + a) * stride + k] += volume * components[k];
+  }
+  sum_over_ranks(sums, comm_);
+  for (const auto& [p, e] : local_items_) {
+    const auto element_nodes = mesh_.element(e);
+    double mean[stride - 1] = {};
+    for (const int a : element_nodes) {
+      const double* node = &sums[(p * nodes + a) * stride];
+      for (int k = 0; k + 1 < stride; ++k) mean[k] += node[k] / node[stride - 1];
+    }
+    for (double& m : mean) m /= static_cast<double>(element_nodes.size());
+    filtered[e] << mean[0], mean[3], mean[4], mean[3], mean[1], mean[5], mean[4], mean[5], mean[2];
+  }
+  return filtered;
+}
+
 ElementFields SolidModel::element_fields(std::span<const double> u) const
 {
   const std::size_t count = mesh_.num_elements();
   std::vector<double> packed(count * 6, 0.0); // J, strain, stress, f (3)
   const int points = quadrature_.points_per_element();
+  const std::vector<Mat3> centre_stress = filtered_centre_stress(u);
   for (const auto& [p, e] : local_items_) {
     double volume = 0.0;
     double* out = &packed[6 * e];
-    const Mat3 centre_sigma = centre_cauchy_stress(p, u, e);
+    const Mat3& centre_sigma = centre_stress[e];
     for (int q = 0; q < points; ++q) {
       const double w = quadrature_.JxW(e, q);
       const Mat3 F = deformation_gradient(u, e, q);
@@ -270,8 +300,9 @@ PointFields SolidModel::point_fields(std::span<const double> u) const
   const int points = quadrature_.points_per_element();
   const std::size_t count = mesh_.num_elements() * points;
   std::vector<double> packed(3 * count, 0.0);
+  const std::vector<Mat3> centre_stress = filtered_centre_stress(u);
   for (const auto& [p, e] : local_items_) {
-    const Mat3 centre_sigma = centre_cauchy_stress(p, u, e);
+    const Mat3& centre_sigma = centre_stress[e];
     for (int q = 0; q < points; ++q) {
       const std::size_t k = e * points + q;
       const Mat3 F = deformation_gradient(u, e, q);

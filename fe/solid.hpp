@@ -57,7 +57,8 @@ struct BodyPart {
 /// metrics"): J = det F, the fiber strain f0 . E f0 with E = (C - I)/2, the fiber stress f . sigma f with f =
 /// F f0 / |F f0| and sigma = P F^T / J, the current fiber direction f; averaged over the element's quadrature
 /// points with their weights. Fiber quantities are zero where f0 is zero. The Cauchy stress of the centre
-/// laws is the one at the element centre, added to sigma at every point.
+/// laws (the volumetric penalty's pressure) is the element's filtered of its checkerboard mode
+/// (SolidModel::filtered_centre_stress), added to sigma at every point.
 struct ElementFields {
   std::vector<double> J;
   std::vector<double> fiber_strain;
@@ -128,6 +129,17 @@ class SolidModel {
   /// element corners"): this is the figure that shows it.
   SmallestJacobian smallest_point_jacobian(std::span<const double> u) const;
 
+  /// Cauchy stress of the centre laws of part p at the centre of element e (zero when it has none).
+  Mat3 centre_cauchy_stress(int p, std::span<const double> u, std::size_t e) const;
+  /// The centre laws' Cauchy stress of this rank's elements (indexed by element; zero elsewhere) with
+  /// its checkerboard mode filtered out: each node takes the volume-weighted mean of its part's
+  /// elements' centre stresses, each element the mean of its nodes'. A penalty integrated once per
+  /// element is a constant pressure per element on trilinear displacements, the Q1-P0 pair, whose
+  /// discrete divergence leaves the checkerboard pressure unconstrained: it alternates element by element
+  /// without moving a node (Sani, Gresho, Lee & Griffiths 1981, Int. J. Numer. Methods Fluids 1:17,
+  /// who filter it in the same way). The averaging zeroes a checkerboard and keeps a linear field in
+  /// the interior of a uniform mesh. Output only: the forces use the element's own stress. Collective.
+  std::vector<Mat3> filtered_centre_stress(std::span<const double> u) const;
   /// The (part, element) pairs this rank works on.
   std::span<const std::pair<int, int>> local_items() const { return local_items_; }
 
@@ -154,8 +166,6 @@ class SolidModel {
   void add_element_stiffness(const QuadratureData& rule,
                              const std::vector<std::shared_ptr<const materials::StrainEnergy>>& laws,
                              std::span<const double> u, std::size_t e, Eigen::MatrixXd& element_matrix) const;
-  /// Cauchy stress of the centre laws of part p at the centre of element e (zero when it has none).
-  Mat3 centre_cauchy_stress(int p, std::span<const double> u, std::size_t e) const;
 
   const Mesh& mesh_;
   std::vector<BodyPart> parts_;

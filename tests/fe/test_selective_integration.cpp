@@ -295,3 +295,98 @@ TEST(SelectiveIntegration, CantileverWithSRIApproachesTheContinuumAsTheThickness
   }
   ibvalve::base::Logger::global().info(table.str());
 }
+
+// The penalty once per element is a constant pressure per element on trilinear displacements (the
+// Q1-P0 pair): a displacement whose element-mean dilatation alternates like a checkerboard gives
+// element pressures that alternate by lambda x the dilatation, which the fields would show as a
+// fiber stress alternating element by element. SolidModel::filtered_centre_stress (node means of the
+// element stresses, then element means of the node means) removes that mode and keeps a linear one.
+namespace {
+
+struct SheetDisplacement {
+  Mesh mesh = box_mesh(CellShape::hexahedron, Vec3(0, 0, 0), Vec3(0.6, 0.6, 0.04), {6, 6, 1});
+  static constexpr double h = 0.1;
+  /// Elements whose nodes all have four elements of the sheet around them.
+  bool interior(std::size_t e) const
+  {
+    Vec3 centre = Vec3::Zero();
+    for (int a : mesh.element(e)) centre += mesh.nodes()[a] / 8.0;
+    return centre.x() > h && centre.x() < 5 * h && centre.y() > h && centre.y() < 5 * h;
+  }
+  /// u_x = amplitude (-1)^(i+j) j at node (i, j): element (i, j)'s mean du_x/dx = amplitude (-1)^(i+j) / h.
+  std::vector<double> checkerboard(double amplitude) const
+  {
+    std::vector<double> u(3 * mesh.num_nodes(), 0.0);
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n) {
+      const long i = std::lround(mesh.nodes()[n].x() / h), j = std::lround(mesh.nodes()[n].y() / h);
+      u[3 * n] = amplitude * ((i + j) % 2 == 0 ? 1.0 : -1.0) * static_cast<double>(j);
+    }
+    return u;
+  }
+  /// u_x = amplitude x^2 / 2: a dilatation linear in x.
+  std::vector<double> linear_dilatation(double amplitude) const
+  {
+    std::vector<double> u(3 * mesh.num_nodes(), 0.0);
+    for (std::size_t n = 0; n < mesh.num_nodes(); ++n)
+      u[3 * n] = amplitude * 0.5 * std::pow(mesh.nodes()[n].x(), 2);
+    return u;
+  }
+};
+
+} // namespace
+
+TEST(SelectiveIntegration, TheFieldsFilterTheCheckerboardOfTheCentrePressure)
+{
+  const SheetDisplacement sheet;
+  SolidModel model(sheet.mesh, neo_hookean_part(sheet.mesh, Integration::selective), 2, PETSC_COMM_WORLD);
+  ibvalve::materials::FiberFrame frame;
+  frame.f0 = Vec3(1, 0, 0);
+  model.set_fibers(std::vector<ibvalve::materials::FiberFrame>(sheet.mesh.num_elements(), frame));
+
+  // The checkerboard: element dilatations d = +-1e-4 (F = I + d e_x e_x exactly, so J = 1 + d), element
+  // pressures lambda ln J / J = +-lambda 1e-4 = +-1e3 dyn/cm^2. The filter leaves their second-order
+  // mean, -3/2 lambda d^2 = -0.15 dyn/cm^2 on each diagonal entry (norm sqrt(3) x 0.15); the fields' fiber
+  // stress keeps only the full rule's deviatoric response to the mode, 2 mu d = 2 (a thousandth of the
+  // pressure's).
+  const double eps = 1e-4;
+  const std::vector<double> mode = sheet.checkerboard(eps * SheetDisplacement::h);
+  const std::vector<Mat3> filtered = model.filtered_centre_stress(mode);
+  const ElementFields fields = model.element_fields(mode);
+  int checked = 0;
+  for (const auto& [p, e] : model.local_items()) {
+    if (!sheet.interior(e)) continue;
+    const double own = model.centre_cauchy_stress(p, mode, e)(0, 0);
+    EXPECT_NEAR(std::abs(own), lambda * eps, 0.01 * lambda * eps) << "element " << e;
+    EXPECT_LT(filtered[e].norm(), 2.0 * std::sqrt(3.0) * 1.5 * lambda * eps * eps) << "element " << e;
+    EXPECT_LT(std::abs(fields.fiber_stress[e]), 2.0 * 2.0 * mu * eps) << "element " << e;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0); // on 2 ranks each holds some interior elements
+
+  // The mode's pressures move no interior node: the centre laws' nodal forces there cancel to second
+  // order, against the lambda eps x (h t / 4) = 1e3 x 1e-3 = 1 dyn one element's pressure puts on a node.
+  std::vector<double> all(model.num_dofs()), tissue(model.num_dofs());
+  model.forces(mode, all);
+  model.forces(mode, tissue, /*centre_laws=*/false);
+  const double one_element = lambda * eps * SheetDisplacement::h * 0.04 / 4.0;
+  for (std::size_t n = 0; n < sheet.mesh.num_nodes(); ++n) {
+    const Vec3& X = sheet.mesh.nodes()[n];
+    if (X.x() < 0.5 * SheetDisplacement::h || X.x() > 5.5 * SheetDisplacement::h ||
+        X.y() < 0.5 * SheetDisplacement::h || X.y() > 5.5 * SheetDisplacement::h)
+      continue;
+    for (int i = 0; i < 3; ++i)
+      EXPECT_LT(std::abs(all[3 * n + i] - tissue[3 * n + i]), 1e-3 * one_element) << "node " << n;
+  }
+
+  // A dilatation linear in x, d = 1e-4 x / cm: the filter keeps each interior element's pressure, up
+  // to the second-order term's curvature (lambda 3/2 (1e-4 x)^2 varies by less than lambda 1e-8 across
+  // a node's elements).
+  const std::vector<double> ramp = sheet.linear_dilatation(eps);
+  const std::vector<Mat3> kept = model.filtered_centre_stress(ramp);
+  for (const auto& [p, e] : model.local_items()) {
+    if (!sheet.interior(e)) continue;
+    const Mat3 own = model.centre_cauchy_stress(p, ramp, e);
+    EXPECT_GT(std::abs(own(0, 0)), 0.1 * lambda * eps) << "element " << e; // x > 0.1 cm
+    EXPECT_LT((kept[e] - own).norm(), std::sqrt(3.0) * lambda * eps * eps) << "element " << e;
+  }
+}
