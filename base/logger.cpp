@@ -76,13 +76,15 @@ void Logger::close_file()
   file_ = nullptr;
 }
 
-void Logger::write(std::FILE* stream, std::string_view prefix, std::string_view message)
+void Logger::write(std::FILE* stream, std::string_view prefix, std::string_view message, bool to_terminal)
 {
   if (!root_) return;
-  finish_progress();
-  std::fprintf(stream, "%.*s%.*s\n", static_cast<int>(prefix.size()), prefix.data(),
-               static_cast<int>(message.size()), message.data());
-  std::fflush(stream);
+  if (to_terminal) {
+    finish_progress();
+    std::fprintf(stream, "%.*s%.*s\n", static_cast<int>(prefix.size()), prefix.data(),
+                 static_cast<int>(message.size()), message.data());
+    std::fflush(stream);
+  }
   if (file_) {
     std::fprintf(file_, "[%9.2f s] %.*s%.*s\n", wall_seconds(), static_cast<int>(prefix.size()),
                  prefix.data(), static_cast<int>(message.size()), message.data());
@@ -92,7 +94,7 @@ void Logger::write(std::FILE* stream, std::string_view prefix, std::string_view 
 
 void Logger::info(std::string_view message)
 {
-  if (level_ >= LogLevel::normal) write(stdout, "", message);
+  write(stdout, "", message, level_ >= LogLevel::normal);
 }
 
 void Logger::verbose(std::string_view message)

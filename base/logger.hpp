@@ -41,6 +41,8 @@ class Logger {
 
   /// Rank 0 of `comm` writes; the default is MPI_COMM_WORLD (or the only process before MPI starts).
   void set_communicator(MPI_Comm comm);
+  /// The terminal's level. The log file keeps every message of the normal level (and verbose ones when
+  /// the level is verbose) whatever the terminal shows: a run started with -q still leaves its record.
   void set_level(LogLevel level) { level_ = level; }
   LogLevel level() const { return level_; }
   /// Seconds between plain progress lines when stderr is not a terminal.
@@ -73,7 +75,8 @@ class Logger {
 
  private:
   Logger();
-  void write(std::FILE* stream, std::string_view prefix, std::string_view message);
+  /// Writes on `stream` when `to_terminal`, and always to the log file.
+  void write(std::FILE* stream, std::string_view prefix, std::string_view message, bool to_terminal = true);
 
   bool root_ = true;
   std::FILE* draw_ = nullptr; // the stream progress is redrawn on, when it reaches a terminal

@@ -112,5 +112,29 @@ TEST(Logger, MessagesGoToTheLogFile)
   }
 }
 
+TEST(Logger, AQuietTerminalStillLeavesTheRunsRecordInTheLogFile)
+{
+  int rank = 0, pid = static_cast<int>(::getpid());
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  const auto path = std::filesystem::temp_directory_path() / (fmt::format("ibvalve_quiet_log_{}.txt", pid));
+  Logger& log = Logger::global();
+  log.open_file(path);
+  log.set_level(LogLevel::quiet);
+  ::testing::internal::CaptureStdout();
+  log.info("ib: dt = 5e-05 s is within the coupled stability estimate");
+  log.verbose("a verbose detail");
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  log.set_level(LogLevel::normal);
+  log.close_file();
+  if (rank == 0) {
+    EXPECT_EQ(out, "");
+    const std::string text = io::read_text_file(path);
+    EXPECT_NE(text.find("within the coupled stability estimate"), std::string::npos) << text;
+    EXPECT_EQ(text.find("a verbose detail"), std::string::npos) << text;
+    std::filesystem::remove(path);
+  }
+}
+
 } // namespace
 } // namespace ibvalve::base
