@@ -32,15 +32,7 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
   run_on_root_rank(PETSC_COMM_WORLD, [&] {
     std::vector<hemodynamics::CaseResult> cases;
     for (const auto& run : runs) cases.push_back(hemodynamics::load_case(run));
-    // Cases with the same name (e.g. two runs of one case file) are told apart by their folders.
-    for (std::size_t i = 0; i < cases.size(); ++i)
-      for (std::size_t j = 0; j < cases.size(); ++j)
-        if (i != j && cases[i].name == cases[j].name) {
-          for (auto& c : cases)
-            c.name += " (" +
-                      std::filesystem::absolute(c.run_directory).lexically_normal().filename().string() + ")";
-          i = j = cases.size();
-        }
+    hemodynamics::distinguish_case_names(cases);
     const auto files = hemodynamics::write_comparison(cases, output, options);
     const auto ranking = hemodynamics::rank_cases(cases);
     auto& log = base::Logger::global();

@@ -72,6 +72,7 @@ int main(int argc, char** argv)
 #if IBVALVE_HAVE_HEMODYNAMICS
   app::add_report_command(cli, action);
   app::add_compare_command(cli, action);
+  app::add_convergence_command(cli, action);
   app::add_study_command(cli, action);
 #endif
 

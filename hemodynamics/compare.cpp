@@ -83,6 +83,17 @@ CaseResult load_case(const fs::path& run_directory)
   return c;
 }
 
+void distinguish_case_names(std::span<CaseResult> cases)
+{
+  for (std::size_t i = 0; i < cases.size(); ++i)
+    for (std::size_t j = i + 1; j < cases.size(); ++j)
+      if (cases[i].name == cases[j].name) {
+        for (auto& c : cases)
+          c.name += " (" + fs::absolute(c.run_directory).lexically_normal().filename().string() + ")";
+        return;
+      }
+}
+
 namespace {
 
 /// The member `field` of metric `key`, or nullptr.
@@ -94,12 +105,22 @@ const Json* metric_field(const CaseResult& c, const std::string& key, const char
   return v == m->end() ? nullptr : &*v;
 }
 
+} // namespace
+
 std::optional<double> metric_value(const CaseResult& c, const std::string& key)
 {
   const Json* v = metric_field(c, key, "value");
   if (!v || !v->is_number() || !std::isfinite(v->get<double>())) return std::nullopt;
   return v->get<double>();
 }
+
+std::string metric_text(const CaseResult& c, const std::string& key, const char* field)
+{
+  const Json* v = metric_field(c, key, field);
+  return v && v->is_string() ? v->get<std::string>() : "";
+}
+
+namespace {
 
 /// The metric's standard uncertainty, 0 when it carries none. A negative or non-finite one is bad input.
 double metric_uncertainty(const CaseResult& c, const std::string& key)
@@ -110,12 +131,6 @@ double metric_uncertainty(const CaseResult& c, const std::string& key)
     throw InputError(fmt::format("{}: metric {}: \"uncertainty\" must be a number >= 0, not {}",
                                  (c.run_directory / "report" / "metrics.json").string(), key, u->dump()));
   return u->get<double>();
-}
-
-std::string metric_text(const CaseResult& c, const std::string& key, const char* field)
-{
-  const Json* v = metric_field(c, key, field);
-  return v && v->is_string() ? v->get<std::string>() : "";
 }
 
 /// The text `field` of metric `key` in the first case that has it, else empty.
@@ -136,14 +151,6 @@ std::vector<std::string> all_keys(std::span<const CaseResult> cases)
   for (const auto& criterion : ranking_criteria())
     if (std::find(keys.begin(), keys.end(), criterion.key) == keys.end()) keys.push_back(criterion.key);
   return keys;
-}
-
-std::string csv_field(const std::string& s)
-{
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char ch : s) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return out + "\"";
 }
 
 std::string full(std::optional<double> v)

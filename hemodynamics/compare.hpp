@@ -58,6 +58,13 @@ struct CaseResult {
 /// A run folder's metrics: report/metrics.json when present, otherwise computed from timeseries.csv
 /// with the settings of the run's config.toml. InputError for a folder that has neither.
 CaseResult load_case(const std::filesystem::path& run_directory);
+/// The value of metric `key` of a case when it is a finite number.
+std::optional<double> metric_value(const CaseResult& c, const std::string& key);
+/// The text `field` ("unit", "symbol") of metric `key` of a case, or empty.
+std::string metric_text(const CaseResult& c, const std::string& key, const char* field);
+/// Cases with the same name (e.g. two runs of one case file) told apart: every case's name gains its
+/// folder's name, "W1FD1 (run_a)", when any two names coincide.
+void distinguish_case_names(std::span<CaseResult> cases);
 
 struct RankingRow {
   std::string name;

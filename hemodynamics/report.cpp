@@ -134,6 +134,14 @@ std::string exact_value(double value)
   return std::string(buffer, end);
 }
 
+std::string csv_field(const std::string& text)
+{
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char ch : text) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return out + "\"";
+}
+
 // ---------------------------------------------------------------------------------------------
 // metrics.json
 

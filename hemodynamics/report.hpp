@@ -99,5 +99,7 @@ std::string format_value(double value);
 /// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or
 /// "null" when it is not finite.
 std::string exact_value(double value);
+/// A CSV field: as it is, or in double quotes (quotes doubled) when it holds a comma, quote or line break.
+std::string csv_field(const std::string& text);
 
 } // namespace ibvalve::hemodynamics

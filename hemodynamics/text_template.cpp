@@ -132,6 +132,18 @@ std::string checked_and_prepared(std::string_view text, const std::string& origi
 
 } // namespace
 
+std::string markdown_escaped(std::string_view text)
+{
+  std::string out;
+  for (char c : io::xml_escaped(text)) {
+    if (c == '|')
+      out += "\\|";
+    else
+      out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out;
+}
+
 TextTemplate::TextTemplate(std::string_view text, std::string origin, Escaping escaping)
     : origin_(std::move(origin)), template_(checked_and_prepared(text, origin_))
 {
@@ -139,16 +151,7 @@ TextTemplate::TextTemplate(std::string_view text, std::string origin, Escaping e
   // Names come from a user's files (case names, mesh groups): in Markdown, which passes HTML through, a
   // '<' could start a tag and a '|' end a table cell.
   if (escaping == Escaping::markdown)
-    template_.set_custom_escape([](const std::string& s) {
-      std::string out;
-      for (char c : io::xml_escaped(s)) {
-        if (c == '|')
-          out += "\\|";
-        else
-          out += (c == '\n' || c == '\r') ? ' ' : c;
-      }
-      return out;
-    });
+    template_.set_custom_escape([](const std::string& s) { return markdown_escaped(s); });
   if (escaping == Escaping::html)
     template_.set_custom_escape([](const std::string& s) { return io::xml_escaped(s); });
 }

@@ -16,6 +16,12 @@
 
 namespace ibvalve::hemodynamics {
 
+/// `text` made safe in a Markdown table cell: <, >, & and " as HTML entities (Markdown passes HTML
+/// through, so a name from a user's files could open a tag), | as \| (it would end the cell) and line
+/// breaks as blanks. How the Markdown templates insert {{name}}, and how pages written without a
+/// template insert names.
+std::string markdown_escaped(std::string_view text);
+
 class TextTemplate {
  public:
   enum class Escaping {

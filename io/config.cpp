@@ -450,17 +450,21 @@ std::string source_name(const toml::source_region& region, const std::filesystem
   return fallback.string();
 }
 
-std::string location(const toml::node* node, const std::filesystem::path& file)
+} // namespace
+
+std::string node_location(const toml::node* node, const std::filesystem::path& file)
 {
   if (node && node->source().begin.line > 0)
     return fmt::format("{}:{}", source_name(node->source(), file), node->source().begin.line);
   return file.string();
 }
 
+namespace {
+
 [[noreturn]] void input_error(const toml::node* node, const std::filesystem::path& file, std::string_view key,
                               std::string_view message)
 {
-  throw InputError(location(node, file) + ": " + std::string(key) + ": " + std::string(message));
+  throw InputError(node_location(node, file) + ": " + std::string(key) + ": " + std::string(message));
 }
 
 std::string suggestion(const Schema& schema, std::string_view key)
@@ -534,7 +538,7 @@ struct Validator {
                   display_value(node) + " is out of range (must be " + range_text(spec) + ")");
     if (x < spec.typical_min || x > spec.typical_max) {
       const std::string unit = spec.unit.empty() ? "" : " " + spec.unit;
-      warnings.push_back(location(&node, file) + ": " + std::string(display_key) + ": " +
+      warnings.push_back(node_location(&node, file) + ": " + std::string(display_key) + ": " +
                          display_value(node) + unit + " is outside the typical " + typical_text(spec) +
                          (spec.typical_why.empty() ? "" : " (" + spec.typical_why + ")"));
     }
@@ -646,7 +650,7 @@ struct Validator {
         const toml::source_region& region = k.source();
         std::string where = region.begin.line > 0
                                 ? fmt::format("{}:{}", source_name(region, file), region.begin.line)
-                                : location(&node, file);
+                                : node_location(&node, file);
         // A table ([fluuid] or fluuid.viscosity = ...) is compared with the table names.
         if (node.is_table())
           throw InputError(where + ": " + display_key + ": unknown table" +
@@ -662,7 +666,7 @@ struct Validator {
     for (const auto& spec : schema.keys()) {
       if (root.at_path(spec->key)) continue;
       if (spec->required)
-        throw InputError(location(&root, file) + ": " + join_key(display_prefix, spec->key) +
+        throw InputError(node_location(&root, file) + ": " + join_key(display_prefix, spec->key) +
                          ": missing required key (" + spec->doc + ")");
       if (!spec->default_value) continue;
       // Walk (and create) the tables leading to the key, then insert the default.
@@ -988,7 +992,7 @@ std::vector<Config> Config::tables(std::string_view key) const
 std::string Config::where(std::string_view key) const
 {
   const toml::node* n = table_->at_path(key).node();
-  return location(n, state_->file);
+  return node_location(n, state_->file);
 }
 
 void Config::fail(std::string_view key, std::string_view message) const

@@ -145,6 +145,9 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 
 /// Parses a TOML file; a syntax error or a missing file throws InputError naming file and line.
 toml::table parse_toml_file(const std::filesystem::path& file);
+/// "file:line" where `node` was read (its own source's name, else `file`), or `file` alone for a node
+/// without a line or none: how a message about a key of a TOML file starts.
+std::string node_location(const toml::node* node, const std::filesystem::path& file);
 /// Every value of a TOML table as (dotted key, value as TOML writes it), in the table's order; an
 /// array of tables gives key[i].field.
 std::vector<std::pair<std::string, std::string>> flattened(const toml::table& table);
