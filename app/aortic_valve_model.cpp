@@ -776,26 +776,42 @@ class AorticValveRun : public PreparedRun {
         PETSC_COMM_WORLD);
   }
 
-  /// The report of cycle `cycle` (1, 2, ...), or, for a run shorter than a cycle (cycle 0), of its
-  /// whole `length`.
+  /// At the end of cycle `cycle` (1, 2, ...) its report in report/cycle_N/, and report/ when it is the
+  /// reported cycle (report.cycle); for a run shorter than a cycle (cycle 0), the report of its whole
+  /// `length` in report/.
   void write_report(const RunContext& context, RunSummary& summary, long cycle, double length = 0.0) const
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
     options.settings.density = k_.fluid.rho; // the EOA's density is the fluid's (g/cm^3 = g/mL)
-    if (cycle == 0) options.settings.period = length;
+    options.cycle_folders = hemodynamics::CycleFolders::last;
+    options.run_cycles = static_cast<int>(total_cycles());
+    if (cycle == 0) {
+      options.settings.period = length;
+      options.settings.cycle = -1;
+      options.cycle_folders = hemodynamics::CycleFolders::none;
+    }
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
-      summary.lines.push_back((cycle > 0 ? fmt::format("cycle {} report: ", cycle)
-                                         : "report of the run's " + hemodynamics::format_value(length) +
-                                               " s (shorter than a " + hemodynamics::format_value(period_) +
-                                               " s cycle: its metrics are of that window): ") +
-                              files.html.string());
+      if (cycle == 0) {
+        summary.lines.push_back("report of the run's " + hemodynamics::format_value(length) +
+                                " s (shorter than a " + hemodynamics::format_value(period_) +
+                                " s cycle: its metrics are of that window): " + files.html.string());
+        return;
+      }
+      std::string line =
+          fmt::format("cycle {} of {} report: {}", cycle, total_cycles(), files.cycle_pages.back().string());
+      if (files.directory != files.cycle_pages.back().parent_path())
+        line += fmt::format(" (the reported cycle's: {})", files.html.string());
+      summary.lines.push_back(line);
     });
   }
+
+  /// The run's whole cycles: time.cycles, or those time.end holds.
+  long total_cycles() const { return steps_ / steps_per_cycle_; }
 
   /// <run>/extra_metrics.json: what the report adds from outside the time series (docs/hemodynamics.md,
   /// "Extra metrics"), here the leaflet law's fit error. Written whole or not at all, by rank 0.

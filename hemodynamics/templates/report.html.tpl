@@ -1,7 +1,8 @@
 {{! The HTML report of `ibvalve report` (Mustache: https://mustache.github.io/mustache.5.html).
     A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
     those of report.md.tpl:
-      run, cycle_start, cycle_end, metrics (key, label, description, symbol, value, exact, missing,
+      run, cycle, cycles, cycle_start, cycle_end, has_cycle_table, cycle_rows (cycle, page, reported,
+      vf, tpg, pwk_start, pwk_end, pwk_change), periodicity, metrics (key, label, description, symbol, value, exact, missing,
       unit, note, uncertainty, uncertainty_sources), phases (name, time), ejection_windows (condition, start, chosen, tpg, qrms, eoa), plots (file, caption, png_base64), notes (text),
       provenance (name, value), inputs (key, value: shortest exact numbers with their unit).
     The plots are embedded (the file opens anywhere) and linked to the PNGs beside it.
@@ -10,7 +11,7 @@
 <html lang="en">
 <head>
 <meta charset="utf-8">
-<title>ibvalve report: {{run}}</title>
+<title>ibvalve report: {{run}}, cycle {{cycle}} of {{cycles}}</title>
 <style>
 body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:left}
@@ -19,8 +20,8 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 </style>
 </head>
 <body>
-<h1>ibvalve report: {{run}}</h1>
-<p>Cycle [{{cycle_start}}, {{cycle_end}}] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>
+<h1>ibvalve report: {{run}}, cycle {{cycle}} of {{cycles}}</h1>
+<p>Cycle {{cycle}} of {{cycles}}: [{{cycle_start}}, {{cycle_end}}] s of <code>timeseries.csv</code>. Definitions and phase rules: docs/hemodynamics.md.</p>
 <h2>Metrics</h2>
 <table id="metrics">
 <tr><th>metric</th><th>symbol</th><th>value</th><th>unit</th><th>note</th></tr>
@@ -28,6 +29,16 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 <tr data-key="{{key}}"><td>{{description}} (<code>{{key}}</code>)</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}" data-value="{{exact}}">{{value}}{{#uncertainty}} {{uncertainty}}{{/uncertainty}}</td><td>{{unit}}</td><td>{{note}}{{#uncertainty_sources}} (u from {{uncertainty_sources}}){{/uncertainty_sources}}</td></tr>
 {{/metrics}}
 </table>
+{{#has_cycle_table}}
+<h2>Cycle to cycle</h2>
+<p>{{periodicity}}.</p>
+<table id="cycles">
+<tr><th>cycle</th><th>V_F (mL)</th><th>TPG (mmHg)</th><th>P_Wk start (mmHg)</th><th>P_Wk end (mmHg)</th><th>P_Wk change (mmHg)</th></tr>
+{{#cycle_rows}}
+<tr><td><a href="{{page}}">{{cycle}}</a>{{#reported}} (this report){{/reported}}</td><td class="value">{{vf}}</td><td class="value">{{tpg}}</td><td class="value">{{pwk_start}}</td><td class="value">{{pwk_end}}</td><td class="value">{{pwk_change}}</td></tr>
+{{/cycle_rows}}
+</table>
+{{/has_cycle_table}}
 <h2>Phases</h2>
 <table id="phases">
 <tr><th>instant</th><th>time (s)</th></tr>

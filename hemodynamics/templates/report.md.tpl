@@ -3,7 +3,13 @@
     open a tag or end a table cell; a tag in triple braces inserts a value as it is). What a template
     can use:
       run                       the run folder's name (or its config's `name`)
+      cycle, cycles             the analysed cycle (counted from 1) and the whole cycles of the series
       cycle_start, cycle_end    the analysed cycle, s, 4 significant digits
+      has_cycle_table           true when the series holds two cycles or more up to this one
+      cycle_rows                list, cycles 1 to this one: cycle, page (that cycle's report.html),
+                                reported (true for this one), vf (mL), tpg (mmHg), pwk_start, pwk_end,
+                                pwk_change (mmHg, P_Wk's change over the cycle)
+      periodicity               one sentence: this cycle against the one before, and P_Wk's change
       metrics                   list: key, label (description, else key), description, symbol,
                                 value (4 significant digits, or "missing"), exact (every digit, or
                                 "null"), missing (true when there is no value), unit, note,
@@ -20,9 +26,9 @@
       inputs                    list: key, value (the case's keys as config.toml records them, numbers
                                 in their shortest exact form, with their unit: "3e-05 s")
     docs/hemodynamics.md says how to use your own copy (report.templates). }}
-# ibvalve report: {{run}}
+# ibvalve report: {{run}}, cycle {{cycle}} of {{cycles}}
 
-Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
+Cycle {{cycle}} of {{cycles}}: [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
 
 | metric | symbol | value | unit | note |
 |---|---|---|---|---|
@@ -30,6 +36,18 @@ Cycle [{{cycle_start}}, {{cycle_end}}] s of `timeseries.csv`.
 | {{label}} (`{{key}}`) | {{symbol}} | {{value}}{{#uncertainty}} {{uncertainty}}{{/uncertainty}} | {{unit}} | {{note}}{{#uncertainty_sources}} (u from {{uncertainty_sources}}){{/uncertainty_sources}} |
 {{/metrics}}
 
+{{#has_cycle_table}}
+## Cycle to cycle
+
+{{periodicity}}.
+
+| cycle | V_F (mL) | TPG (mmHg) | P_Wk start (mmHg) | P_Wk end (mmHg) | P_Wk change (mmHg) |
+|---|---|---|---|---|---|
+{{#cycle_rows}}
+| [{{cycle}}]({{page}}){{#reported}} (this report){{/reported}} | {{vf}} | {{tpg}} | {{pwk_start}} | {{pwk_end}} | {{pwk_change}} |
+{{/cycle_rows}}
+
+{{/has_cycle_table}}
 ## Phases (s)
 
 | instant | time |

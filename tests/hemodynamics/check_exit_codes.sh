@@ -26,6 +26,7 @@ case="$source_dir/examples/lumped/default.toml"
 expect_two "unknown key" "$ibvalve" run "$case" --set valve.bogus=1 -o "$work/r1"
 expect_two "out of range" "$ibvalve" run "$case" --set windkessel.compliance=-1 -o "$work/r2"
 expect_two "period mismatch" "$ibvalve" run "$case" --set report.period=1.0 -o "$work/r3"
+expect_two "cycle 0 (cycles count from 1)" "$ibvalve" run "$case" --set report.cycle=0 -o "$work/r4"
 [ -e "$work/r1" ] && { echo "FAIL: a run folder was created for bad input"; status=1; }
 
 mkdir -p "$work/missing_column" "$work/bad_line" "$work/no_series"
@@ -34,5 +35,6 @@ printf 't,Q_valve,P_LV,P_Ao,P_nlv,P_nao\n0,1,2,3,4,5\n0.1,1,2,oops,4,5\n' > "$wo
 expect_two "missing column" "$ibvalve" report "$work/missing_column"
 expect_two "bad CSV line" "$ibvalve" report "$work/bad_line"
 expect_two "no time series" "$ibvalve" report "$work/no_series"
+expect_two "report --cycle 0 (cycles count from 1)" "$ibvalve" report "$work/bad_line" --cycle 0
 expect_two "not a folder" "$ibvalve" compare "$work/does_not_exist"
 exit $status

@@ -51,6 +51,31 @@ void write_run(const fs::path& dir, double forward_amplitude)
   }
 }
 
+/// A run folder of `cycles` cycles of the same shape, cycle k's forward lobe (1 + 0.1 (k - 1)) x
+/// `forward_amplitude` mL/s, an orifice opening to about `largest_area` cm^2 and a Windkessel
+/// pressure that drifts by `drift` mmHg over each cycle.
+void write_cycles(const fs::path& dir, int cycles, double forward_amplitude, double largest_area,
+                  double drift)
+{
+  std::ofstream out(dir / "timeseries.csv");
+  out << std::setprecision(15) << "t,Q_valve,Q_outlet,P_LV,P_Ao,P_Wk,P_nlv,P_nao,orifice_area\n";
+  const double pi = std::numbers::pi;
+  for (int i = 0; i <= 1600 * cycles; ++i) {
+    const double t = i * 0.8 / 1600, tau = std::fmod(t, 0.8);
+    const double amplitude = forward_amplitude * (1.0 + 0.1 * std::min(i / 1600, cycles - 1));
+    double q = -3.0 * std::sin(pi * tau / 0.1), a = 0.02;
+    if (tau >= 0.1 && tau < 0.4) {
+      q = amplitude * std::sin(pi * (tau - 0.1) / 0.3);
+      a = 0.02 + largest_area * std::sin(pi * (tau - 0.1) / 0.3);
+    } else if (tau >= 0.4) {
+      q = -40.0 * std::sin(pi * (tau - 0.4) / 0.4) * std::exp(-20 * (tau - 0.4));
+    }
+    const double p_ao = 80 + 10 * std::sin(2 * pi * t / 0.8);
+    out << t << "," << q << "," << q << "," << p_ao + 0.01 * q << "," << p_ao << ","
+        << p_ao - 1 + drift * t / 0.8 << "," << p_ao + 0.01 * q << "," << p_ao << "," << a << "\n";
+  }
+}
+
 } // namespace
 
 TEST(Report, ExactValuesReadBackAndBase64IsThatOfRfc4648)
@@ -266,7 +291,7 @@ TEST(Report, NamesInTheMarkdownPagesCannotOpenATagOrEndATableCell)
   hd::ReportOptions options;
   options.plots = false;
   const std::string report = ibvalve::io::read_text_file(hd::write_report(run, options).markdown);
-  EXPECT_NE(report.find("# ibvalve report: &lt;script&gt;a\\|b\n"), std::string::npos)
+  EXPECT_NE(report.find("# ibvalve report: &lt;script&gt;a\\|b, cycle 2 of 2\n"), std::string::npos)
       << report.substr(0, 200);
   EXPECT_EQ(report.find("<script>"), std::string::npos);
 
@@ -479,17 +504,103 @@ TEST(Report, SettingsComeFromTheRunsConfig)
 {
   const auto run = scratch("settings");
   EXPECT_EQ(hd::metric_settings_from_run(run).period, 0.8); // no config.toml: defaults
-  std::ofstream(run / "config.toml") << "model = \"lumped\"\n[report]\nperiod = 1\ncycle = 0\n"
+  std::ofstream(run / "config.toml") << "model = \"lumped\"\n[report]\nperiod = 1\ncycle = 1\n"
                                         "closure_rule = \"area\"\nclosed_area_fraction = 0.02\n";
   const hd::MetricSettings s = hd::metric_settings_from_run(run);
   EXPECT_EQ(s.period, 1.0);
-  EXPECT_EQ(s.cycle, 0);
+  EXPECT_EQ(s.cycle, 1);
   EXPECT_EQ(s.closure_rule, hd::ClosureRule::area);
   EXPECT_EQ(s.closed_area_fraction, 0.02);
   EXPECT_EQ(s.open_area_fraction, 0.9);
   std::ofstream(run / "config.toml") << "[report]\nperiod = \"long\"\n";
   EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
+  std::ofstream(run / "config.toml") << "[report]\ncycle = 0\n"; // cycles count from 1
+  EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
   std::ofstream(run / "config.toml") << "[report]\nclosure_rule = \"guess\"\n";
   EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
+  fs::remove_all(run);
+}
+
+TEST(Report, EachCycleHasItsOwnReportCountedFromOneAndTheLastHoldsTheCycleToCycleTable)
+{
+  const auto run = scratch("cycles");
+  write_cycles(run, 3, 300.0, 5.0, -0.5);
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  EXPECT_EQ(files.reported_cycle, 3);
+  EXPECT_EQ(files.cycles, 3);
+  ASSERT_EQ(files.cycle_pages.size(), 3u);
+  std::vector<double> volumes;
+  for (int c = 1; c <= 3; ++c) {
+    const fs::path folder = run / "report" / ("cycle_" + std::to_string(c));
+    EXPECT_EQ(files.cycle_pages[c - 1], folder / "report.html");
+    const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(folder / "metrics.json"));
+    EXPECT_EQ(doc.at("cycle").at("number"), c);
+    EXPECT_EQ(doc.at("cycle").at("of"), 3);
+    EXPECT_NEAR(doc.at("phases").at("cycle_start").get<double>(), 0.8 * (c - 1), 1e-12);
+    volumes.push_back(doc.at("metrics").at("forward_volume").at("value").get<double>());
+    const std::string title =
+        "<title>ibvalve report: ibvalve_test_report_cycles, cycle " + std::to_string(c) + " of 3</title>";
+    EXPECT_NE(ibvalve::io::read_text_file(folder / "report.html").find(title), std::string::npos) << c;
+    EXPECT_EQ(doc.at("cycles").size(), static_cast<std::size_t>(c)); // cycles 1 to this one
+  }
+  EXPECT_NEAR(volumes[1] / volumes[0], 1.1, 1e-9); // the lobes of 1, 1.1 and 1.2 x the amplitude
+  // report/ is the reported (last) cycle's, and its table holds every cycle's V_F, TPG and P_Wk.
+  const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  EXPECT_EQ(files.json, run / "report" / "metrics.json");
+  EXPECT_EQ(doc.at("cycle").at("number"), 3);
+  const hd::Json& table = doc.at("cycles");
+  ASSERT_EQ(table.size(), 3u);
+  for (int c = 1; c <= 3; ++c) {
+    EXPECT_EQ(table[c - 1].at("cycle"), c);
+    EXPECT_EQ(table[c - 1].at("forward_volume").get<double>(), volumes[c - 1]);
+    EXPECT_NEAR(table[c - 1].at("windkessel_pressure_end").get<double>() -
+                    table[c - 1].at("windkessel_pressure_start").get<double>(),
+                -0.5, 1e-9);
+  }
+  const std::string periodicity = doc.at("periodicity").get<std::string>();
+  EXPECT_NE(periodicity.find("Cycle 3 against cycle 2: V_F by +9.1 %"), std::string::npos) << periodicity;
+  EXPECT_NE(periodicity.find("-0.5 mmHg over the cycle: periodic"), std::string::npos) << periodicity;
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_NE(md.find("# ibvalve report: ibvalve_test_report_cycles, cycle 3 of 3"), std::string::npos);
+  EXPECT_NE(md.find("| [3](cycle_3/report.html) (this report) |"), std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(run / "report" / "cycle_3" / "report.md")
+                .find("| [1](../cycle_1/report.html) |"),
+            std::string::npos);
+  // Another cycle reported, into another folder.
+  options.settings.cycle = 2;
+  options.output = run / "elsewhere";
+  const hd::ReportFiles second = hd::write_report(run, options);
+  EXPECT_EQ(second.html, run / "elsewhere" / "report.html");
+  EXPECT_EQ(hd::Json::parse(ibvalve::io::read_text_file(second.json)).at("cycle").at("number"), 2);
+  fs::remove_all(run);
+}
+
+TEST(Report, ARunsEndOfCycleWritesThatCyclesFolderAndTheReportedOnesOnlyWhenItIsThatCycle)
+{
+  const auto run = scratch("cycle_end");
+  write_cycles(run, 1, 300.0, 5.0, 0.0); // the run's first cycle of two has ended
+  hd::ReportOptions options;
+  options.plots = false;
+  options.cycle_folders = hd::CycleFolders::last;
+  options.run_cycles = 2;
+  options.settings.cycle = 2; // report.cycle = 2: report/ waits for the second cycle
+  hd::ReportFiles files = hd::write_report(run, options);
+  EXPECT_EQ(files.html, run / "report" / "cycle_1" / "report.html");
+  EXPECT_FALSE(fs::exists(run / "report" / "report.html"));
+  options.settings.cycle = -1; // the last whole cycle: this one
+  files = hd::write_report(run, options);
+  EXPECT_EQ(files.cycle_pages, std::vector<fs::path>{run / "report" / "cycle_1" / "report.html"});
+  EXPECT_EQ(files.html, run / "report" / "report.html");
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("cycle 1 of 2</title>"), std::string::npos);
+  write_cycles(run, 2, 300.0, 5.0, 0.0); // and the second
+  options.settings.cycle = 1;            // report.cycle = 1: report/ keeps the first's
+  fs::remove_all(run / "report");
+  files = hd::write_report(run, options);
+  EXPECT_EQ(files.cycle_pages, std::vector<fs::path>{run / "report" / "cycle_2" / "report.html"});
+  EXPECT_EQ(files.html, run / "report" / "cycle_2" / "report.html");
+  EXPECT_FALSE(fs::exists(run / "report" / "report.html"));
+  EXPECT_FALSE(fs::exists(run / "report" / "cycle_1"));
   fs::remove_all(run);
 }
