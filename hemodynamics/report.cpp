@@ -16,6 +16,7 @@
 #include "base/logger.hpp"
 #include "hemodynamics/cycle_table.hpp"
 #include "hemodynamics/plotting.hpp"
+#include "hemodynamics/report_layout.hpp"
 #include "hemodynamics/report_values.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
@@ -304,11 +305,15 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
     notes.push_back("metrics added from extra_metrics.json");
   }
   add_uncertainties(run_directory / "uncertainty.json", values, notes);
+  for (auto& [key, m] : values.items()) m["group"] = metric_group(key);
+  Json headline = headline_document(values), checks = plausibility_checks(values);
   return Json{{"ibvalve_metrics", 1},
               {"run", run_name},
               {"source", "timeseries.csv"},
               {"cycle", {{"number", metrics.cycle}, {"of", metrics.cycles}}},
               {"settings", settings_json},
+              {"headline", std::move(headline)},
+              {"checks", std::move(checks)},
               {"phases", phases},
               {"ejection_windows", windows},
               {"metrics", values},

@@ -100,10 +100,11 @@ struct ReportFiles {
 Json provenance_document(const std::filesystem::path& run_directory);
 
 /// metrics.json as a document: the cycle (its number from 1 and the series' whole cycles), settings,
-/// phases, metrics (value, unit, symbol, description, note), notes, provenance. Metrics from
-/// <run>/extra_metrics.json (an object of key -> number or key -> {value, unit, symbol, description}) are
-/// appended: this is how a 3-D run adds structural metrics (fit error, strain and stress variation,
-/// displacements) it computes itself.
+/// the headline figures beside their published ranges and the plausibility checks
+/// (report_layout.hpp), phases, metrics (value, unit, symbol, description, note, group), notes,
+/// provenance. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value,
+/// unit, symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error,
+/// strain and stress variation, displacements) it computes itself.
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const std::filesystem::path& run_directory);
 

@@ -7,6 +7,7 @@
 
 #include "hemodynamics/plotting.hpp"
 #include "hemodynamics/report.hpp"
+#include "hemodynamics/report_layout.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -59,12 +60,57 @@ data metric_row(const std::string& key, const Json& m)
   return row;
 }
 
-/// `metrics`: every metric, in metrics.json's order.
+/// `metrics` (every metric, in metrics.json's order) and `groups` (the same, grouped: group, metrics).
 void set_metric_tables(const Json& doc, data& values)
 {
   data all{data::type::list};
   for (const auto& [key, m] : doc.at("metrics").items()) all.push_back(metric_row(key, m));
   values.set("metrics", all);
+  data groups{data::type::list};
+  for (const char* group : metric_groups()) {
+    data rows{data::type::list};
+    for (const auto& [key, m] : doc.at("metrics").items())
+      if (metric_group(key) == group) rows.push_back(metric_row(key, m));
+    if (rows.list_value().empty()) continue;
+    data g;
+    g.set("group", group);
+    g.set("metrics", rows);
+    groups.push_back(g);
+  }
+  values.set("groups", groups);
+}
+
+/// `headline`, `checks` and `references`: what the report opens with.
+void set_headline(const Json& doc, data& values)
+{
+  data rows{data::type::list};
+  for (const Json& h : doc.value("headline", Json::array())) {
+    data row;
+    for (const char* field : {"key", "name", "symbol", "unit", "range", "source"})
+      row.set(field, text(h, field));
+    row.set("value", format_value(number(h.at("value"))));
+    row.set("missing", !h.at("value").is_number());
+    row.set("outside", text(h, "assessment") == "outside");
+    row.set("assessment", text(h, "assessment"));
+    rows.push_back(row);
+  }
+  values.set("headline", rows);
+  data checks{data::type::list};
+  for (const Json& c : doc.value("checks", Json::array())) {
+    data row;
+    row.set("check", text(c, "check"));
+    row.set("text", text(c, "text"));
+    checks.push_back(row);
+  }
+  values.set("checks", checks);
+  data references{data::type::list};
+  for (const ReferenceSource& s : reference_sources()) {
+    data row;
+    row.set("name", s.name);
+    row.set("citation", s.citation);
+    references.push_back(row);
+  }
+  values.set("references", references);
 }
 
 /// `cycle_rows` and `periodicity`: the cycle-to-cycle table (shown from two cycles on).
@@ -178,6 +224,7 @@ data report_template_values(const Json& doc, const std::vector<fs::path>& plots,
   const Json& phases = doc.at("phases");
   values.set("cycle_start", format_value(number(phases.at("cycle_start"))));
   values.set("cycle_end", format_value(number(phases.at("cycle_end"))));
+  set_headline(doc, values);
   set_metric_tables(doc, values);
   set_cycle_table(doc, report_root, values);
   set_phases(doc, values);

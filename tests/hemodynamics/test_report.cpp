@@ -14,6 +14,7 @@
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/plotting.hpp"
 #include "hemodynamics/report.hpp"
+#include "hemodynamics/report_layout.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
 
@@ -74,6 +75,14 @@ void write_cycles(const fs::path& dir, int cycles, double forward_amplitude, dou
     out << t << "," << q << "," << q << "," << p_ao + 0.01 * q << "," << p_ao << ","
         << p_ao - 1 + drift * t / 0.8 << "," << p_ao + 0.01 * q << "," << p_ao << "," << a << "\n";
   }
+}
+
+/// A metrics object as metrics.json holds it: key -> {"value": v}.
+hd::Json metrics_of(std::initializer_list<std::pair<const char*, double>> values)
+{
+  hd::Json m = hd::Json::object();
+  for (const auto& [key, v] : values) m[key] = hd::Json{{"value", v}, {"unit", ""}, {"symbol", ""}};
+  return m;
 }
 
 } // namespace
@@ -519,6 +528,110 @@ TEST(Report, SettingsComeFromTheRunsConfig)
   std::ofstream(run / "config.toml") << "[report]\nclosure_rule = \"guess\"\n";
   EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
   fs::remove_all(run);
+}
+
+TEST(Report, HeadlineFiguresAreAssessedAgainstTheirPublishedRangesWithTheirSources)
+{
+  const hd::Json metrics = metrics_of({{"regurgitant_fraction", 29.9},
+                                       {"transvalvular_pressure_gradient", 25.0},
+                                       {"effective_orifice_area", 1.5},
+                                       {"peak_velocity_open", 2.5},
+                                       {"forward_volume", 70.0}});
+  const hd::Json headline = hd::headline_document(metrics);
+  std::vector<std::string> keys;
+  for (const hd::Json& h : headline) keys.push_back(h.at("key").get<std::string>());
+  EXPECT_EQ(keys, (std::vector<std::string>{"forward_volume", "regurgitant_fraction",
+                                            "transvalvular_pressure_gradient", "effective_orifice_area",
+                                            "energy_loss", "peak_forward_flow", "max_orifice_area",
+                                            "peak_velocity_open"}));
+  auto row = [&](const std::string& key) {
+    for (const hd::Json& h : headline)
+      if (h.at("key") == key) return h;
+    return hd::Json();
+  };
+  EXPECT_EQ(row("regurgitant_fraction").at("assessment"), "within");             // RF < 30 %
+  EXPECT_EQ(row("transvalvular_pressure_gradient").at("assessment"), "outside"); // not < 20 mmHg
+  EXPECT_EQ(row("effective_orifice_area").at("assessment"), "outside");          // not > 1.5 cm^2
+  EXPECT_EQ(row("peak_velocity_open").at("assessment"), "within");               // <= 2.5 m/s
+  EXPECT_EQ(row("forward_volume").at("assessment"), "");                         // no published range here
+  EXPECT_TRUE(row("energy_loss").at("value").is_null()); // not in the metrics: no value
+  EXPECT_EQ(row("transvalvular_pressure_gradient").at("source"), "Baumgartner et al. 2017");
+  EXPECT_EQ(row("regurgitant_fraction").at("source"), "Zoghbi et al. 2017");
+  // Every range's source has its full citation.
+  for (const hd::Json& h : headline) {
+    if (h.at("source") == "") continue;
+    bool cited = false;
+    for (const auto& source : hd::reference_sources()) cited = cited || h.at("source") == source.name;
+    EXPECT_TRUE(cited) << h.at("source");
+  }
+}
+
+TEST(Report, AnEoaAboveTheGeometricOrificeAndACycleThatIsNotPeriodicAreFlagged)
+{
+  auto checks = [](const hd::Json& metrics) {
+    std::vector<std::string> names;
+    for (const hd::Json& c : hd::plausibility_checks(metrics))
+      names.push_back(c.at("check").get<std::string>());
+    return names;
+  };
+  using names = std::vector<std::string>;
+  EXPECT_EQ(checks(metrics_of({{"effective_orifice_area", 2.0}, {"max_orifice_area", 1.9}})),
+            names{"eoa_above_goa"});
+  EXPECT_EQ(checks(metrics_of({{"effective_orifice_area", 1.9}, {"max_orifice_area", 2.0}})), names{});
+  const double tolerance = hd::periodic_pressure_tolerance;
+  EXPECT_EQ(checks(metrics_of(
+                {{"windkessel_pressure_start", 70.0}, {"windkessel_pressure_end", 70.0 - 1.01 * tolerance}})),
+            names{"not_periodic"});
+  EXPECT_EQ(checks(metrics_of(
+                {{"windkessel_pressure_start", 70.0}, {"windkessel_pressure_end", 70.0 + 0.99 * tolerance}})),
+            names{});
+  EXPECT_EQ(checks(metrics_of({})), names{}); // nothing to check without the figures
+}
+
+TEST(Report, TheReportOpensWithTheHeadlineThenThePlotsThenTheMetricsInGroups)
+{
+  const auto run = scratch("headline");
+  write_cycles(run, 1, 300.0, 1.0, 3.0); // EOA about 3 cm^2 through a 1 cm^2 orifice; P_Wk drifts 3 mmHg
+  std::ofstream(run / "extra_metrics.json") << R"({"fit_error": {"value": 1.25, "unit": "kPa"}})";
+  hd::ReportOptions options;
+  options.python = IBVALVE_PYTHON;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  std::vector<std::string> flagged;
+  for (const hd::Json& c : doc.at("checks")) flagged.push_back(c.at("check").get<std::string>());
+  EXPECT_EQ(flagged, (std::vector<std::string>{"eoa_above_goa", "not_periodic"}));
+  EXPECT_EQ(doc.at("metrics").at("fit_error").at("group"), "leaflet mechanics");
+  EXPECT_EQ(doc.at("metrics").at("opening_duration").at("group"), "valve motion");
+  EXPECT_EQ(doc.at("metrics").at("effective_orifice_area").at("group"), "flow and pressure");
+  const std::string html = ibvalve::io::read_text_file(files.html);
+  const auto headline = html.find("<table id=\"headline\">"), plots = html.find("<h2>Plots</h2>"),
+             groups = html.find("<h3>flow and pressure</h3>"), motion = html.find("<h3>valve motion</h3>"),
+             mechanics = html.find("<h3>leaflet mechanics</h3>");
+  ASSERT_NE(headline, std::string::npos);
+  EXPECT_LT(html.find("data-check=\"eoa_above_goa\""), headline);
+  EXPECT_LT(headline, plots);
+  EXPECT_LT(plots, groups);
+  EXPECT_LT(groups, motion);
+  EXPECT_LT(motion, mechanics);
+  EXPECT_LT(mechanics, html.find("data-key=\"fit_error\""));
+  EXPECT_NE(html.find("<tr data-headline=\"effective_orifice_area\">"), std::string::npos);
+  EXPECT_NE(html.find("J Am Soc Echocardiogr 30:372-392"), std::string::npos);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_LT(md.find("## At a glance"), md.find("## Plots"));
+  EXPECT_LT(md.find("> **Implausible:** EOA"), md.find("| figure |"));
+  EXPECT_LT(md.find("## Plots"), md.find("### flow and pressure"));
+  EXPECT_NE(md.find("| &lt; 20 (at most mild stenosis) | Baumgartner et al. 2017 |"), std::string::npos);
+  fs::remove_all(run);
+  // A valve whose EOA is below its orifice, in a periodic cycle: nothing flagged.
+  const auto fine = scratch("headline_fine");
+  write_cycles(fine, 1, 300.0, 5.0, 0.0);
+  options.plots = false;
+  const hd::Json fine_doc =
+      hd::Json::parse(ibvalve::io::read_text_file(hd::write_report(fine, options).json));
+  EXPECT_TRUE(fine_doc.at("checks").empty()) << fine_doc.at("checks");
+  EXPECT_EQ(ibvalve::io::read_text_file(fine / "report" / "report.html").find("Implausible"),
+            std::string::npos);
+  fs::remove_all(fine);
 }
 
 TEST(Report, EachCycleHasItsOwnReportCountedFromOneAndTheLastHoldsTheCycleToCycleTable)
