@@ -1,10 +1,11 @@
-// `ibvalve compare RUN_DIR...`: every metric per case and the 12-criterion ranking, as Markdown, CSV
-// and HTML (hemodynamics/compare.hpp).
+// `ibvalve compare RUN_DIR...`: the inputs that differ, every metric per case and the 12-criterion
+// ranking in rank order, as Markdown, CSV and HTML (hemodynamics/compare.hpp).
 #include <filesystem>
 #include <memory>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <petscsys.h>
 
 #include "app/commands.hpp"
@@ -44,10 +45,14 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
     const auto files = hemodynamics::write_comparison(cases, output, options);
     const auto ranking = hemodynamics::rank_cases(cases);
     auto& log = base::Logger::global();
-    for (const auto& row : ranking.rows)
+    for (const std::size_t i : ranking.by_rank) {
+      const auto& row = ranking.rows[i];
       log.info(
           fmt::format("rank {}: {} (total {})", row.rank, row.name, hemodynamics::format_value(row.total)));
+    }
     for (const auto& left : ranking.left_out) log.info("left out of the ranking: " + left);
+    for (const auto& [key, values] : hemodynamics::differing_inputs(cases))
+      log.info(fmt::format("differs: {}: {}", key, fmt::join(values, " | ")));
     log.info("comparison: " + files.html.string() + ", " + files.markdown.string() + ", " +
              files.metrics_csv.string() + ", " + files.ranking_csv.string() +
              fmt::format(" ({} plots)", files.plots.size()));

@@ -11,6 +11,7 @@
 #include "base/errors.hpp"
 #include "hemodynamics/report.hpp"
 #include "io/files.hpp"
+#include "io/recorded_config.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -46,6 +47,8 @@ CaseResult load_case(const fs::path& run_directory)
   if (fs::exists(config)) {
     const toml::table root = io::parse_toml_file(config);
     if (auto name = root["name"].value<std::string>(); name && !name->empty()) c.name = *name;
+    for (const io::RecordedEntry& entry : io::read_recorded_config(config))
+      c.inputs.emplace_back(entry.key, entry.unit.empty() ? entry.value : entry.value + " " + entry.unit);
   }
   const fs::path stored = run_directory / "report" / "metrics.json";
   Json doc;
@@ -221,6 +224,11 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   // Per used criterion: the cases' values and standard uncertainties.
   std::vector<std::size_t> used;
   std::vector<std::vector<double>> values(criteria.size()), uncertainties(criteria.size());
+  auto leave = [&](std::size_t k, const std::string& why) {
+    r.used[k] = false;
+    r.left_out.push_back(fmt::format("{} ({})", criteria[k].key, why));
+    for (auto& row : r.rows) row.scores.push_back(std::nullopt);
+  };
   for (std::size_t k = 0; k < criteria.size(); ++k) {
     std::vector<std::string> missing;
     for (const auto& c : cases) {
@@ -230,9 +238,7 @@ Ranking rank_cases(std::span<const CaseResult> cases)
       uncertainties[k].push_back(v ? metric_uncertainty(c, criteria[k].key) : 0.0);
     }
     if (!missing.empty() || cases.empty()) {
-      r.used[k] = false;
-      r.left_out.push_back(fmt::format("{} (missing for: {})", criteria[k].key, fmt::join(missing, ", ")));
-      for (auto& row : r.rows) row.scores.push_back(std::nullopt);
+      leave(k, fmt::format("missing for: {}", fmt::join(missing, ", ")));
       continue;
     }
     used.push_back(k);
@@ -248,6 +254,9 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   for (const auto& row : r.rows) totals.push_back(row.total);
   const std::vector<int> ranks = ranks_of(totals);
   for (std::size_t i = 0; i < cases.size(); ++i) r.rows[i].rank = ranks[i];
+  r.by_rank.resize(cases.size());
+  std::iota(r.by_rank.begin(), r.by_rank.end(), 0);
+  std::stable_sort(r.by_rank.begin(), r.by_rank.end(), [&](auto a, auto b) { return ranks[a] < ranks[b]; });
   if (!r.uncertain) return r;
 
   // The ranking's stability: every uncertain value drawn about itself, the cases scored and ranked as
@@ -283,21 +292,42 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   return r;
 }
 
+std::vector<std::pair<std::string, std::vector<std::string>>>
+differing_inputs(std::span<const CaseResult> cases)
+{
+  auto shown = [](const std::string& key) {
+    if (key == "name") return false; // the cases' names head the columns
+    for (const char* table : {"output.", "log.", "run.", "checkpoint."})
+      if (key.rfind(table, 0) == 0) return false;
+    return true;
+  };
+  std::vector<std::string> keys;
+  for (const auto& c : cases)
+    for (const auto& [key, value] : c.inputs)
+      if (shown(key) && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  std::vector<std::pair<std::string, std::vector<std::string>>> out;
+  for (const auto& key : keys) {
+    std::vector<std::string> values;
+    for (const auto& c : cases) {
+      const auto it =
+          std::find_if(c.inputs.begin(), c.inputs.end(), [&](const auto& e) { return e.first == key; });
+      values.push_back(it == c.inputs.end() ? (c.inputs.empty() ? "(no config.toml)" : "(unset)")
+                                            : it->second);
+    }
+    if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end())
+      out.emplace_back(key, std::move(values));
+  }
+  return out;
+}
+
 namespace {
 
-/// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
-kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
-                                          std::span<const std::string> keys, const Ranking& ranking,
-                                          std::span<const fs::path> plots)
-{
-  using kainjow::mustache::data;
-  data values;
-  values.set("count", fmt::format("{}", cases.size()));
-  data case_rows{data::type::list};
-  for (const auto& c : cases) case_rows.push_back(data("name", c.name));
-  values.set("cases", case_rows);
+using kainjow::mustache::data;
 
-  data metric_rows{data::type::list};
+/// `metrics`: one row per metric, a cell per case.
+data metric_rows(std::span<const CaseResult> cases, std::span<const std::string> keys)
+{
+  data rows{data::type::list};
   for (const auto& key : keys) {
     data row;
     const std::string symbol = first_text(cases, key, "symbol");
@@ -316,10 +346,63 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
       cells.push_back(cell);
     }
     row.set("values", cells);
-    metric_rows.push_back(row);
+    rows.push_back(row);
   }
-  values.set("metrics", metric_rows);
+  return rows;
+}
 
+/// `ranking`: one row per case, in rank order.
+data ranking_rows(const Ranking& ranking)
+{
+  data rows{data::type::list};
+  for (const std::size_t i : ranking.by_rank) {
+    const RankingRow& r = ranking.rows[i];
+    data row;
+    row.set("name", r.name);
+    data scores{data::type::list};
+    for (const auto& score : r.scores) {
+      data cell;
+      cell.set("value", shown(score));
+      cell.set("missing", !score.has_value());
+      scores.push_back(cell);
+    }
+    row.set("scores", scores);
+    row.set("total", format_value(r.total));
+    row.set("rank", fmt::format("{}", r.rank));
+    row.set("rank_held", fmt::format("{:.0f} %", 100.0 * r.rank_held));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// `differences`: one row per differing input, a cell per case.
+data difference_rows(std::span<const CaseResult> cases)
+{
+  data rows{data::type::list};
+  for (const auto& [key, values] : differing_inputs(cases)) {
+    data row;
+    row.set("key", key);
+    data cells{data::type::list};
+    for (const auto& v : values) cells.push_back(data("value", v));
+    row.set("values", cells);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
+data comparison_values(std::span<const CaseResult> cases, std::span<const std::string> keys,
+                       const Ranking& ranking, std::span<const fs::path> plots)
+{
+  data values;
+  values.set("count", fmt::format("{}", cases.size()));
+  data case_rows{data::type::list};
+  for (const auto& c : cases) case_rows.push_back(data("name", c.name));
+  values.set("cases", case_rows);
+  const data differences = difference_rows(cases);
+  values.set("has_differences", !differences.list_value().empty());
+  values.set("differences", differences);
+  values.set("metrics", metric_rows(cases, keys));
   const auto used = std::count(ranking.used.begin(), ranking.used.end(), true);
   values.set("left_out_note", ranking.left_out.empty()
                                   ? std::string("all 12 criteria are ranked")
@@ -335,24 +418,7 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
   }
   values.set("criteria", criterion_rows);
   values.set("plots", plot_template_rows(plots, comparison_plots));
-  data ranking_rows{data::type::list};
-  for (const auto& r : ranking.rows) {
-    data row;
-    row.set("name", r.name);
-    data scores{data::type::list};
-    for (const auto& score : r.scores) {
-      data cell;
-      cell.set("value", shown(score));
-      cell.set("missing", !score.has_value());
-      scores.push_back(cell);
-    }
-    row.set("scores", scores);
-    row.set("total", format_value(r.total));
-    row.set("rank", fmt::format("{}", r.rank));
-    row.set("rank_held", fmt::format("{:.0f} %", 100.0 * r.rank_held));
-    ranking_rows.push_back(row);
-  }
-  values.set("ranking", ranking_rows);
+  values.set("ranking", ranking_rows(ranking));
   values.set("uncertain", ranking.uncertain);
   values.set(
       "uncertainty_note",
@@ -390,7 +456,8 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   std::string ranking_csv = "case";
   for (const auto& criterion : criteria) ranking_csv += "," + criterion.key;
   ranking_csv += ranking.uncertain ? ",total,rank,rank_held\n" : ",total,rank\n";
-  for (const auto& row : ranking.rows) {
+  for (const std::size_t i : ranking.by_rank) {
+    const RankingRow& row = ranking.rows[i];
     ranking_csv += csv_field(row.name);
     for (const auto& s : row.scores) ranking_csv += "," + (s ? exact_value(*s) : std::string("missing"));
     ranking_csv += fmt::format(",{},{}", exact_value(row.total), row.rank);

@@ -1,6 +1,7 @@
 #pragma once
-// `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7) and the 12-criterion
-// scaled ranking (its Table 8), as Markdown, CSV and HTML.
+// `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7), the 12-criterion scaled
+// ranking (its Table 8) in rank order, and the inputs that differ between the cases, as Markdown, CSV
+// and HTML.
 //
 // Ranking (docs/reference.md, "Hemodynamic metrics"): for each criterion the best case scores 1 and
 // the worst 0, linearly in between; a case's total is the sum; cases are ranked by total. When the cases'
@@ -53,10 +54,14 @@ struct CaseResult {
   Json metrics; // the "metrics" object of metrics.json
   /// The analysed cycle (metrics.json's phases cycle_start, cycle_end), for the overlaid curves.
   std::optional<double> cycle_start, cycle_end;
+  /// The run's inputs as its config.toml records them (key, value with its unit), for what differs
+  /// between the cases; empty without a config.toml.
+  std::vector<std::pair<std::string, std::string>> inputs;
 };
 
-/// A run folder's metrics: report/metrics.json when present, otherwise computed from timeseries.csv
-/// with the settings of the run's config.toml. InputError for a folder that has neither.
+/// A run folder's metrics: report/metrics.json (the reported cycle's) when present, otherwise computed
+/// from timeseries.csv with the settings of the run's config.toml; and its inputs from config.toml.
+/// InputError for a folder that has neither metrics.json nor timeseries.csv.
 CaseResult load_case(const std::filesystem::path& run_directory);
 
 struct RankingRow {
@@ -70,10 +75,17 @@ struct Ranking {
   std::vector<bool> used;            // per criterion
   std::vector<std::string> left_out; // "fit_error (missing for: a, b)"
   std::vector<RankingRow> rows;      // in the order of the cases
+  std::vector<std::size_t> by_rank;  // the rows' indices in rank order (tied cases in the cases' order)
   bool uncertain = false;            // some ranked metric carries an uncertainty
   double order_held = 1.0;           // the fraction of draws that keep every case's rank
 };
 Ranking rank_cases(std::span<const CaseResult> cases);
+
+/// The inputs that differ between the cases (their config.toml keys, but name and the output, log,
+/// run and checkpoint tables): key and each case's value ("(unset)" where a case lacks the key), in the
+/// order of first appearance.
+std::vector<std::pair<std::string, std::vector<std::string>>>
+differing_inputs(std::span<const CaseResult> cases);
 
 struct ComparisonOptions {
   std::filesystem::path templates;       // a folder of comparison templates; empty: the built-in ones
@@ -91,7 +103,9 @@ inline constexpr PlotCaption comparison_plots[] = {
     {"orifice_area.png", "Geometric orifice area"},
 };
 /// Writes comparison.md, comparison.html (laid out by the comparison templates: the built-in ones, or
-/// those of `options.templates`, see page_templates.hpp), metrics.csv and ranking.csv into
+/// those of `options.templates`, see page_templates.hpp: the inputs that differ between the cases, the
+/// metrics and the ranking in rank order), metrics.csv and ranking.csv (in
+/// rank order) into
 /// `output_directory`, and with `options.plots` the overlaid curves of the cases' time series (their
 /// timeseries.csv, each over its analysed cycle: flow.png, pressure_difference.png and orifice_area.png
 /// for the columns the series have, drawn by plot_report.py --compare with `options.python`). A templates

@@ -9,9 +9,14 @@
                                 value (4 significant digits, "± u" after it when the metric carries
                                 an uncertainty, or "missing"), exact (every digit, or
                                 "null"), missing (true when the case has no value))
+      has_differences           true when the cases' inputs differ in some key
+      differences               list, the inputs that differ between the cases (their config.toml keys
+                                but name and the output, log, run and checkpoint tables): key, values
+                                (list, one per case: value, "(unset)" where a case lacks the key)
       left_out_note             how many of the 12 criteria are ranked, and which are left out and why
       criteria                  list, the study's 12: key, label, higher_is_better
-      ranking                   list, one per case: name, scores (list, one per ranked criterion: value,
+      ranking                   list, one per case, in rank order: name, scores (list, one per ranked
+                                criterion: value,
                                 missing), total, rank, rank_held ("87 %": how often the case keeps its
                                 rank when the uncertain metrics are drawn about their values)
       uncertain                 true when some ranked metric carries an uncertainty
@@ -21,6 +26,19 @@
     docs/hemodynamics.md says how to use your own copy (ibvalve compare --templates). }}
 # ibvalve comparison of {{count}} case(s)
 
+## What differs between the cases
+
+{{#has_differences}}
+| input |{{#cases}} {{name}} |{{/cases}}
+|---|{{#cases}}---|{{/cases}}
+{{#differences}}
+| `{{key}}` |{{#values}} {{value}} |{{/values}}
+{{/differences}}
+{{/has_differences}}
+{{^has_differences}}
+Their recorded inputs (config.toml) are the same, but for their names.
+{{/has_differences}}
+
 ## Metrics per case (Table 7 style)
 
 | metric | unit |{{#cases}} {{name}} |{{/cases}}
@@ -29,7 +47,7 @@
 | {{label}} | {{unit}} |{{#values}} {{value}} |{{/values}}
 {{/metrics}}
 
-## Ranking (Table 8 style)
+## Ranking (Table 8 style), best first
 
 Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.
 {{uncertainty_note}}.

@@ -717,3 +717,83 @@ TEST(Report, ARunsEndOfCycleWritesThatCyclesFolderAndTheReportedOnesOnlyWhenItIs
   EXPECT_FALSE(fs::exists(run / "report" / "cycle_1"));
   fs::remove_all(run);
 }
+
+namespace {
+
+hd::CaseResult case_of(const std::string& name, double vf, double rf, std::optional<double> fit)
+{
+  hd::CaseResult c;
+  c.name = name;
+  auto entry = [](std::optional<double> v) {
+    return hd::Json{{"value", v ? hd::Json(*v) : hd::Json()}, {"unit", ""}, {"symbol", ""}};
+  };
+  c.metrics =
+      hd::Json{{"forward_volume", entry(vf)}, {"regurgitant_fraction", entry(rf)}, {"fit_error", entry(fit)}};
+  return c;
+}
+
+} // namespace
+
+TEST(Compare, TheRankingIsShownAndWrittenBestFirst)
+{
+  // Ranks: a 2, b 1, c 3 (the scores of ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes).
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0), case_of("b", 80, 5, std::nullopt),
+                                    case_of("c", 70, 20, 2.0)};
+  const hd::Ranking r = hd::rank_cases(cases);
+  EXPECT_EQ(r.by_rank, (std::vector<std::size_t>{1, 0, 2}));
+  EXPECT_EQ(r.rows[0].name, "a"); // rows stay in the cases' order
+  const auto out = scratch("compare_order");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const auto files = hd::write_comparison(cases, out, pages_only);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  const auto ranking = md.find("## Ranking");
+  EXPECT_LT(md.find("\n| b |", ranking), md.find("\n| a |", ranking));
+  EXPECT_LT(md.find("\n| a |", ranking), md.find("\n| c |", ranking));
+  const std::string csv = ibvalve::io::read_text_file(files.ranking_csv);
+  EXPECT_LT(csv.find("\nb,"), csv.find("\na,"));
+  EXPECT_LT(csv.find("\na,"), csv.find("\nc,"));
+  const std::string html = ibvalve::io::read_text_file(files.html);
+  const auto table = html.find("<table id=\"ranking\">");
+  EXPECT_LT(html.find("<tr><td>b</td>", table), html.find("<tr><td>a</td>", table));
+  EXPECT_LT(html.find("<tr><td>a</td>", table), html.find("<tr><td>c</td>", table));
+  fs::remove_all(out);
+}
+
+TEST(Compare, TheComparisonShowsTheInputsThatDifferBetweenTheCases)
+{
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0), case_of("b", 80, 5, 2.0)};
+  cases[0].inputs = {{"name", "\"a\""},
+                     {"time.step", "0.0001 s"},
+                     {"structure.material.preset", "\"zhu2021-W1\""},
+                     {"output.every", "10"}};
+  cases[1].inputs = {{"name", "\"b\""},
+                     {"time.step", "0.0001 s"},
+                     {"structure.material.preset", "\"zhu2021-W2\""},
+                     {"output.every", "5"},
+                     {"fibers.rule", "\"FD2\""}};
+  using Rows = std::vector<std::pair<std::string, std::vector<std::string>>>;
+  EXPECT_EQ(hd::differing_inputs(cases),
+            (Rows{{"structure.material.preset", {"\"zhu2021-W1\"", "\"zhu2021-W2\""}},
+                  {"fibers.rule", {"(unset)", "\"FD2\""}}}));
+  const auto out = scratch("compare_inputs");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const auto files = hd::write_comparison(cases, out, pages_only);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_LT(md.find("## What differs between the cases"), md.find("## Metrics per case"));
+  EXPECT_NE(md.find("| `structure.material.preset` | &quot;zhu2021-W1&quot; | &quot;zhu2021-W2&quot; |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<tr data-input=\"fibers.rule\">"),
+            std::string::npos);
+  // A run folder's inputs come from its config.toml.
+  const auto run = scratch("compare_inputs_run");
+  write_cycles(run, 1, 300.0, 5.0, 0.0);
+  std::ofstream(run / "config.toml") << "name = \"r\"\n[time]\nstep = 0.0001\n";
+  const hd::CaseResult loaded = hd::load_case(run);
+  EXPECT_EQ(loaded.inputs,
+            (std::vector<std::pair<std::string, std::string>>{{"name", "'r'"}, {"time.step", "0.0001"}}));
+  fs::remove_all(run);
+  fs::remove_all(out);
+}
