@@ -27,6 +27,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
+#include "app/leaflet_fit_error.hpp"
 #include "app/leaflet_state.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
@@ -351,26 +352,6 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
     // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
     s.merge(fluid::nested_schema());
   });
-}
-
-/// The mean over the samples of the mean absolute error (kPa) of the leaflet law's biaxial stresses
-/// with its parameters (docs/reference.md, "Constitutive fitting": the study's fit quality).
-double leaflet_fit_error(const materials::MaterialSettings& material,
-                         const std::vector<std::filesystem::path>& files)
-{
-  const materials::BiaxialSetup setup{material.law, material.options.fiber_compression, 0.0};
-  double sum = 0.0;
-  if (material.expression) { // through the law's 3-D stress, the fiber along axis 1
-    const materials::ExpressionLaw law = material.expression_law();
-    for (const auto& file : files)
-      sum +=
-          materials::fit_quality(materials::read_biaxial_csv(file), law, materials::biaxial_frame(setup)).mae;
-    return sum / static_cast<double>(files.size());
-  }
-  const std::vector<double> parameters = materials::to_user_units(material.law, material.parameters);
-  for (const auto& file : files)
-    sum += materials::fit_quality(materials::read_biaxial_csv(file), setup, parameters).mae;
-  return sum / static_cast<double>(files.size());
 }
 
 class AorticValveRun : public PreparedRun {
@@ -820,14 +801,7 @@ class AorticValveRun : public PreparedRun {
     if (!fit_error_) return;
     io::on_root(context.comm, [&] {
       nlohmann::ordered_json extra;
-      extra["fit_error"] = {
-          {"value", *fit_error_},
-          {"unit", "kPa"},
-          {"symbol", "e_fit"},
-          {"description",
-           fmt::format("mean absolute error of the leaflet law's stresses against the {} planar "
-                       "biaxial sample(s) of {}",
-                       k_.fit_data.size(), keys_.key_of(k_.fit_data))}};
+      extra["fit_error"] = fit_error_metric(*fit_error_, keys_.key_of(k_.fit_data));
       io::write_file_atomically(context.run_directory / "extra_metrics.json", extra.dump(2) + "\n");
     });
   }
@@ -843,7 +817,7 @@ class AorticValveRun : public PreparedRun {
   materials::MaterialSettings leaflet_material_, tube_material_;
   ib::IbfeSettings ib_;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
-  std::optional<double> fit_error_; ///< kPa, from leaflets.fit_data
+  std::optional<LeafletFitError> fit_error_; ///< from leaflets.fit_data
 
   /// The factor of both boundary pressures at time t: a smooth rise from 0 to 1 over the ramp.
   double pressure_ramp(double t) const

@@ -214,8 +214,19 @@ std::vector<int> ranks_of(const std::vector<double>& totals)
 
 } // namespace
 
-Ranking rank_cases(std::span<const CaseResult> cases)
+std::string check_criteria(std::span<const std::string> keys)
 {
+  std::vector<std::string> names;
+  for (const auto& criterion : ranking_criteria()) names.push_back(criterion.key);
+  for (const auto& key : keys)
+    if (std::find(names.begin(), names.end(), key) == names.end())
+      return fmt::format("'{}' is no ranking criterion ({})", key, fmt::join(names, ", "));
+  return {};
+}
+
+Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::string> leave_out)
+{
+  if (const std::string why = check_criteria(leave_out); !why.empty()) throw std::invalid_argument(why);
   const auto& criteria = ranking_criteria();
   Ranking r;
   r.used.assign(criteria.size(), true);
@@ -230,6 +241,10 @@ Ranking rank_cases(std::span<const CaseResult> cases)
     for (auto& row : r.rows) row.scores.push_back(std::nullopt);
   };
   for (std::size_t k = 0; k < criteria.size(); ++k) {
+    if (std::find(leave_out.begin(), leave_out.end(), criteria[k].key) != leave_out.end()) {
+      leave(k, "left out on request");
+      continue;
+    }
     std::vector<std::string> missing;
     for (const auto& c : cases) {
       const auto v = metric_value(c, criteria[k].key);
@@ -292,6 +307,31 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   return r;
 }
 
+std::vector<std::string> criterion_notes(std::span<const CaseResult> cases, const Ranking& ranking)
+{
+  std::vector<std::string> notes;
+  const auto& criteria = ranking_criteria();
+  for (std::size_t k = 0; k < criteria.size(); ++k) {
+    std::vector<std::string> synthetic;
+    std::string what;
+    for (const auto& c : cases) {
+      const Json* flag = metric_field(c, criteria[k].key, "synthetic_data");
+      if (!flag || !flag->is_boolean() || !flag->get<bool>()) continue;
+      synthetic.push_back(c.name);
+      if (what.empty()) what = metric_text(c, criteria[k].key, "note");
+    }
+    if (synthetic.empty()) continue;
+    notes.push_back(
+        fmt::format("{}: measured against synthetic data for {} ({}); {}", criteria[k].label,
+                    fmt::join(synthetic, ", "), what.empty() ? "the data were generated, not measured" : what,
+                    k < ranking.used.size() && ranking.used[k]
+                        ? fmt::format("leave it out of the ranking with --leave-out {} (a study: leave_out)",
+                                      criteria[k].key)
+                        : std::string("it is left out of this ranking")));
+  }
+  return notes;
+}
+
 std::vector<std::pair<std::string, std::vector<std::string>>>
 differing_inputs(std::span<const CaseResult> cases)
 {
@@ -324,6 +364,13 @@ namespace {
 
 using kainjow::mustache::data;
 
+data text_rows(std::span<const std::string> texts)
+{
+  data rows{data::type::list};
+  for (const auto& t : texts) rows.push_back(data("text", t));
+  return rows;
+}
+
 /// `metrics`: one row per metric, a cell per case.
 data metric_rows(std::span<const CaseResult> cases, std::span<const std::string> keys)
 {
@@ -335,6 +382,11 @@ data metric_rows(std::span<const CaseResult> cases, std::span<const std::string>
     row.set("symbol", symbol);
     row.set("label", symbol.empty() ? key : fmt::format("{} (`{}`)", symbol, key));
     row.set("unit", first_text(cases, key, "unit"));
+    bool synthetic = false;
+    for (const auto& c : cases)
+      if (const Json* flag = metric_field(c, key, "synthetic_data"); flag && flag->is_boolean())
+        synthetic = synthetic || flag->get<bool>();
+    row.set("synthetic", synthetic);
     data cells{data::type::list};
     for (const auto& c : cases) {
       const auto v = metric_value(c, key);
@@ -406,8 +458,9 @@ data comparison_values(std::span<const CaseResult> cases, std::span<const std::s
   const auto used = std::count(ranking.used.begin(), ranking.used.end(), true);
   values.set("left_out_note", ranking.left_out.empty()
                                   ? std::string("all 12 criteria are ranked")
-                                  : fmt::format("{} of 12 criteria ranked; left out as missing: {}", used,
+                                  : fmt::format("{} of 12 criteria ranked; left out: {}", used,
                                                 fmt::join(ranking.left_out, "; ")));
+  values.set("criterion_notes", text_rows(criterion_notes(cases, ranking)));
   data criterion_rows{data::type::list};
   for (const auto& criterion : ranking_criteria()) {
     data row;
@@ -442,7 +495,9 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   const PageTemplates templates = load_page_templates("comparison", options.templates, "--templates");
   const auto keys = all_keys(cases);
   const auto& criteria = ranking_criteria();
-  const Ranking ranking = rank_cases(cases);
+  if (const std::string why = check_criteria(options.leave_out); !why.empty())
+    throw InputError("leave out " + why);
+  const Ranking ranking = rank_cases(cases, options.leave_out);
 
   std::string metrics_csv = "metric,symbol,unit";
   for (const auto& c : cases) metrics_csv += "," + csv_field(c.name);

@@ -297,6 +297,9 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
             text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
             value != v.end() && value->is_number() ? std::optional(value->get<double>()) : std::nullopt,
             text("note"));
+        // A figure measured against generated data says so wherever it is shown (the fit error).
+        if (const auto synthetic = v.find("synthetic_data"); synthetic != v.end() && synthetic->is_boolean())
+          values[key]["synthetic_data"] = synthetic->get<bool>();
       } else {
         throw InputError(extra_file.string() + ": " + key +
                          ": expected a number or an object with \"value\"");

@@ -103,8 +103,9 @@ Json provenance_document(const std::filesystem::path& run_directory);
 /// the headline figures beside their published ranges and the plausibility checks
 /// (report_layout.hpp), phases, metrics (value, unit, symbol, description, note, group), notes,
 /// provenance. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value,
-/// unit, symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error,
-/// strain and stress variation, displacements) it computes itself.
+/// unit, symbol, description, note, synthetic_data}) are appended: this is how a 3-D run adds structural
+/// metrics (fit error, strain and stress variation, displacements) it computes itself; synthetic_data
+/// (true: measured against generated data) is kept for the comparison to say so.
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const std::filesystem::path& run_directory);
 

@@ -5,7 +5,9 @@
       count                     the number of cases
       cases                     list: name
       metrics                   list, one per metric of any case: key, symbol, label ("symbol (`key`)",
-                                or the key when there is no symbol), unit, values (list, one per case:
+                                or the key when there is no symbol), unit, synthetic (true when some
+                                case's figure is measured against synthetic data), values (list, one
+                                per case:
                                 value (4 significant digits, "± u" after it when the metric carries
                                 an uncertainty, or "missing"), exact (every digit, or
                                 "null"), missing (true when the case has no value))
@@ -14,6 +16,8 @@
                                 but name and the output, log, run and checkpoint tables): key, values
                                 (list, one per case: value, "(unset)" where a case lacks the key)
       left_out_note             how many of the 12 criteria are ranked, and which are left out and why
+      criterion_notes           list, what a criterion's figures rest on (the fit error measured against
+                                synthetic samples): text
       criteria                  list, the study's 12: key, label, higher_is_better
       ranking                   list, one per case, in rank order: name, scores (list, one per ranked
                                 criterion: value,
@@ -44,13 +48,17 @@ Their recorded inputs (config.toml) are the same, but for their names.
 | metric | unit |{{#cases}} {{name}} |{{/cases}}
 |---|---|{{#cases}}---|{{/cases}}
 {{#metrics}}
-| {{label}} | {{unit}} |{{#values}} {{value}} |{{/values}}
+| {{label}}{{#synthetic}} (synthetic data: see the note under the ranking){{/synthetic}} | {{unit}} |{{#values}} {{value}} |{{/values}}
 {{/metrics}}
 
 ## Ranking (Table 8 style), best first
 
 Each criterion: best case 1, worst 0, linear in between; total = sum; rank by total. {{left_out_note}}.
 {{uncertainty_note}}.
+{{#criterion_notes}}
+
+> **Note:** {{text}}.
+{{/criterion_notes}}
 
 | case |{{#criteria}} {{label}} ({{#higher_is_better}}higher{{/higher_is_better}}{{^higher_is_better}}lower{{/higher_is_better}} better) |{{/criteria}} total | rank |{{#uncertain}} rank held |{{/uncertain}}
 |---|{{#criteria}}---|{{/criteria}}---|---|{{#uncertain}}---|{{/uncertain}}

@@ -488,7 +488,7 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
       "MARKER {{count}}{{#metrics}} {{key}}={{#values}}{{value}}{{/values}}{{/metrics}}\n");
   fs::remove(templates / "comparison.html.tpl");
   const auto out = scratch("compare_user");
-  const hd::ComparisonOptions options{templates, "/usr/bin/python3", false};
+  const hd::ComparisonOptions options{templates, "/usr/bin/python3", false, {}};
   const auto files = hd::write_comparison(cases, out, options);
   const std::string md = ibvalve::io::read_text_file(files.markdown);
   EXPECT_EQ(md.rfind("MARKER 1 forward_volume=70", 0), 0u) << md;
@@ -503,7 +503,7 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
     EXPECT_NE(std::string(error.what()).find("comparison.md.tpl:1:"), std::string::npos) << error.what();
   }
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_THROW(hd::write_comparison(cases, out, {templates / "missing", "/usr/bin/python3", false}),
+  EXPECT_THROW(hd::write_comparison(cases, out, {templates / "missing", "/usr/bin/python3", false, {}}),
                ibvalve::InputError);
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(templates);
@@ -718,9 +718,30 @@ TEST(Report, ARunsEndOfCycleWritesThatCyclesFolderAndTheReportedOnesOnlyWhenItIs
   fs::remove_all(run);
 }
 
+TEST(Report, AFitErrorAgainstSyntheticSamplesSaysSoOnTheReport)
+{
+  const auto run = scratch("synthetic");
+  write_cycles(run, 1, 300.0, 5.0, 0.0);
+  std::ofstream(run / "extra_metrics.json")
+      << R"({"fit_error": {"value": 0.9, "unit": "kPa", "synthetic_data": true,
+              "note": "3 of 3 sample(s) synthetic, drawn from the W1 curves"}})";
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const hd::Json fit = hd::Json::parse(ibvalve::io::read_text_file(files.json)).at("metrics").at("fit_error");
+  EXPECT_EQ(fit.at("synthetic_data"), true);
+  EXPECT_NE(
+      ibvalve::io::read_text_file(files.html).find("3 of 3 sample(s) synthetic, drawn from the W1 curves"),
+      std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(files.markdown).find("3 of 3 sample(s) synthetic"),
+            std::string::npos);
+  fs::remove_all(run);
+}
+
 namespace {
 
-hd::CaseResult case_of(const std::string& name, double vf, double rf, std::optional<double> fit)
+hd::CaseResult case_of(const std::string& name, double vf, double rf, std::optional<double> fit,
+                       bool synthetic = false)
 {
   hd::CaseResult c;
   c.name = name;
@@ -729,6 +750,10 @@ hd::CaseResult case_of(const std::string& name, double vf, double rf, std::optio
   };
   c.metrics =
       hd::Json{{"forward_volume", entry(vf)}, {"regurgitant_fraction", entry(rf)}, {"fit_error", entry(fit)}};
+  if (synthetic) {
+    c.metrics["fit_error"]["synthetic_data"] = true;
+    c.metrics["fit_error"]["note"] = "3 of 3 sample(s) synthetic, drawn from a law's own curves";
+  }
   return c;
 }
 
@@ -795,5 +820,44 @@ TEST(Compare, TheComparisonShowsTheInputsThatDifferBetweenTheCases)
   EXPECT_EQ(loaded.inputs,
             (std::vector<std::pair<std::string, std::string>>{{"name", "'r'"}, {"time.step", "0.0001"}}));
   fs::remove_all(run);
+  fs::remove_all(out);
+}
+
+TEST(Compare, ACriterionMeasuredAgainstSyntheticDataSaysSoAndCanBeLeftOut)
+{
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0, true), case_of("b", 80, 5, 2.0, true)};
+  const std::size_t fit = criterion_index("fit_error");
+  hd::Ranking ranked = hd::rank_cases(cases);
+  EXPECT_TRUE(ranked.used[fit]);
+  std::vector<std::string> notes = hd::criterion_notes(cases, ranked);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(
+      notes[0].rfind("fit error: measured against synthetic data for a, b (3 of 3 sample(s) synthetic", 0),
+      0u)
+      << notes[0];
+  EXPECT_NE(notes[0].find("--leave-out fit_error"), std::string::npos) << notes[0];
+  const auto out = scratch("compare_synthetic");
+  hd::ComparisonOptions options;
+  options.plots = false;
+  std::string md = ibvalve::io::read_text_file(hd::write_comparison(cases, out, options).markdown);
+  EXPECT_NE(md.find("> **Note:** fit error: measured against synthetic data"), std::string::npos) << md;
+  EXPECT_NE(md.find("(synthetic data: see the note under the ranking)"), std::string::npos) << md;
+  // Left out on request: the ranking goes without it, and the note says so.
+  const std::vector<std::string> leave_out{"fit_error"};
+  const hd::Ranking without = hd::rank_cases(cases, leave_out);
+  EXPECT_FALSE(without.used[fit]);
+  EXPECT_EQ(without.left_out.front(),
+            "fit_error (left out on request)"); // then the criteria these cases lack
+  EXPECT_FALSE(without.rows[0].scores[fit].has_value());
+  EXPECT_NE(hd::criterion_notes(cases, without)[0].find("it is left out of this ranking"), std::string::npos);
+  options.leave_out = leave_out;
+  md = ibvalve::io::read_text_file(hd::write_comparison(cases, out, options).markdown);
+  EXPECT_NE(
+      md.find(
+          "2 of 12 criteria ranked; left out: fit_error (left out on request); max_orifice_area (missing"),
+      std::string::npos);
+  EXPECT_FALSE(hd::check_criteria(std::vector<std::string>{"fit_eror"}).empty());
+  options.leave_out = {"fit_eror"};
+  EXPECT_THROW(hd::write_comparison(cases, out, options), ibvalve::InputError);
   fs::remove_all(out);
 }
