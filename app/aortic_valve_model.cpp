@@ -27,6 +27,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
+#include "app/leaflet_fit_error.hpp"
 #include "app/leaflet_state.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
@@ -351,26 +352,6 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
     // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
     s.merge(fluid::nested_schema());
   });
-}
-
-/// The mean over the samples of the mean absolute error (kPa) of the leaflet law's biaxial stresses
-/// with its parameters (docs/reference.md, "Constitutive fitting": the study's fit quality).
-double leaflet_fit_error(const materials::MaterialSettings& material,
-                         const std::vector<std::filesystem::path>& files)
-{
-  const materials::BiaxialSetup setup{material.law, material.options.fiber_compression, 0.0};
-  double sum = 0.0;
-  if (material.expression) { // through the law's 3-D stress, the fiber along axis 1
-    const materials::ExpressionLaw law = material.expression_law();
-    for (const auto& file : files)
-      sum +=
-          materials::fit_quality(materials::read_biaxial_csv(file), law, materials::biaxial_frame(setup)).mae;
-    return sum / static_cast<double>(files.size());
-  }
-  const std::vector<double> parameters = materials::to_user_units(material.law, material.parameters);
-  for (const auto& file : files)
-    sum += materials::fit_quality(materials::read_biaxial_csv(file), setup, parameters).mae;
-  return sum / static_cast<double>(files.size());
 }
 
 class AorticValveRun : public PreparedRun {
@@ -776,26 +757,42 @@ class AorticValveRun : public PreparedRun {
         PETSC_COMM_WORLD);
   }
 
-  /// The report of cycle `cycle` (1, 2, ...), or, for a run shorter than a cycle (cycle 0), of its
-  /// whole `length`.
+  /// At the end of cycle `cycle` (1, 2, ...) its report in report/cycle_N/, and report/ when it is the
+  /// reported cycle (report.cycle); for a run shorter than a cycle (cycle 0), the report of its whole
+  /// `length` in report/.
   void write_report(const RunContext& context, RunSummary& summary, long cycle, double length = 0.0) const
   {
     hemodynamics::ReportOptions options;
     options.settings = k_.report.metrics;
     options.settings.density = k_.fluid.rho; // the EOA's density is the fluid's (g/cm^3 = g/mL)
-    if (cycle == 0) options.settings.period = length;
+    options.cycle_folders = hemodynamics::CycleFolders::last;
+    options.run_cycles = static_cast<int>(total_cycles());
+    if (cycle == 0) {
+      options.settings.period = length;
+      options.settings.cycle = -1;
+      options.cycle_folders = hemodynamics::CycleFolders::none;
+    }
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {
       const auto files = hemodynamics::write_report(context.run_directory, options);
-      summary.lines.push_back((cycle > 0 ? fmt::format("cycle {} report: ", cycle)
-                                         : "report of the run's " + hemodynamics::format_value(length) +
-                                               " s (shorter than a " + hemodynamics::format_value(period_) +
-                                               " s cycle: its metrics are of that window): ") +
-                              files.html.string());
+      if (cycle == 0) {
+        summary.lines.push_back("report of the run's " + hemodynamics::format_value(length) +
+                                " s (shorter than a " + hemodynamics::format_value(period_) +
+                                " s cycle: its metrics are of that window): " + files.html.string());
+        return;
+      }
+      std::string line =
+          fmt::format("cycle {} of {} report: {}", cycle, total_cycles(), files.cycle_pages.back().string());
+      if (files.directory != files.cycle_pages.back().parent_path())
+        line += fmt::format(" (the reported cycle's: {})", files.html.string());
+      summary.lines.push_back(line);
     });
   }
+
+  /// The run's whole cycles: time.cycles, or those time.end holds.
+  long total_cycles() const { return steps_ / steps_per_cycle_; }
 
   /// <run>/extra_metrics.json: what the report adds from outside the time series (docs/hemodynamics.md,
   /// "Extra metrics"), here the leaflet law's fit error. Written whole or not at all, by rank 0.
@@ -804,14 +801,7 @@ class AorticValveRun : public PreparedRun {
     if (!fit_error_) return;
     io::on_root(context.comm, [&] {
       nlohmann::ordered_json extra;
-      extra["fit_error"] = {
-          {"value", *fit_error_},
-          {"unit", "kPa"},
-          {"symbol", "e_fit"},
-          {"description",
-           fmt::format("mean absolute error of the leaflet law's stresses against the {} planar "
-                       "biaxial sample(s) of {}",
-                       k_.fit_data.size(), keys_.key_of(k_.fit_data))}};
+      extra["fit_error"] = fit_error_metric(*fit_error_, keys_.key_of(k_.fit_data));
       io::write_file_atomically(context.run_directory / "extra_metrics.json", extra.dump(2) + "\n");
     });
   }
@@ -827,7 +817,7 @@ class AorticValveRun : public PreparedRun {
   materials::MaterialSettings leaflet_material_, tube_material_;
   ib::IbfeSettings ib_;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;
-  std::optional<double> fit_error_; ///< kPa, from leaflets.fit_data
+  std::optional<LeafletFitError> fit_error_; ///< from leaflets.fit_data
 
   /// The factor of both boundary pressures at time t: a smooth rise from 0 to 1 over the ramp.
   double pressure_ramp(double t) const

@@ -282,7 +282,9 @@ class LumpedRun : public PreparedRun {
     summary.lines.push_back("V_F " + show("forward_volume") + ", RF " + show("regurgitant_fraction") +
                             ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +
                             show("effective_orifice_area") + ", E_L " + show("energy_loss"));
-    summary.lines.push_back("report: " + files.html.string());
+    summary.lines.push_back(fmt::format("report of cycle {} of {}: {} (each cycle's in {}/cycle_N/)",
+                                        files.reported_cycle, files.cycles, files.html.string(),
+                                        files.directory.string()));
   }
 };
 

@@ -1,5 +1,6 @@
 // `ibvalve report RUN_DIR`: metrics.json, report.md and report.html (with matplotlib plots) for a run
-// folder's timeseries.csv. Metric settings (and the templates folder) come from the run's config.toml
+// folder's timeseries.csv: the reported cycle's in RUN_DIR/report (or -o DIR), each cycle's in its
+// cycle_N/ there. Metric settings (and the templates folder) come from the run's config.toml
 // ([report] table) unless given on the command line. `ibvalve report --write-templates DIR` copies the
 // built-in templates (the report's and the comparison's) out for restyling.
 #include <filesystem>
@@ -58,6 +59,7 @@ struct ReportCommandOptions {
   std::optional<std::string> closure_rule;
   std::optional<std::filesystem::path> templates;
   std::optional<std::filesystem::path> write_templates;
+  std::filesystem::path output; // empty = RUN_DIR/report
 };
 
 int report(const ReportCommandOptions& options)
@@ -76,16 +78,22 @@ int report(const ReportCommandOptions& options)
     report_options.run_period = recorded.period;
     if (options.period) report_options.settings.period = *options.period;
     report_options.period_given = options.period.has_value();
+    if (options.cycle == 0)
+      throw InputError("--cycle 0: cycles count from 1 (1 = the first, -1 = the last whole cycle)");
     if (options.cycle) report_options.settings.cycle = *options.cycle;
     if (options.closure_rule)
       report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
     report_options.python = options.python;
     report_options.plots = !options.no_plots;
     report_options.templates = options.templates ? *options.templates : recorded.report.templates;
+    report_options.output = options.output;
     const auto files = hemodynamics::write_report(options.run_directory, report_options);
-    base::Logger::global().info("metrics: " + files.json.string());
-    base::Logger::global().info(
-        fmt::format("report:  {} (and report.md, {} plots)", files.html.string(), files.plots.size()));
+    auto& log = base::Logger::global();
+    for (std::size_t c = 0; c < files.cycle_pages.size(); ++c)
+      log.info(fmt::format("cycle {} of {} report: {}", c + 1, files.cycles, files.cycle_pages[c].string()));
+    log.info(fmt::format("metrics of the reported cycle ({} of {}): {}", files.reported_cycle, files.cycles,
+                         files.json.string()));
+    log.info(fmt::format("report:  {} (and report.md, {} plots)", files.html.string(), files.plots.size()));
   });
   return 0;
 }
@@ -106,8 +114,14 @@ void add_report_command(CLI::App& app, CommandAction& action)
                   "cardiac cycle, s (default: report.period of the run, else 0.8; another than the "
                   "run's is warned about, one longer than the series or under 10 rows refused)")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--cycle", options->cycle, "cycle to analyse (0 = first, -1 = last full)")
+  sub->add_option(
+         "--cycle", options->cycle,
+         "the reported cycle, counted from 1 (-1 = the last whole; default: report.cycle of the run)")
       ->check(CLI::Range(-1, 1000000));
+  sub->add_option("-o,--output", options->output,
+                  "folder of the report (default: RUN_DIR/report): the reported cycle's report there, every "
+                  "cycle's in its cycle_N/")
+      ->check(non_empty_path);
   sub->add_option("--closure-rule", options->closure_rule, "how the closure instant is found")
       ->check(CLI::IsMember({"auto", "flow", "area"}));
   sub->add_option("--templates", options->templates,

@@ -7,6 +7,7 @@
 //   base = "default.toml"            # case file of every case (relative to the study file)
 //   output = "runs/study"            # each case runs in <output>/<case name>; comparison in
 //   <output>/comparison set = ["time.cycles=1"]          # overrides for every case (optional)
+//   leave_out = ["fit_error"]        # ranking criteria the comparison leaves out (optional)
 //   [[case]]
 //   name = "W1FD1"
 //   set = ["structure.material.preset=\"zhu2021-W1\""]   # this case's overrides (after the common ones)
@@ -63,6 +64,7 @@ struct UncertaintySource {
 
 struct Study {
   std::filesystem::path output;
+  std::vector<std::string> leave_out; // ranking criteria the comparison leaves out
   std::vector<StudyCase> cases;
   std::vector<UncertaintySource> sources;
 };
@@ -98,6 +100,10 @@ io::Schema study_schema()
       .defaults(std::string("runs/study"));
   s.add_string_list("set", "overrides for every case, as with ibvalve run --set")
       .defaults(std::vector<std::string>{});
+  s.add_string_list("leave_out",
+                    "ranking criteria (metric keys, e.g. \"fit_error\") the comparison leaves out, as with "
+                    "ibvalve compare --leave-out")
+      .defaults(std::vector<std::string>{});
   io::Schema one;
   one.add_string("name", "the case's name: its run folder and its name in the comparison").required();
   one.add_string("file", "this case's own case file (default: base)").file(true);
@@ -122,6 +128,9 @@ Study read_study(const StudyOptions& options)
   study.output = options.output.empty() ? std::filesystem::path(config.string("output")) : options.output;
   if (!config.has("case")) config.fail("case", "a study needs at least one [[case]]");
   const std::vector<std::string> common = config.strings("set");
+  study.leave_out = config.strings("leave_out");
+  if (const std::string why = hemodynamics::check_criteria(study.leave_out); !why.empty())
+    config.fail("leave_out", why);
   std::set<std::string> names;
   for (const io::Config& c : config.tables("case")) {
     StudyCase one;
@@ -185,10 +194,11 @@ int print_jobs(const Study& study, const StudyOptions& options)
   }
   for (const auto& source : study.sources)
     for (const auto& c : study.cases) job(c, variant_folder(study, source, c), variant_overrides(c, source));
-  if (study.sources.empty())
-    out << quoted(program) << " compare" << runs << " -o " << quoted((study.output / "comparison").string())
-        << '\n';
-  else // the uncertainties need the study file: collect combines them, rewrites the reports, compares
+  if (study.sources.empty()) {
+    out << quoted(program) << " compare" << runs << " -o " << quoted((study.output / "comparison").string());
+    for (const auto& key : study.leave_out) out << " --leave-out " << quoted(key);
+    out << '\n';
+  } else // the uncertainties need the study file: collect combines them, rewrites the reports, compares
     out << quoted(program) << " study " << quoted(std::filesystem::absolute(options.study_file).string())
         << " -o " << quoted(study.output.string()) << " --collect\n";
   int rank = 0;
@@ -270,7 +280,9 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
       }
   if (!study.sources.empty()) run_on_root_rank(PETSC_COMM_WORLD, [&] { combine_uncertainties(study); });
   log.info(fmt::format("study: comparing {} cases", folders.size()));
-  return compare_runs(folders, study.output / "comparison", hemodynamics::ComparisonOptions{});
+  hemodynamics::ComparisonOptions compare;
+  compare.leave_out = study.leave_out;
+  return compare_runs(folders, study.output / "comparison", compare);
 }
 
 } // namespace

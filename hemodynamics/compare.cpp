@@ -11,6 +11,7 @@
 #include "base/errors.hpp"
 #include "hemodynamics/report.hpp"
 #include "io/files.hpp"
+#include "io/recorded_config.hpp"
 
 namespace ibvalve::hemodynamics {
 
@@ -46,6 +47,8 @@ CaseResult load_case(const fs::path& run_directory)
   if (fs::exists(config)) {
     const toml::table root = io::parse_toml_file(config);
     if (auto name = root["name"].value<std::string>(); name && !name->empty()) c.name = *name;
+    for (const io::RecordedEntry& entry : io::read_recorded_config(config))
+      c.inputs.emplace_back(entry.key, entry.unit.empty() ? entry.value : entry.value + " " + entry.unit);
   }
   const fs::path stored = run_directory / "report" / "metrics.json";
   Json doc;
@@ -218,8 +221,19 @@ std::vector<int> ranks_of(const std::vector<double>& totals)
 
 } // namespace
 
-Ranking rank_cases(std::span<const CaseResult> cases)
+std::string check_criteria(std::span<const std::string> keys)
 {
+  std::vector<std::string> names;
+  for (const auto& criterion : ranking_criteria()) names.push_back(criterion.key);
+  for (const auto& key : keys)
+    if (std::find(names.begin(), names.end(), key) == names.end())
+      return fmt::format("'{}' is no ranking criterion ({})", key, fmt::join(names, ", "));
+  return {};
+}
+
+Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::string> leave_out)
+{
+  if (const std::string why = check_criteria(leave_out); !why.empty()) throw std::invalid_argument(why);
   const auto& criteria = ranking_criteria();
   Ranking r;
   r.used.assign(criteria.size(), true);
@@ -228,7 +242,16 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   // Per used criterion: the cases' values and standard uncertainties.
   std::vector<std::size_t> used;
   std::vector<std::vector<double>> values(criteria.size()), uncertainties(criteria.size());
+  auto leave = [&](std::size_t k, const std::string& why) {
+    r.used[k] = false;
+    r.left_out.push_back(fmt::format("{} ({})", criteria[k].key, why));
+    for (auto& row : r.rows) row.scores.push_back(std::nullopt);
+  };
   for (std::size_t k = 0; k < criteria.size(); ++k) {
+    if (std::find(leave_out.begin(), leave_out.end(), criteria[k].key) != leave_out.end()) {
+      leave(k, "left out on request");
+      continue;
+    }
     std::vector<std::string> missing;
     for (const auto& c : cases) {
       const auto v = metric_value(c, criteria[k].key);
@@ -237,9 +260,7 @@ Ranking rank_cases(std::span<const CaseResult> cases)
       uncertainties[k].push_back(v ? metric_uncertainty(c, criteria[k].key) : 0.0);
     }
     if (!missing.empty() || cases.empty()) {
-      r.used[k] = false;
-      r.left_out.push_back(fmt::format("{} (missing for: {})", criteria[k].key, fmt::join(missing, ", ")));
-      for (auto& row : r.rows) row.scores.push_back(std::nullopt);
+      leave(k, fmt::format("missing for: {}", fmt::join(missing, ", ")));
       continue;
     }
     used.push_back(k);
@@ -255,6 +276,9 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   for (const auto& row : r.rows) totals.push_back(row.total);
   const std::vector<int> ranks = ranks_of(totals);
   for (std::size_t i = 0; i < cases.size(); ++i) r.rows[i].rank = ranks[i];
+  r.by_rank.resize(cases.size());
+  std::iota(r.by_rank.begin(), r.by_rank.end(), 0);
+  std::stable_sort(r.by_rank.begin(), r.by_rank.end(), [&](auto a, auto b) { return ranks[a] < ranks[b]; });
   if (!r.uncertain) return r;
 
   // The ranking's stability: every uncertain value drawn about itself, the cases scored and ranked as
@@ -290,21 +314,74 @@ Ranking rank_cases(std::span<const CaseResult> cases)
   return r;
 }
 
+std::vector<std::string> criterion_notes(std::span<const CaseResult> cases, const Ranking& ranking)
+{
+  std::vector<std::string> notes;
+  const auto& criteria = ranking_criteria();
+  for (std::size_t k = 0; k < criteria.size(); ++k) {
+    std::vector<std::string> synthetic;
+    std::string what;
+    for (const auto& c : cases) {
+      const Json* flag = metric_field(c, criteria[k].key, "synthetic_data");
+      if (!flag || !flag->is_boolean() || !flag->get<bool>()) continue;
+      synthetic.push_back(c.name);
+      if (what.empty()) what = metric_text(c, criteria[k].key, "note");
+    }
+    if (synthetic.empty()) continue;
+    notes.push_back(
+        fmt::format("{}: measured against synthetic data for {} ({}); {}", criteria[k].label,
+                    fmt::join(synthetic, ", "), what.empty() ? "the data were generated, not measured" : what,
+                    k < ranking.used.size() && ranking.used[k]
+                        ? fmt::format("leave it out of the ranking with --leave-out {} (a study: leave_out)",
+                                      criteria[k].key)
+                        : std::string("it is left out of this ranking")));
+  }
+  return notes;
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>>
+differing_inputs(std::span<const CaseResult> cases)
+{
+  auto shown = [](const std::string& key) {
+    if (key == "name") return false; // the cases' names head the columns
+    for (const char* table : {"output.", "log.", "run.", "checkpoint."})
+      if (key.rfind(table, 0) == 0) return false;
+    return true;
+  };
+  std::vector<std::string> keys;
+  for (const auto& c : cases)
+    for (const auto& [key, value] : c.inputs)
+      if (shown(key) && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  std::vector<std::pair<std::string, std::vector<std::string>>> out;
+  for (const auto& key : keys) {
+    std::vector<std::string> values;
+    for (const auto& c : cases) {
+      const auto it =
+          std::find_if(c.inputs.begin(), c.inputs.end(), [&](const auto& e) { return e.first == key; });
+      values.push_back(it == c.inputs.end() ? (c.inputs.empty() ? "(no config.toml)" : "(unset)")
+                                            : it->second);
+    }
+    if (std::adjacent_find(values.begin(), values.end(), std::not_equal_to<>()) != values.end())
+      out.emplace_back(key, std::move(values));
+  }
+  return out;
+}
+
 namespace {
 
-/// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
-kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
-                                          std::span<const std::string> keys, const Ranking& ranking,
-                                          std::span<const fs::path> plots)
-{
-  using kainjow::mustache::data;
-  data values;
-  values.set("count", fmt::format("{}", cases.size()));
-  data case_rows{data::type::list};
-  for (const auto& c : cases) case_rows.push_back(data("name", c.name));
-  values.set("cases", case_rows);
+using kainjow::mustache::data;
 
-  data metric_rows{data::type::list};
+data text_rows(std::span<const std::string> texts)
+{
+  data rows{data::type::list};
+  for (const auto& t : texts) rows.push_back(data("text", t));
+  return rows;
+}
+
+/// `metrics`: one row per metric, a cell per case.
+data metric_rows(std::span<const CaseResult> cases, std::span<const std::string> keys)
+{
+  data rows{data::type::list};
   for (const auto& key : keys) {
     data row;
     const std::string symbol = first_text(cases, key, "symbol");
@@ -312,6 +389,11 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     row.set("symbol", symbol);
     row.set("label", symbol.empty() ? key : fmt::format("{} (`{}`)", symbol, key));
     row.set("unit", first_text(cases, key, "unit"));
+    bool synthetic = false;
+    for (const auto& c : cases)
+      if (const Json* flag = metric_field(c, key, "synthetic_data"); flag && flag->is_boolean())
+        synthetic = synthetic || flag->get<bool>();
+    row.set("synthetic", synthetic);
     data cells{data::type::list};
     for (const auto& c : cases) {
       const auto v = metric_value(c, key);
@@ -323,27 +405,17 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
       cells.push_back(cell);
     }
     row.set("values", cells);
-    metric_rows.push_back(row);
+    rows.push_back(row);
   }
-  values.set("metrics", metric_rows);
+  return rows;
+}
 
-  const auto used = std::count(ranking.used.begin(), ranking.used.end(), true);
-  values.set("left_out_note", ranking.left_out.empty()
-                                  ? std::string("all 12 criteria are ranked")
-                                  : fmt::format("{} of 12 criteria ranked; left out as missing: {}", used,
-                                                fmt::join(ranking.left_out, "; ")));
-  data criterion_rows{data::type::list};
-  for (const auto& criterion : ranking_criteria()) {
-    data row;
-    row.set("key", criterion.key);
-    row.set("label", criterion.label);
-    row.set("higher_is_better", criterion.higher_is_better);
-    criterion_rows.push_back(row);
-  }
-  values.set("criteria", criterion_rows);
-  values.set("plots", plot_template_rows(plots, comparison_plots));
-  data ranking_rows{data::type::list};
-  for (const auto& r : ranking.rows) {
+/// `ranking`: one row per case, in rank order.
+data ranking_rows(const Ranking& ranking)
+{
+  data rows{data::type::list};
+  for (const std::size_t i : ranking.by_rank) {
+    const RankingRow& r = ranking.rows[i];
     data row;
     row.set("name", r.name);
     data scores{data::type::list};
@@ -357,9 +429,56 @@ kainjow::mustache::data comparison_values(std::span<const CaseResult> cases,
     row.set("total", format_value(r.total));
     row.set("rank", fmt::format("{}", r.rank));
     row.set("rank_held", fmt::format("{:.0f} %", 100.0 * r.rank_held));
-    ranking_rows.push_back(row);
+    rows.push_back(row);
   }
-  values.set("ranking", ranking_rows);
+  return rows;
+}
+
+/// `differences`: one row per differing input, a cell per case.
+data difference_rows(std::span<const CaseResult> cases)
+{
+  data rows{data::type::list};
+  for (const auto& [key, values] : differing_inputs(cases)) {
+    data row;
+    row.set("key", key);
+    data cells{data::type::list};
+    for (const auto& v : values) cells.push_back(data("value", v));
+    row.set("values", cells);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// What the comparison templates fill in (the names templates/comparison.md.tpl lists).
+data comparison_values(std::span<const CaseResult> cases, std::span<const std::string> keys,
+                       const Ranking& ranking, std::span<const fs::path> plots)
+{
+  data values;
+  values.set("count", fmt::format("{}", cases.size()));
+  data case_rows{data::type::list};
+  for (const auto& c : cases) case_rows.push_back(data("name", c.name));
+  values.set("cases", case_rows);
+  const data differences = difference_rows(cases);
+  values.set("has_differences", !differences.list_value().empty());
+  values.set("differences", differences);
+  values.set("metrics", metric_rows(cases, keys));
+  const auto used = std::count(ranking.used.begin(), ranking.used.end(), true);
+  values.set("left_out_note", ranking.left_out.empty()
+                                  ? std::string("all 12 criteria are ranked")
+                                  : fmt::format("{} of 12 criteria ranked; left out: {}", used,
+                                                fmt::join(ranking.left_out, "; ")));
+  values.set("criterion_notes", text_rows(criterion_notes(cases, ranking)));
+  data criterion_rows{data::type::list};
+  for (const auto& criterion : ranking_criteria()) {
+    data row;
+    row.set("key", criterion.key);
+    row.set("label", criterion.label);
+    row.set("higher_is_better", criterion.higher_is_better);
+    criterion_rows.push_back(row);
+  }
+  values.set("criteria", criterion_rows);
+  values.set("plots", plot_template_rows(plots, comparison_plots));
+  values.set("ranking", ranking_rows(ranking));
   values.set("uncertain", ranking.uncertain);
   values.set(
       "uncertainty_note",
@@ -383,7 +502,9 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   const PageTemplates templates = load_page_templates("comparison", options.templates, "--templates");
   const auto keys = all_keys(cases);
   const auto& criteria = ranking_criteria();
-  const Ranking ranking = rank_cases(cases);
+  if (const std::string why = check_criteria(options.leave_out); !why.empty())
+    throw InputError("leave out " + why);
+  const Ranking ranking = rank_cases(cases, options.leave_out);
 
   std::string metrics_csv = "metric,symbol,unit";
   for (const auto& c : cases) metrics_csv += "," + csv_field(c.name);
@@ -397,7 +518,8 @@ ComparisonFiles write_comparison(std::span<const CaseResult> cases, const fs::pa
   std::string ranking_csv = "case";
   for (const auto& criterion : criteria) ranking_csv += "," + criterion.key;
   ranking_csv += ranking.uncertain ? ",total,rank,rank_held\n" : ",total,rank\n";
-  for (const auto& row : ranking.rows) {
+  for (const std::size_t i : ranking.by_rank) {
+    const RankingRow& row = ranking.rows[i];
     ranking_csv += csv_field(row.name);
     for (const auto& s : row.scores) ranking_csv += "," + (s ? exact_value(*s) : std::string("missing"));
     ranking_csv += fmt::format(",{},{}", exact_value(row.total), row.rank);

@@ -1,14 +1,15 @@
 #pragma once
-// `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7) and the 12-criterion
-// scaled ranking (its Table 8), as Markdown, CSV and HTML.
+// `ibvalve compare RUN_DIR...`: every metric per case (the study's Table 7), the 12-criterion scaled
+// ranking (its Table 8) in rank order, and the inputs that differ between the cases, as Markdown, CSV
+// and HTML.
 //
 // Ranking (docs/reference.md, "Hemodynamic metrics"): for each criterion the best case scores 1 and
 // the worst 0, linearly in between; a case's total is the sum; cases are ranked by total. When the cases'
 // values of a criterion all lie within tie_tolerance of the largest in size, they tie and all score 1:
 // min-max scaling would otherwise turn a round-off difference (1e-9) into a whole point. A criterion missing
 // for any case (e.g. the fit error of a lumped run) is left out of the ranking for all cases, and the output
-// says so. Which direction is "best" is ibvalve's reading of the study, listed in ranking_criteria() and
-// docs/hemodynamics.md.
+// says so; so is a criterion the user leaves out (--leave-out, a study's leave_out). Which direction is
+// "best" is ibvalve's reading of the study, listed in ranking_criteria() and docs/hemodynamics.md.
 //
 // Uncertainty: a metric of metrics.json may carry "uncertainty", its standard uncertainty u (same unit;
 // docs/hemodynamics.md, "Comparison"). Where a criterion's values have one, a difference counts only
@@ -53,10 +54,14 @@ struct CaseResult {
   Json metrics; // the "metrics" object of metrics.json
   /// The analysed cycle (metrics.json's phases cycle_start, cycle_end), for the overlaid curves.
   std::optional<double> cycle_start, cycle_end;
+  /// The run's inputs as its config.toml records them (key, value with its unit), for what differs
+  /// between the cases; empty without a config.toml.
+  std::vector<std::pair<std::string, std::string>> inputs;
 };
 
-/// A run folder's metrics: report/metrics.json when present, otherwise computed from timeseries.csv
-/// with the settings of the run's config.toml. InputError for a folder that has neither.
+/// A run folder's metrics: report/metrics.json (the reported cycle's) when present, otherwise computed
+/// from timeseries.csv with the settings of the run's config.toml; and its inputs from config.toml.
+/// InputError for a folder that has neither metrics.json nor timeseries.csv.
 CaseResult load_case(const std::filesystem::path& run_directory);
 /// The value of metric `key` of a case when it is a finite number.
 std::optional<double> metric_value(const CaseResult& c, const std::string& key);
@@ -75,17 +80,35 @@ struct RankingRow {
 };
 struct Ranking {
   std::vector<bool> used;            // per criterion
-  std::vector<std::string> left_out; // "fit_error (missing for: a, b)"
+  std::vector<std::string> left_out; // "fit_error (missing for: a, b)", "fit_error (left out on request)"
   std::vector<RankingRow> rows;      // in the order of the cases
+  std::vector<std::size_t> by_rank;  // the rows' indices in rank order (tied cases in the cases' order)
   bool uncertain = false;            // some ranked metric carries an uncertainty
   double order_held = 1.0;           // the fraction of draws that keep every case's rank
 };
-Ranking rank_cases(std::span<const CaseResult> cases);
+/// The ranking of `cases` on every criterion but those `leave_out` names (criterion keys;
+/// std::invalid_argument for a key that is no criterion: check_criteria first).
+Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::string> leave_out = {});
+/// An empty string when every key names a ranking criterion, else why not ("'x' is no ranking
+/// criterion (fit_error, ...)").
+std::string check_criteria(std::span<const std::string> keys);
+
+/// What the ranking's figures rest on that a reader must know: one line per criterion measured against
+/// synthetic data (a metric with "synthetic_data": true, the fit error against samples drawn from a
+/// law's own curves, which that law wins by construction), naming the cases.
+std::vector<std::string> criterion_notes(std::span<const CaseResult> cases, const Ranking& ranking);
+
+/// The inputs that differ between the cases (their config.toml keys, but name and the output, log,
+/// run and checkpoint tables): key and each case's value ("(unset)" where a case lacks the key), in the
+/// order of first appearance.
+std::vector<std::pair<std::string, std::vector<std::string>>>
+differing_inputs(std::span<const CaseResult> cases);
 
 struct ComparisonOptions {
   std::filesystem::path templates;       // a folder of comparison templates; empty: the built-in ones
   std::string python = default_python(); // an interpreter with matplotlib and numpy
   bool plots = true;
+  std::vector<std::string> leave_out; // criteria (their keys) left out of the ranking
 };
 struct ComparisonFiles {
   std::filesystem::path markdown, metrics_csv, ranking_csv, html;
@@ -98,12 +121,15 @@ inline constexpr PlotCaption comparison_plots[] = {
     {"orifice_area.png", "Geometric orifice area"},
 };
 /// Writes comparison.md, comparison.html (laid out by the comparison templates: the built-in ones, or
-/// those of `options.templates`, see page_templates.hpp), metrics.csv and ranking.csv into
+/// those of `options.templates`, see page_templates.hpp: the inputs that differ between the cases, the
+/// metrics, the ranking in rank order and the notes on its criteria), metrics.csv and ranking.csv (in
+/// rank order) into
 /// `output_directory`, and with `options.plots` the overlaid curves of the cases' time series (their
 /// timeseries.csv, each over its analysed cycle: flow.png, pressure_difference.png and orifice_area.png
 /// for the columns the series have, drawn by plot_report.py --compare with `options.python`). A templates
 /// folder that is missing or holds a template that does not parse is an InputError raised before
-/// anything is written; a plotting failure is a RunError after the pages (without plots) are written.
+/// anything is written, and so is a criterion in options.leave_out that is none; a plotting failure is a
+/// RunError after the pages (without plots) are written.
 ComparisonFiles write_comparison(std::span<const CaseResult> cases,
                                  const std::filesystem::path& output_directory,
                                  const ComparisonOptions& options = {});

@@ -228,18 +228,29 @@ double ValveMetrics::value(const std::string& key) const
   return m && m->value ? *m->value : nan;
 }
 
+int whole_cycles(const ValveSeries& series, double period)
+{
+  if (!(period > 0.0)) throw std::invalid_argument("period must be positive");
+  if (series.t.empty()) return 0;
+  const double span = series.t.back() - series.t.front();
+  return static_cast<int>(std::floor(span / period * (1.0 + 1e-9)));
+}
+
 ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& settings)
 {
-  if (!(settings.period > 0.0)) throw std::invalid_argument("period must be positive");
-  const double t_first = series.t.front();
-  const double span = series.t.back() - t_first;
-  const long full_cycles = static_cast<long>(std::floor(span / settings.period * (1.0 + 1e-9)));
+  const long full_cycles = whole_cycles(series, settings.period);
   if (full_cycles < 1)
-    throw std::invalid_argument(
-        fmt::format("the series spans {:g} s, less than one period ({:g} s)", span, settings.period));
-  const long k = settings.cycle < 0 ? full_cycles - 1 : settings.cycle;
+    throw std::invalid_argument(fmt::format("the series spans {:g} s, less than one period ({:g} s)",
+                                            series.t.empty() ? 0.0 : series.t.back() - series.t.front(),
+                                            settings.period));
+  const double t_first = series.t.front();
+  if (settings.cycle == 0 || settings.cycle < -1)
+    throw std::invalid_argument(fmt::format(
+        "cycle {}: cycles count from 1 (1 = the first, -1 = the last whole cycle)", settings.cycle));
+  // k counts from 0 here: cycle k + 1 starts at t0 + k T.
+  const long k = settings.cycle < 0 ? full_cycles - 1 : settings.cycle - 1;
   if (k >= full_cycles)
-    throw std::invalid_argument(fmt::format("cycle {} asked for, but the series holds {} full cycle(s)",
+    throw std::invalid_argument(fmt::format("cycle {} asked for, but the series holds {} whole cycle(s)",
                                             settings.cycle, full_cycles));
   const double t0 = t_first + static_cast<double>(k) * settings.period;
   const double t1 = std::min(t0 + settings.period, series.t.back());
@@ -249,11 +260,13 @@ ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& se
   const std::size_t n = t.size();
 
   ValveMetrics out;
+  out.cycle = static_cast<int>(k + 1);
+  out.cycles = static_cast<int>(full_cycles);
   Phases& ph = out.phases;
   ph.cycle_start = t0;
   ph.cycle_end = t1;
-  out.notes.push_back(
-      fmt::format("cycle {} of {}: [{}, {}], {} samples", k, full_cycles, seconds(t0), seconds(t1), n));
+  out.notes.push_back(fmt::format("cycle {} of the {} whole cycle(s) in the series: [{}, {}], {} samples",
+                                  out.cycle, out.cycles, seconds(t0), seconds(t1), n));
 
   // --- Orifice-area phases.
   bool area_phases = false;

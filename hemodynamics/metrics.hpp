@@ -3,8 +3,8 @@
 // with the cycle's phases detected from the flow (and the orifice area when there is one).
 //
 // Phase rules (every threshold is a setting; docs/hemodynamics.md explains them with figures):
-//  * Cycle: [t0 + k T, t0 + (k+1) T], T = `period`, t0 the first sample, k = `cycle` (-1: the last full
-//    cycle in the series). Columns are interpolated linearly at the two ends.
+//  * Cycle: [t0 + (k-1) T, t0 + k T], T = `period`, t0 the first sample, k = `cycle` counted from 1
+//    (-1: the last whole cycle in the series). Columns are interpolated linearly at the two ends.
 //  * Forward flow [t_ff, t_es]: the lobe of Q > forward_threshold that holds the cycle's largest
 //    flow; its ends are the threshold crossings next to the peak, found by linear interpolation.
 //  * Ejection [t_bs, t_es], the valve open and the flow forward: t_bs is the latest of three instants
@@ -56,7 +56,7 @@ std::string closure_rule_name(ClosureRule rule);
 
 struct MetricSettings {
   double period = 0.8;            // s, the cardiac cycle
-  int cycle = -1;                 // which cycle (0 = first); -1 = the last full cycle
+  int cycle = -1;                 // which cycle, counted from 1 (1 = the first); -1 = the last whole cycle
   double forward_threshold = 0.0; // mL/s: forward ejection is Q above this
   ClosureRule closure_rule = ClosureRule::flow;
   double closure_flow_fraction =
@@ -103,6 +103,8 @@ struct Metric {
 };
 
 struct ValveMetrics {
+  int cycle = 0;  // the analysed cycle, counted from 1
+  int cycles = 0; // the whole cycles the series holds
   Phases phases;
   std::vector<Metric> metrics;
   std::vector<std::string> notes;               // how the phases were found, what is missing and why
@@ -113,8 +115,12 @@ struct ValveMetrics {
 };
 
 /// Phases and metrics of one cycle. std::invalid_argument when the series does not hold the cycle
-/// asked for (too short for one period, or cycle out of range).
+/// asked for (too short for one period, cycle 0 or beyond the series' whole cycles).
 ValveMetrics compute_metrics(const ValveSeries& series, const MetricSettings& settings);
+
+/// The whole cycles of `period` the series holds (std::invalid_argument for a period that is not
+/// positive).
+int whole_cycles(const ValveSeries& series, double period);
 
 /// 1 mmHg mL in mJ: the study's 0.1333.
 double mmHg_mL_in_mJ();

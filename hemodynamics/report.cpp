@@ -14,7 +14,10 @@
 #include "base/build_info.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "hemodynamics/cycle_table.hpp"
 #include "hemodynamics/plotting.hpp"
+#include "hemodynamics/report_layout.hpp"
+#include "hemodynamics/report_values.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
 #include "io/recorded_config.hpp"
@@ -34,7 +37,10 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
       .unit("s")
       .defaults(0.8)
       .positive();
-  keys.integer(p + "cycle", "cycle to analyse, 0 = first; -1 = the last full cycle", m.cycle)
+  keys.integer(p + "cycle",
+               "the reported cycle, counted from 1 (1 = the first; -1 = the last whole cycle): report/ holds "
+               "its report, report/cycle_N/ each cycle's",
+               m.cycle)
       .defaults(std::int64_t{-1})
       .at_least(-1);
   keys.real(p + "forward_threshold", "forward ejection is valve flow above this", m.forward_threshold)
@@ -65,6 +71,8 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
             "folder of report.html.tpl and/or report.md.tpl laid out in place of the built-in ones (`ibvalve "
             "report --write-templates DIR` copies those)",
             r.templates, false);
+  if (keys.reading() && m.cycle == 0)
+    keys.fail(m.cycle, "cycles count from 1 (1 = the first, -1 = the last whole cycle)");
   if (keys.reading() && m.closed_area_fraction >= m.open_area_fraction)
     keys.fail(m.closed_area_fraction, "must be below " + keys.key_of(m.open_area_fraction));
 }
@@ -297,6 +305,9 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
             text("symbol").empty() ? key : text("symbol"), text("unit"), text("description"),
             value != v.end() && value->is_number() ? std::optional(value->get<double>()) : std::nullopt,
             text("note"));
+        // A figure measured against generated data says so wherever it is shown (the fit error).
+        if (const auto synthetic = v.find("synthetic_data"); synthetic != v.end() && synthetic->is_boolean())
+          values[key]["synthetic_data"] = synthetic->get<bool>();
       } else {
         throw InputError(extra_file.string() + ": " + key +
                          ": expected a number or an object with \"value\"");
@@ -305,128 +316,102 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
     notes.push_back("metrics added from extra_metrics.json");
   }
   add_uncertainties(run_directory / "uncertainty.json", values, notes);
-  return Json{
-      {"ibvalve_metrics", 1},      {"run", run_name},  {"source", "timeseries.csv"},
-      {"settings", settings_json}, {"phases", phases}, {"ejection_windows", windows},
-      {"metrics", values},         {"notes", notes},   {"provenance", provenance_document(run_directory)}};
+  for (auto& [key, m] : values.items()) m["group"] = metric_group(key);
+  Json headline = headline_document(values), checks = plausibility_checks(values);
+  return Json{{"ibvalve_metrics", 1},
+              {"run", run_name},
+              {"source", "timeseries.csv"},
+              {"cycle", {{"number", metrics.cycle}, {"of", metrics.cycles}}},
+              {"settings", settings_json},
+              {"headline", std::move(headline)},
+              {"checks", std::move(checks)},
+              {"phases", phases},
+              {"ejection_windows", windows},
+              {"metrics", values},
+              {"notes", notes},
+              {"provenance", provenance_document(run_directory)}};
 }
-
-// ---------------------------------------------------------------------------------------------
-// What the templates fill in
 
 namespace {
 
-constexpr PlotCaption report_plots[] = {
-    {"flow.png",
-     "Flow through the valve Q(t), phases shaded: forward ejection, closing regurgitation, leakage"},
-    {"pressures.png", "P_LV (driving), P_Ao (outlet) and P_Wk (Windkessel reservoir)"},
-    {"pressure_difference.png", "P_nlv - P_nao across the leaflets; its mean over ejection is the TPG"},
-    {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
-};
-
-/// What the templates fill in (the names templates/report.md.tpl lists), from metrics.json's document.
-kainjow::mustache::data template_values(const Json& doc, const std::vector<fs::path>& plots)
+/// A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
+void check_period(const ValveSeries& series, const fs::path& series_file, const ReportOptions& options)
 {
-  using kainjow::mustache::data;
-  auto number = [](const Json& v) { return v.is_number() ? v.get<double>() : NAN; };
-  auto text = [](const Json& m, const char* field) {
-    const auto f = m.find(field);
-    return f != m.end() && f->is_string() ? f->get<std::string>() : std::string();
-  };
-  data values;
-  values.set("run", doc.at("run").get<std::string>());
-  const Json& phases = doc.at("phases");
-  values.set("cycle_start", format_value(number(phases.at("cycle_start"))));
-  values.set("cycle_end", format_value(number(phases.at("cycle_end"))));
-  data metrics{data::type::list};
-  for (const auto& [key, m] : doc.at("metrics").items()) {
-    const Json& v = m.at("value");
-    data row;
-    row.set("key", key);
-    row.set("description", text(m, "description"));
-    row.set("label", text(m, "description").empty() ? key : text(m, "description"));
-    row.set("symbol", text(m, "symbol"));
-    row.set("value", format_value(number(v)));
-    row.set("exact", v.is_number() ? exact_value(v.get<double>()) : std::string("null"));
-    row.set("missing", !v.is_number());
-    row.set("unit", text(m, "unit"));
-    row.set("note", text(m, "note"));
-    // "± 0.91" and "time step 0.91, grid 0.3" when the metric carries an uncertainty, else empty.
-    const auto u = m.find("uncertainty");
-    row.set("uncertainty", u != m.end() && u->is_number() ? "± " + format_value(u->get<double>()) : "");
-    std::vector<std::string> sources;
-    const Json by_source = m.value("uncertainty_sources", Json::object());
-    for (const auto& [name, value] : by_source.items())
-      sources.push_back(name + " " + format_value(number(value)));
-    row.set("uncertainty_sources", fmt::format("{}", fmt::join(sources, ", ")));
-    metrics.push_back(row);
+  const double period = options.settings.period;
+  const std::string period_name =
+      options.period_given ? "command line: --period " + format_value(period)
+                           : series_file.string() + ": report.period " + format_value(period) + " s";
+  if (series.t.size() < 2) return;
+  const double span = series.t.back() - series.t.front();
+  const double interval = span / static_cast<double>(series.t.size() - 1);
+  if (period > span * (1.0 + 1e-9))
+    throw InputError(fmt::format("{}: longer than the series ({} s of {} rows)", period_name,
+                                 format_value(span), series.t.size()));
+  constexpr double minimum_rows = 10;
+  if (period < minimum_rows * interval)
+    throw InputError(fmt::format(
+        "{}: holds about {} rows of the series (one every {} s); a cycle needs at least {}", period_name,
+        std::lround(period / interval), format_value(interval), static_cast<int>(minimum_rows)));
+}
+
+/// One warning line for a period other than the run's cycle, or a regurgitant fraction no valve has;
+/// empty when there is neither.
+std::string period_warning(const ValveMetrics& metrics, const ReportOptions& options)
+{
+  const double period = options.settings.period;
+  std::string warning;
+  if (options.run_period && std::abs(period - *options.run_period) > 1e-9 * *options.run_period)
+    warning = (options.period_given ? "--period " : "report.period ") + format_value(period) +
+              " s is not the run's cycle (report.period " + format_value(*options.run_period) +
+              " s in config.toml)";
+  const double rf = metrics.value("regurgitant_fraction");
+  if (std::isfinite(rf) && (rf < 0.0 || rf > 100.0))
+    warning += (warning.empty() ? "with the period " + format_value(period) + " s: RF " : ": RF ") +
+               format_value(rf) + " % is outside 0-100 %";
+  return warning.empty() ? warning : warning + "; the metrics are of a " + format_value(period) + " s window";
+}
+
+/// The plots of another page of the same cycle copied into `folder` (drawing them again would give the
+/// same images, slower), with the script that drew them.
+DrawnPlots copy_plots(const fs::path& from, const fs::path& folder)
+{
+  DrawnPlots copied;
+  try {
+    for (const PlotCaption& plot : report_plots()) {
+      fs::remove(folder / plot.file);
+      if (!fs::exists(from / plot.file)) continue;
+      fs::copy_file(from / plot.file, folder / plot.file, fs::copy_options::overwrite_existing);
+      copied.files.push_back(folder / plot.file);
+    }
+    if (fs::exists(from / "plot_report.py"))
+      fs::copy_file(from / "plot_report.py", folder / "plot_report.py", fs::copy_options::overwrite_existing);
+  } catch (const fs::filesystem_error& error) {
+    throw RunError(std::string("copying the report's plots: ") + error.what());
   }
-  values.set("metrics", metrics);
-  data phase_rows{data::type::list};
-  for (const auto& [key, v] : phases.items()) {
-    data row;
-    row.set("name", key);
-    row.set("time", v.is_string() ? v.get<std::string>() : format_value(number(v)));
-    phase_rows.push_back(row);
-  }
-  values.set("phases", phase_rows);
-  data window_rows{data::type::list};
-  for (const Json& e : doc.value("ejection_windows", Json::array())) {
-    data row;
-    row.set("condition", e.at("condition").get<std::string>());
-    row.set("start", format_value(number(e.at("start"))));
-    row.set("chosen", e.at("chosen").get<bool>());
-    row.set("tpg", format_value(number(e.at("transvalvular_pressure_gradient"))));
-    row.set("qrms", format_value(number(e.at("rms_forward_flow"))));
-    row.set("eoa", format_value(number(e.at("effective_orifice_area"))));
-    window_rows.push_back(row);
-  }
-  values.set("ejection_windows", window_rows);
-  values.set("plots", plot_template_rows(plots, report_plots));
-  data notes{data::type::list};
-  for (const auto& n : doc.at("notes")) {
-    data row;
-    row.set("text", n.get<std::string>());
-    notes.push_back(row);
-  }
-  values.set("notes", notes);
-  const Json& provenance = doc.at("provenance");
-  data provenance_rows{data::type::list};
-  auto provenance_row = [&](const std::string& name, const std::string& value) {
-    data row;
-    row.set("name", name);
-    row.set("value", value);
-    provenance_rows.push_back(row);
-  };
-  auto field = [](const Json& j, const char* key) {
-    const auto f = j.find(key);
-    return f == j.end() ? std::string("unknown") : f->is_string() ? f->get<std::string>() : f->dump();
-  };
-  if (const auto run = provenance.find("run"); run != provenance.end()) {
-    provenance_row("case file", field(*run, "case_file"));
-    provenance_row("run by",
-                   fmt::format("ibvalve {} (commit {})", field(*run, "ibvalve"), field(*run, "commit")));
-    provenance_row("started", fmt::format("{} on {} rank(s)", field(*run, "started"), field(*run, "ranks")));
-    for (const auto& restart : run->value("restarts", Json::array()))
-      provenance_row("restarted", fmt::format("{} by ibvalve {} (commit {}) on {} rank(s)",
-                                              field(restart, "at"), field(restart, "ibvalve"),
-                                              field(restart, "commit"), field(restart, "ranks")));
-  } else {
-    provenance_row("run", "no run.json in the run folder: where it came from is not recorded");
-  }
-  const Json& report = provenance.at("report");
-  provenance_row("report by", fmt::format("ibvalve {} (commit {}) at {}", field(report, "ibvalve"),
-                                          field(report, "commit"), field(report, "written")));
-  values.set("provenance", provenance_rows);
-  data input_rows{data::type::list};
-  for (const auto& [key, value] : provenance.at("inputs").items()) {
-    data row;
-    row.set("key", key);
-    row.set("value", value.get<std::string>());
-    input_rows.push_back(row);
-  }
-  values.set("inputs", input_rows);
-  return values;
+  return copied;
+}
+
+/// One page of the report in `folder`: metrics.json, the plots (drawn, or copied from `plots_from` when
+/// it is not empty), report.md and report.html.
+DrawnPlots write_page(const Json& doc, const fs::path& series_file, const fs::path& folder,
+                      const PageTemplates& templates, const ReportOptions& options,
+                      const fs::path& plots_from, const std::string& report_root)
+{
+  io::create_output_folder(folder);
+  const fs::path json = folder / "metrics.json";
+  // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
+  io::write_file_atomically(json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+  DrawnPlots drawn = !plots_from.empty()
+                         ? copy_plots(plots_from, folder)
+                         : draw_plots(options.plots, options.python,
+                                      {fs::absolute(series_file).string(), fs::absolute(json).string(),
+                                       fs::absolute(folder).string()},
+                                      folder, report_plots());
+  const kainjow::mustache::data values = report_template_values(doc, drawn.files, report_root);
+  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
+  io::write_file_atomically(folder / "report.md", markdown);
+  io::write_file_atomically(folder / "report.html", html);
+  return drawn;
 }
 
 } // namespace
@@ -439,67 +424,67 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     throw InputError(series_file.string() + ": no such file (is this a run folder?)");
   const ValveSeries series = read_valve_series(series_file);
   const PageTemplates templates = load_page_templates("report", options.templates, "report.templates");
-  // A period must fit the series: no longer than it, and holding enough rows for phases and integrals.
-  const double period = options.settings.period;
-  const std::string period_name =
-      options.period_given ? "command line: --period " + format_value(period)
-                           : series_file.string() + ": report.period " + format_value(period) + " s";
-  if (series.t.size() >= 2) {
-    const double span = series.t.back() - series.t.front();
-    const double interval = span / static_cast<double>(series.t.size() - 1);
-    if (period > span * (1.0 + 1e-9))
-      throw InputError(fmt::format("{}: longer than the series ({} s of {} rows)", period_name,
-                                   format_value(span), series.t.size()));
-    constexpr double minimum_rows = 10;
-    if (period < minimum_rows * interval)
-      throw InputError(fmt::format(
-          "{}: holds about {} rows of the series (one every {} s); a cycle needs at least {}", period_name,
-          std::lround(period / interval), format_value(interval), static_cast<int>(minimum_rows)));
-  }
-  ValveMetrics metrics;
-  try {
-    metrics = compute_metrics(series, options.settings);
-  } catch (const std::invalid_argument& error) {
-    throw InputError(series_file.string() + ": " + error.what());
-  }
+  check_period(series, series_file, options);
   std::string run_name = fs::absolute(run_directory).lexically_normal().filename().string();
   if (run_name.empty())
     run_name = fs::absolute(run_directory).lexically_normal().parent_path().filename().string();
-  const Json doc = metrics_document(metrics, options.settings, run_name, run_directory);
+  // Every page's document before anything is written: bad input leaves no page behind.
+  auto document = [&](int cycle) {
+    MetricSettings settings = options.settings;
+    settings.cycle = cycle;
+    ValveMetrics metrics;
+    Json doc;
+    try {
+      metrics = compute_metrics(series, settings);
+      doc = metrics_document(metrics, settings, run_name, run_directory);
+      doc["cycles"] = cycle_table(series, settings, metrics.cycle);
+    } catch (const std::invalid_argument& error) {
+      throw InputError(series_file.string() + ": " + error.what());
+    }
+    if (options.run_cycles) doc["cycle"]["of"] = std::max(*options.run_cycles, metrics.cycles);
+    doc["periodicity"] = periodicity_summary(doc["cycles"]);
+    return std::pair(std::move(metrics), std::move(doc));
+  };
+  // A run's end of cycle N before its reported cycle (report.cycle beyond N) writes cycle N's folder only.
+  const int whole = whole_cycles(series, options.settings.period);
+  const bool reported_now =
+      whole < 1 || options.cycle_folders != CycleFolders::last || options.settings.cycle <= whole;
+  std::optional<std::pair<ValveMetrics, Json>> reported;
+  if (reported_now) reported = document(options.settings.cycle);
+  std::vector<std::pair<ValveMetrics, Json>> pages; // the cycles' own folders
+  if (options.cycle_folders == CycleFolders::every)
+    for (int c = 1; c <= whole; ++c)
+      pages.push_back(reported && c == reported->first.cycle ? *reported : document(c));
+  else if (options.cycle_folders == CycleFolders::last)
+    pages.push_back(reported && whole == reported->first.cycle ? *reported : document(whole));
 
   ReportFiles files;
-  // One warning line for a period other than the run's cycle, or a regurgitant fraction no valve has.
-  std::string warning;
-  if (options.run_period && std::abs(period - *options.run_period) > 1e-9 * *options.run_period)
-    warning = (options.period_given ? "--period " : "report.period ") + format_value(period) +
-              " s is not the run's cycle (report.period " + format_value(*options.run_period) +
-              " s in config.toml)";
-  const double rf = metrics.value("regurgitant_fraction");
-  if (std::isfinite(rf) && (rf < 0.0 || rf > 100.0))
-    warning += (warning.empty() ? "with the period " + format_value(period) + " s: RF " : ": RF ") +
-               format_value(rf) + " % is outside 0-100 %";
-  if (!warning.empty()) {
-    files.warning = warning + "; the metrics are of a " + format_value(period) + " s window";
-    base::Logger::global().warn(files.warning);
+  files.warning = period_warning(reported ? reported->first : pages.back().first, options);
+  if (!files.warning.empty()) base::Logger::global().warn(files.warning);
+  const fs::path folder = options.output.empty() ? run_directory / "report" : options.output;
+  std::string problem;
+  fs::path reported_plots; // the reported cycle's own folder, when written: its plots serve report/ too
+  for (const auto& [metrics, doc] : pages) {
+    const fs::path cycle_folder = folder / fmt::format("cycle_{}", metrics.cycle);
+    const DrawnPlots drawn = write_page(doc, series_file, cycle_folder, templates, options, {}, "../");
+    if (problem.empty()) problem = drawn.problem;
+    files.cycle_pages.push_back(cycle_folder / "report.html");
+    if (reported && metrics.cycle == reported->first.cycle) reported_plots = cycle_folder;
   }
-  files.directory = run_directory / "report";
-  io::create_output_folder(files.directory);
+  // report/ itself is the reported cycle's; a run's end of cycle N writes it when N is that cycle.
+  files.directory = folder;
+  if (options.cycle_folders == CycleFolders::last && reported_plots.empty())
+    files.directory = files.cycle_pages.back().parent_path();
+  else
+    files.plots =
+        write_page(reported->second, series_file, folder, templates, options, reported_plots, "").files;
+  const auto& shown = reported ? *reported : pages.back();
+  files.reported_cycle = shown.first.cycle;
+  files.cycles = shown.second.at("cycle").at("of").get<int>();
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";
-  // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
-  io::write_file_atomically(files.json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
-
-  DrawnPlots drawn = draw_plots(options.plots, options.python,
-                                {fs::absolute(series_file).string(), fs::absolute(files.json).string(),
-                                 fs::absolute(files.directory).string()},
-                                files.directory, report_plots);
-  files.plots = std::move(drawn.files);
-  const kainjow::mustache::data values = template_values(doc, files.plots);
-  const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
-  io::write_file_atomically(files.markdown, markdown);
-  io::write_file_atomically(files.html, html);
-  if (!drawn.problem.empty()) throw RunError(drawn.problem);
+  if (!problem.empty()) throw RunError(problem);
   return files;
 }
 

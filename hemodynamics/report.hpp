@@ -53,6 +53,14 @@ RecordedReport recorded_report(const std::filesystem::path& run_directory);
 /// recorded_report(run_directory).report.metrics.
 MetricSettings metric_settings_from_run(const std::filesystem::path& run_directory);
 
+/// Which cycles of the series get a report folder of their own, <output>/cycle_N/ (N counted from 1),
+/// beside the reported cycle's report in <output> itself.
+enum class CycleFolders {
+  every, // every whole cycle (`ibvalve report`, a run that reports once at its end)
+  last,  // the last whole cycle only (a run's end of cycle N); <output> is written when N is the reported one
+  none,  // none (a run shorter than a cycle: its one window)
+};
+
 struct ReportOptions {
   MetricSettings settings;
   std::string python = default_python(); // an interpreter with matplotlib and numpy
@@ -64,11 +72,22 @@ struct ReportOptions {
   /// A folder holding report.html.tpl and/or report.md.tpl, used instead of the built-in ones; empty =
   /// the built-in ones.
   std::filesystem::path templates;
+  /// The report's folder; empty = <run>/report.
+  std::filesystem::path output;
+  CycleFolders cycle_folders = CycleFolders::every;
+  /// The cycles of the whole run, for the pages' "cycle N of M", when a run reports at each cycle's end
+  /// (its series then holds only the cycles so far); unset = the series' whole cycles.
+  std::optional<int> run_cycles;
 };
 
 struct ReportFiles {
+  /// The reported cycle's page (<output>; its cycle's own folder when a run's end of cycle N wrote only
+  /// that one).
   std::filesystem::path directory, json, markdown, html;
   std::vector<std::filesystem::path> plots;
+  /// report.html of each cycle's own folder written, in cycle order.
+  std::vector<std::filesystem::path> cycle_pages;
+  int reported_cycle = 0, cycles = 0; // the reported cycle (from 1) and the run's cycles (run_cycles)
   /// One line (also logged as a warning) when the period is not the run's cycle or a metric is outside
   /// its physical range (RF outside 0-100 %), else empty.
   std::string warning;
@@ -80,18 +99,24 @@ struct ReportFiles {
 /// report and checkpoint tables, as TOML writes the value).
 Json provenance_document(const std::filesystem::path& run_directory);
 
-/// metrics.json as a document: settings, phases, metrics (value, unit, symbol, description, note),
-/// notes, provenance. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value,
-/// unit, symbol, description}) are appended: this is how a 3-D run adds structural metrics (fit error, strain
-/// and stress variation, displacements) it computes itself.
+/// metrics.json as a document: the cycle (its number from 1 and the series' whole cycles), settings,
+/// the headline figures beside their published ranges and the plausibility checks
+/// (report_layout.hpp), phases, metrics (value, unit, symbol, description, note, group), notes,
+/// provenance. Metrics from <run>/extra_metrics.json (an object of key -> number or key -> {value,
+/// unit, symbol, description, note, synthetic_data}) are appended: this is how a 3-D run adds structural
+/// metrics (fit error, strain and stress variation, displacements) it computes itself; synthetic_data
+/// (true: measured against generated data) is kept for the comparison to say so.
 Json metrics_document(const ValveMetrics& metrics, const MetricSettings& settings,
                       const std::string& run_name, const std::filesystem::path& run_directory);
 
-/// Reads <run>/timeseries.csv, computes the metrics and writes <run>/report/{metrics.json, report.md,
-/// report.html, plot_report.py, *.png}. Bad input (missing file, missing column, bad line, a period
-/// longer than the series or holding fewer than 10 of its rows, a missing templates folder or a template
-/// that does not parse) is an InputError raised before anything is written; a plotting failure is a
-/// RunError after the metrics, Markdown and HTML (without plots) are written.
+/// Reads <run>/timeseries.csv, computes the metrics and writes the report: <output>/{metrics.json,
+/// report.md, report.html, plot_report.py, *.png} of the reported cycle (options.settings.cycle), and the
+/// same for the cycles options.cycle_folders names in <output>/cycle_N/. Each page carries the table of
+/// its cycle and the ones before it (V_F, TPG, P_Wk at the start and end). Bad input (missing file,
+/// missing column, bad line, a period longer than the series or holding fewer than 10 of its rows, a
+/// cycle the series does not hold, a missing templates folder or a template that does not parse) is an
+/// InputError raised before anything is written; a plotting failure is a RunError after the metrics,
+/// Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 
 /// A value for tables: 4 significant digits (or "missing").

@@ -1,6 +1,7 @@
 #include "materials/fitting.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
@@ -39,6 +40,20 @@ bool parse_number(const std::string& text, double& value)
 /// The largest stress a biaxial sample may hold, kPa.
 constexpr double max_sample_stress_kpa = 1e6;
 
+namespace {
+
+/// A comment whose first word is "synthetic" (in any case): the data were generated, not measured.
+bool declares_synthetic(const std::string& comment)
+{
+  constexpr std::string_view word = "synthetic";
+  if (comment.size() < word.size()) return false;
+  for (std::size_t i = 0; i < word.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(comment[i])) != word[i]) return false;
+  return comment.size() == word.size() || !std::isalnum(static_cast<unsigned char>(comment[word.size()]));
+}
+
+} // namespace
+
 BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
 {
   const std::string name = file.string();
@@ -60,7 +75,12 @@ BiaxialSample read_biaxial_csv(const std::filesystem::path& file)
     ++number;
     if (number == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3); // a UTF-8 byte-order mark
     const std::string text = io::trim(line);
-    if (text.empty() || text.front() == '#') continue;
+    if (!text.empty() && text.front() == '#') {
+      const std::string comment = io::trim(text.substr(1));
+      if (sample.synthetic.empty() && declares_synthetic(comment)) sample.synthetic = comment;
+      continue;
+    }
+    if (text.empty()) continue;
     const auto fields = io::split_csv_line(text);
     if (!header_seen) {
       for (std::size_t k = 0; k < required.size(); ++k) {

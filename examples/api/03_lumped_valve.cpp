@@ -80,10 +80,10 @@ int main(int argc, char** argv)
     settings.density = valve.density;
     double stroke[2];
     for (int c = 0; c < 2; ++c) {
-      settings.cycle = cycles - 2 + c; // 0 is the first
+      settings.cycle = cycles - 1 + c; // counted from 1
       const hemodynamics::ValveMetrics m = hemodynamics::compute_metrics(series, settings);
       stroke[c] = m.value("net_volume");
-      std::printf("cycle %d: V_F %.2f mL, stroke volume %.2f mL, RF %.2f %%\n", settings.cycle + 1,
+      std::printf("cycle %d: V_F %.2f mL, stroke volume %.2f mL, RF %.2f %%\n", settings.cycle,
                   m.value("forward_volume"), stroke[c], m.value("regurgitant_fraction"));
     }
     const double p_start = series.windkessel_pressure[(cycles - 1) * steps_per_cycle];

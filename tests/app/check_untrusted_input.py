@@ -6,10 +6,10 @@
 CASE is the lumped case (examples/lumped/default.toml; a run takes about a second).
 Scenarios:
   report-planted-modules
-      `ibvalve report RUN_DIR` on a run folder whose report/ holds planted json.py, matplotlib.py and
-      numpy.py (each would write a marker file when imported): none of them runs (the plot script is
-      run isolated, with no shell between), and the report is still made (metrics.json, report.md,
-      report.html; the plots when matplotlib is there).
+      `ibvalve report RUN_DIR` on a run folder whose report/ and report/cycle_1/ hold planted json.py,
+      matplotlib.py and numpy.py (each would write a marker file when imported): none of them runs (the
+      plot script is run isolated, with no shell between), and the report is still made (metrics.json,
+      report.md, report.html; the plots when matplotlib is there).
   waveform-content
       A readable file that is not a waveform table (a planted file of secret lines, /etc/passwd) given
       as lv_pressure.file: exit 2, one error line naming FILE:LINE and what was expected, no line (or
@@ -99,11 +99,13 @@ def report_planted_modules(run, case, work):
     marker_dir = work / "markers"
     marker_dir.mkdir()
     report = directory / "report"
-    report.mkdir(exist_ok=True)
-    for module in ("json", "matplotlib", "numpy", "os"):
-        marker = marker_dir / f"{module}.ran"
-        (report / f"{module}.py").write_text(
-            f"open({str(marker)!r}, 'w').write('planted {module}.py ran')\n")
+    # Planted beside the script, in the cycle's folder where it runs, and in report/ itself.
+    for folder in (report, report / "cycle_1"):
+        folder.mkdir(exist_ok=True)
+        for module in ("json", "matplotlib", "numpy", "os"):
+            marker = marker_dir / f"{module}.ran"
+            (folder / f"{module}.py").write_text(
+                f"open({str(marker)!r}, 'w').write('planted {module}.py ran')\n")
     for name in ("metrics.json", "report.md", "report.html"):
         (report / name).unlink(missing_ok=True)
     code, out, err = run("report", directory, cwd=report)

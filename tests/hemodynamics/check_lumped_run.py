@@ -2,7 +2,8 @@
 
 usage: check_lumped_run.py report RUN_DIR      the run covers full cycles; the metrics are in
                                                physiological ranges; report.html exists, references
-                                               existing PNGs and shows metrics.json's values
+                                               existing PNGs and shows metrics.json's values; each of
+                                               the 4 cycles has its report in report/cycle_N/
        check_lumped_run.py compare OUT_DIR     comparison files exist, fit error reported missing
        check_lumped_run.py converged RUN RUN_HALF_DT
                                                the metrics of the run and of the run at half the
@@ -92,8 +93,23 @@ def check_report(run):
     for text in (record["case_file"], record["commit"], "`windkessel.compliance`"):
         if text not in md:
             fail(f"report.md does not show {text}")
+    # One report per cycle, counted from 1: report/cycle_N/ for each of the run's 4 cycles, report/ the
+    # reported (last) one's, whose cycle-to-cycle table holds every cycle.
+    for n in range(1, 5):
+        cycle_doc = json.load(open(os.path.join(report, f"cycle_{n}", "metrics.json")))
+        if cycle_doc["cycle"] != {"number": n, "of": 4}:
+            fail(f"report/cycle_{n}/metrics.json is of cycle {cycle_doc['cycle']}")
+        title = f"<title>ibvalve report: {os.path.basename(os.path.normpath(run))}, cycle {n} of 4</title>"
+        if title not in open(os.path.join(report, f"cycle_{n}", "report.html")).read():
+            fail(f"report/cycle_{n}/report.html lacks the title {title}")
+    last = json.load(open(os.path.join(report, "cycle_4", "metrics.json")))
+    if doc["cycle"] != {"number": 4, "of": 4} or doc["metrics"] != last["metrics"]:
+        fail("report/metrics.json is not the last cycle's")
+    if [row["cycle"] for row in doc["cycles"]] != [1, 2, 3, 4] or "Cycle 4 against cycle 3" not in doc["periodicity"]:
+        fail(f"the last cycle's table of cycles is wrong: {doc['cycles']}, {doc['periodicity']}")
     print(f"report.html: {len(pngs)} PNGs, {len(cells)} metrics equal to metrics.json; provenance: "
-          f"commit {record['commit']}, {len(provenance['inputs'])} inputs")
+          f"commit {record['commit']}, {len(provenance['inputs'])} inputs; cycles 1-4 each in report/cycle_N/; "
+          f"{doc['periodicity']}")
 
 
 def check_compare(out):

@@ -65,7 +65,7 @@ def main():
     report = directory / "report"
     if '<p id="marker">restyled run</p>' not in (report / "report.html").read_text():
         fail("report.html does not show the marker of the user's template", (report / "report.html").read_text())
-    if not (report / "report.md").read_text().startswith("# ibvalve report: run\n\nCycle ["):
+    if not (report / "report.md").read_text().startswith("# ibvalve report: run, cycle 1 of 1\n\nCycle 1 of 1: ["):
         fail("report.md is not laid out by the built-in template", (report / "report.md").read_text())
     print("ok: the run's report.html shows the user's template; report.md is the built-in one's")
 

@@ -284,11 +284,21 @@ TEST(Metrics, TrapezoidalErrorsFallAtSecondOrder)
 TEST(Metrics, CycleSelectionAndMissingEjection)
 {
   hd::MetricSettings settings;
-  settings.cycle = 0;
+  settings.cycle = 1; // cycles count from 1: the first
   const auto m0 = hd::compute_metrics(synthetic(uniform(1e-4), false), settings);
   EXPECT_NEAR(m0.phases.cycle_start, 0.0, 1e-15);
   EXPECT_NEAR(m0.phases.ejection_start, t_bs, 1e-7);
-  settings.cycle = 2;
+  EXPECT_EQ(m0.cycle, 1);
+  EXPECT_EQ(m0.cycles, 2);
+  settings.cycle = 2; // the second, which the last whole one (-1) is too
+  const auto m1 = hd::compute_metrics(synthetic(uniform(1e-4), false), settings);
+  EXPECT_NEAR(m1.phases.cycle_start, settings.period, 1e-12);
+  settings.cycle = -1;
+  EXPECT_EQ(hd::compute_metrics(synthetic(uniform(1e-4), false), settings).phases.cycle_start,
+            m1.phases.cycle_start);
+  settings.cycle = 0; // no cycle 0
+  EXPECT_THROW(hd::compute_metrics(synthetic(uniform(1e-4), false), settings), std::invalid_argument);
+  settings.cycle = 3;
   EXPECT_THROW(hd::compute_metrics(synthetic(uniform(1e-4), false), settings), std::invalid_argument);
   settings.cycle = -1;
   settings.period = 2.0;

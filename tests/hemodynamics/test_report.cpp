@@ -14,6 +14,7 @@
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/plotting.hpp"
 #include "hemodynamics/report.hpp"
+#include "hemodynamics/report_layout.hpp"
 #include "hemodynamics/text_template.hpp"
 #include "io/files.hpp"
 
@@ -49,6 +50,39 @@ void write_run(const fs::path& dir, double forward_amplitude)
     out << t << "," << q << "," << q << "," << p_ao + 0.01 * q << "," << p_ao << "," << p_ao - 1 << ","
         << p_ao + 0.01 * q << "," << p_ao << "," << a << "\n";
   }
+}
+
+/// A run folder of `cycles` cycles of the same shape, cycle k's forward lobe (1 + 0.1 (k - 1)) x
+/// `forward_amplitude` mL/s, an orifice opening to about `largest_area` cm^2 and a Windkessel
+/// pressure that drifts by `drift` mmHg over each cycle.
+void write_cycles(const fs::path& dir, int cycles, double forward_amplitude, double largest_area,
+                  double drift)
+{
+  std::ofstream out(dir / "timeseries.csv");
+  out << std::setprecision(15) << "t,Q_valve,Q_outlet,P_LV,P_Ao,P_Wk,P_nlv,P_nao,orifice_area\n";
+  const double pi = std::numbers::pi;
+  for (int i = 0; i <= 1600 * cycles; ++i) {
+    const double t = i * 0.8 / 1600, tau = std::fmod(t, 0.8);
+    const double amplitude = forward_amplitude * (1.0 + 0.1 * std::min(i / 1600, cycles - 1));
+    double q = -3.0 * std::sin(pi * tau / 0.1), a = 0.02;
+    if (tau >= 0.1 && tau < 0.4) {
+      q = amplitude * std::sin(pi * (tau - 0.1) / 0.3);
+      a = 0.02 + largest_area * std::sin(pi * (tau - 0.1) / 0.3);
+    } else if (tau >= 0.4) {
+      q = -40.0 * std::sin(pi * (tau - 0.4) / 0.4) * std::exp(-20 * (tau - 0.4));
+    }
+    const double p_ao = 80 + 10 * std::sin(2 * pi * t / 0.8);
+    out << t << "," << q << "," << q << "," << p_ao + 0.01 * q << "," << p_ao << ","
+        << p_ao - 1 + drift * t / 0.8 << "," << p_ao + 0.01 * q << "," << p_ao << "," << a << "\n";
+  }
+}
+
+/// A metrics object as metrics.json holds it: key -> {"value": v}.
+hd::Json metrics_of(std::initializer_list<std::pair<const char*, double>> values)
+{
+  hd::Json m = hd::Json::object();
+  for (const auto& [key, v] : values) m[key] = hd::Json{{"value", v}, {"unit", ""}, {"symbol", ""}};
+  return m;
 }
 
 } // namespace
@@ -266,7 +300,7 @@ TEST(Report, NamesInTheMarkdownPagesCannotOpenATagOrEndATableCell)
   hd::ReportOptions options;
   options.plots = false;
   const std::string report = ibvalve::io::read_text_file(hd::write_report(run, options).markdown);
-  EXPECT_NE(report.find("# ibvalve report: &lt;script&gt;a\\|b\n"), std::string::npos)
+  EXPECT_NE(report.find("# ibvalve report: &lt;script&gt;a\\|b, cycle 2 of 2\n"), std::string::npos)
       << report.substr(0, 200);
   EXPECT_EQ(report.find("<script>"), std::string::npos);
 
@@ -454,7 +488,7 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
       "MARKER {{count}}{{#metrics}} {{key}}={{#values}}{{value}}{{/values}}{{/metrics}}\n");
   fs::remove(templates / "comparison.html.tpl");
   const auto out = scratch("compare_user");
-  const hd::ComparisonOptions options{templates, "/usr/bin/python3", false};
+  const hd::ComparisonOptions options{templates, "/usr/bin/python3", false, {}};
   const auto files = hd::write_comparison(cases, out, options);
   const std::string md = ibvalve::io::read_text_file(files.markdown);
   EXPECT_EQ(md.rfind("MARKER 1 forward_volume=70", 0), 0u) << md;
@@ -469,7 +503,7 @@ TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
     EXPECT_NE(std::string(error.what()).find("comparison.md.tpl:1:"), std::string::npos) << error.what();
   }
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_THROW(hd::write_comparison(cases, out, {templates / "missing", "/usr/bin/python3", false}),
+  EXPECT_THROW(hd::write_comparison(cases, out, {templates / "missing", "/usr/bin/python3", false, {}}),
                ibvalve::InputError);
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(templates);
@@ -479,17 +513,351 @@ TEST(Report, SettingsComeFromTheRunsConfig)
 {
   const auto run = scratch("settings");
   EXPECT_EQ(hd::metric_settings_from_run(run).period, 0.8); // no config.toml: defaults
-  std::ofstream(run / "config.toml") << "model = \"lumped\"\n[report]\nperiod = 1\ncycle = 0\n"
+  std::ofstream(run / "config.toml") << "model = \"lumped\"\n[report]\nperiod = 1\ncycle = 1\n"
                                         "closure_rule = \"area\"\nclosed_area_fraction = 0.02\n";
   const hd::MetricSettings s = hd::metric_settings_from_run(run);
   EXPECT_EQ(s.period, 1.0);
-  EXPECT_EQ(s.cycle, 0);
+  EXPECT_EQ(s.cycle, 1);
   EXPECT_EQ(s.closure_rule, hd::ClosureRule::area);
   EXPECT_EQ(s.closed_area_fraction, 0.02);
   EXPECT_EQ(s.open_area_fraction, 0.9);
   std::ofstream(run / "config.toml") << "[report]\nperiod = \"long\"\n";
   EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
+  std::ofstream(run / "config.toml") << "[report]\ncycle = 0\n"; // cycles count from 1
+  EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
   std::ofstream(run / "config.toml") << "[report]\nclosure_rule = \"guess\"\n";
   EXPECT_THROW(hd::metric_settings_from_run(run), ibvalve::InputError);
   fs::remove_all(run);
+}
+
+TEST(Report, HeadlineFiguresAreAssessedAgainstTheirPublishedRangesWithTheirSources)
+{
+  const hd::Json metrics = metrics_of({{"regurgitant_fraction", 29.9},
+                                       {"transvalvular_pressure_gradient", 25.0},
+                                       {"effective_orifice_area", 1.5},
+                                       {"peak_velocity_open", 2.5},
+                                       {"forward_volume", 70.0}});
+  const hd::Json headline = hd::headline_document(metrics);
+  std::vector<std::string> keys;
+  for (const hd::Json& h : headline) keys.push_back(h.at("key").get<std::string>());
+  EXPECT_EQ(keys, (std::vector<std::string>{"forward_volume", "regurgitant_fraction",
+                                            "transvalvular_pressure_gradient", "effective_orifice_area",
+                                            "energy_loss", "peak_forward_flow", "max_orifice_area",
+                                            "peak_velocity_open"}));
+  auto row = [&](const std::string& key) {
+    for (const hd::Json& h : headline)
+      if (h.at("key") == key) return h;
+    return hd::Json();
+  };
+  EXPECT_EQ(row("regurgitant_fraction").at("assessment"), "within");             // RF < 30 %
+  EXPECT_EQ(row("transvalvular_pressure_gradient").at("assessment"), "outside"); // not < 20 mmHg
+  EXPECT_EQ(row("effective_orifice_area").at("assessment"), "outside");          // not > 1.5 cm^2
+  EXPECT_EQ(row("peak_velocity_open").at("assessment"), "within");               // <= 2.5 m/s
+  EXPECT_EQ(row("forward_volume").at("assessment"), "");                         // no published range here
+  EXPECT_TRUE(row("energy_loss").at("value").is_null()); // not in the metrics: no value
+  EXPECT_EQ(row("transvalvular_pressure_gradient").at("source"), "Baumgartner et al. 2017");
+  EXPECT_EQ(row("regurgitant_fraction").at("source"), "Zoghbi et al. 2017");
+  // Every range's source has its full citation.
+  for (const hd::Json& h : headline) {
+    if (h.at("source") == "") continue;
+    bool cited = false;
+    for (const auto& source : hd::reference_sources()) cited = cited || h.at("source") == source.name;
+    EXPECT_TRUE(cited) << h.at("source");
+  }
+}
+
+TEST(Report, AnEoaAboveTheGeometricOrificeAndACycleThatIsNotPeriodicAreFlagged)
+{
+  auto checks = [](const hd::Json& metrics) {
+    std::vector<std::string> names;
+    for (const hd::Json& c : hd::plausibility_checks(metrics))
+      names.push_back(c.at("check").get<std::string>());
+    return names;
+  };
+  using names = std::vector<std::string>;
+  EXPECT_EQ(checks(metrics_of({{"effective_orifice_area", 2.0}, {"max_orifice_area", 1.9}})),
+            names{"eoa_above_goa"});
+  EXPECT_EQ(checks(metrics_of({{"effective_orifice_area", 1.9}, {"max_orifice_area", 2.0}})), names{});
+  const double tolerance = hd::periodic_pressure_tolerance;
+  EXPECT_EQ(checks(metrics_of(
+                {{"windkessel_pressure_start", 70.0}, {"windkessel_pressure_end", 70.0 - 1.01 * tolerance}})),
+            names{"not_periodic"});
+  EXPECT_EQ(checks(metrics_of(
+                {{"windkessel_pressure_start", 70.0}, {"windkessel_pressure_end", 70.0 + 0.99 * tolerance}})),
+            names{});
+  EXPECT_EQ(checks(metrics_of({})), names{}); // nothing to check without the figures
+}
+
+TEST(Report, TheReportOpensWithTheHeadlineThenThePlotsThenTheMetricsInGroups)
+{
+  const auto run = scratch("headline");
+  write_cycles(run, 1, 300.0, 1.0, 3.0); // EOA about 3 cm^2 through a 1 cm^2 orifice; P_Wk drifts 3 mmHg
+  std::ofstream(run / "extra_metrics.json") << R"({"fit_error": {"value": 1.25, "unit": "kPa"}})";
+  hd::ReportOptions options;
+  options.python = IBVALVE_PYTHON;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  std::vector<std::string> flagged;
+  for (const hd::Json& c : doc.at("checks")) flagged.push_back(c.at("check").get<std::string>());
+  EXPECT_EQ(flagged, (std::vector<std::string>{"eoa_above_goa", "not_periodic"}));
+  EXPECT_EQ(doc.at("metrics").at("fit_error").at("group"), "leaflet mechanics");
+  EXPECT_EQ(doc.at("metrics").at("opening_duration").at("group"), "valve motion");
+  EXPECT_EQ(doc.at("metrics").at("effective_orifice_area").at("group"), "flow and pressure");
+  const std::string html = ibvalve::io::read_text_file(files.html);
+  const auto headline = html.find("<table id=\"headline\">"), plots = html.find("<h2>Plots</h2>"),
+             groups = html.find("<h3>flow and pressure</h3>"), motion = html.find("<h3>valve motion</h3>"),
+             mechanics = html.find("<h3>leaflet mechanics</h3>");
+  ASSERT_NE(headline, std::string::npos);
+  EXPECT_LT(html.find("data-check=\"eoa_above_goa\""), headline);
+  EXPECT_LT(headline, plots);
+  EXPECT_LT(plots, groups);
+  EXPECT_LT(groups, motion);
+  EXPECT_LT(motion, mechanics);
+  EXPECT_LT(mechanics, html.find("data-key=\"fit_error\""));
+  EXPECT_NE(html.find("<tr data-headline=\"effective_orifice_area\">"), std::string::npos);
+  EXPECT_NE(html.find("J Am Soc Echocardiogr 30:372-392"), std::string::npos);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_LT(md.find("## At a glance"), md.find("## Plots"));
+  EXPECT_LT(md.find("> **Implausible:** EOA"), md.find("| figure |"));
+  EXPECT_LT(md.find("## Plots"), md.find("### flow and pressure"));
+  EXPECT_NE(md.find("| &lt; 20 (at most mild stenosis) | Baumgartner et al. 2017 |"), std::string::npos);
+  fs::remove_all(run);
+  // A valve whose EOA is below its orifice, in a periodic cycle: nothing flagged.
+  const auto fine = scratch("headline_fine");
+  write_cycles(fine, 1, 300.0, 5.0, 0.0);
+  options.plots = false;
+  const hd::Json fine_doc =
+      hd::Json::parse(ibvalve::io::read_text_file(hd::write_report(fine, options).json));
+  EXPECT_TRUE(fine_doc.at("checks").empty()) << fine_doc.at("checks");
+  EXPECT_EQ(ibvalve::io::read_text_file(fine / "report" / "report.html").find("Implausible"),
+            std::string::npos);
+  fs::remove_all(fine);
+}
+
+TEST(Report, EachCycleHasItsOwnReportCountedFromOneAndTheLastHoldsTheCycleToCycleTable)
+{
+  const auto run = scratch("cycles");
+  write_cycles(run, 3, 300.0, 5.0, -0.5);
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  EXPECT_EQ(files.reported_cycle, 3);
+  EXPECT_EQ(files.cycles, 3);
+  ASSERT_EQ(files.cycle_pages.size(), 3u);
+  std::vector<double> volumes;
+  for (int c = 1; c <= 3; ++c) {
+    const fs::path folder = run / "report" / ("cycle_" + std::to_string(c));
+    EXPECT_EQ(files.cycle_pages[c - 1], folder / "report.html");
+    const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(folder / "metrics.json"));
+    EXPECT_EQ(doc.at("cycle").at("number"), c);
+    EXPECT_EQ(doc.at("cycle").at("of"), 3);
+    EXPECT_NEAR(doc.at("phases").at("cycle_start").get<double>(), 0.8 * (c - 1), 1e-12);
+    volumes.push_back(doc.at("metrics").at("forward_volume").at("value").get<double>());
+    const std::string title =
+        "<title>ibvalve report: ibvalve_test_report_cycles, cycle " + std::to_string(c) + " of 3</title>";
+    EXPECT_NE(ibvalve::io::read_text_file(folder / "report.html").find(title), std::string::npos) << c;
+    EXPECT_EQ(doc.at("cycles").size(), static_cast<std::size_t>(c)); // cycles 1 to this one
+  }
+  EXPECT_NEAR(volumes[1] / volumes[0], 1.1, 1e-9); // the lobes of 1, 1.1 and 1.2 x the amplitude
+  // report/ is the reported (last) cycle's, and its table holds every cycle's V_F, TPG and P_Wk.
+  const hd::Json doc = hd::Json::parse(ibvalve::io::read_text_file(files.json));
+  EXPECT_EQ(files.json, run / "report" / "metrics.json");
+  EXPECT_EQ(doc.at("cycle").at("number"), 3);
+  const hd::Json& table = doc.at("cycles");
+  ASSERT_EQ(table.size(), 3u);
+  for (int c = 1; c <= 3; ++c) {
+    EXPECT_EQ(table[c - 1].at("cycle"), c);
+    EXPECT_EQ(table[c - 1].at("forward_volume").get<double>(), volumes[c - 1]);
+    EXPECT_NEAR(table[c - 1].at("windkessel_pressure_end").get<double>() -
+                    table[c - 1].at("windkessel_pressure_start").get<double>(),
+                -0.5, 1e-9);
+  }
+  const std::string periodicity = doc.at("periodicity").get<std::string>();
+  EXPECT_NE(periodicity.find("Cycle 3 against cycle 2: V_F by +9.1 %"), std::string::npos) << periodicity;
+  EXPECT_NE(periodicity.find("-0.5 mmHg over the cycle: periodic"), std::string::npos) << periodicity;
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_NE(md.find("# ibvalve report: ibvalve_test_report_cycles, cycle 3 of 3"), std::string::npos);
+  EXPECT_NE(md.find("| [3](cycle_3/report.html) (this report) |"), std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(run / "report" / "cycle_3" / "report.md")
+                .find("| [1](../cycle_1/report.html) |"),
+            std::string::npos);
+  // Another cycle reported, into another folder.
+  options.settings.cycle = 2;
+  options.output = run / "elsewhere";
+  const hd::ReportFiles second = hd::write_report(run, options);
+  EXPECT_EQ(second.html, run / "elsewhere" / "report.html");
+  EXPECT_EQ(hd::Json::parse(ibvalve::io::read_text_file(second.json)).at("cycle").at("number"), 2);
+  fs::remove_all(run);
+}
+
+TEST(Report, ARunsEndOfCycleWritesThatCyclesFolderAndTheReportedOnesOnlyWhenItIsThatCycle)
+{
+  const auto run = scratch("cycle_end");
+  write_cycles(run, 1, 300.0, 5.0, 0.0); // the run's first cycle of two has ended
+  hd::ReportOptions options;
+  options.plots = false;
+  options.cycle_folders = hd::CycleFolders::last;
+  options.run_cycles = 2;
+  options.settings.cycle = 2; // report.cycle = 2: report/ waits for the second cycle
+  hd::ReportFiles files = hd::write_report(run, options);
+  EXPECT_EQ(files.html, run / "report" / "cycle_1" / "report.html");
+  EXPECT_FALSE(fs::exists(run / "report" / "report.html"));
+  options.settings.cycle = -1; // the last whole cycle: this one
+  files = hd::write_report(run, options);
+  EXPECT_EQ(files.cycle_pages, std::vector<fs::path>{run / "report" / "cycle_1" / "report.html"});
+  EXPECT_EQ(files.html, run / "report" / "report.html");
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("cycle 1 of 2</title>"), std::string::npos);
+  write_cycles(run, 2, 300.0, 5.0, 0.0); // and the second
+  options.settings.cycle = 1;            // report.cycle = 1: report/ keeps the first's
+  fs::remove_all(run / "report");
+  files = hd::write_report(run, options);
+  EXPECT_EQ(files.cycle_pages, std::vector<fs::path>{run / "report" / "cycle_2" / "report.html"});
+  EXPECT_EQ(files.html, run / "report" / "cycle_2" / "report.html");
+  EXPECT_FALSE(fs::exists(run / "report" / "report.html"));
+  EXPECT_FALSE(fs::exists(run / "report" / "cycle_1"));
+  fs::remove_all(run);
+}
+
+TEST(Report, AFitErrorAgainstSyntheticSamplesSaysSoOnTheReport)
+{
+  const auto run = scratch("synthetic");
+  write_cycles(run, 1, 300.0, 5.0, 0.0);
+  std::ofstream(run / "extra_metrics.json")
+      << R"({"fit_error": {"value": 0.9, "unit": "kPa", "synthetic_data": true,
+              "note": "3 of 3 sample(s) synthetic, drawn from the W1 curves"}})";
+  hd::ReportOptions options;
+  options.plots = false;
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const hd::Json fit = hd::Json::parse(ibvalve::io::read_text_file(files.json)).at("metrics").at("fit_error");
+  EXPECT_EQ(fit.at("synthetic_data"), true);
+  EXPECT_NE(
+      ibvalve::io::read_text_file(files.html).find("3 of 3 sample(s) synthetic, drawn from the W1 curves"),
+      std::string::npos);
+  EXPECT_NE(ibvalve::io::read_text_file(files.markdown).find("3 of 3 sample(s) synthetic"),
+            std::string::npos);
+  fs::remove_all(run);
+}
+
+namespace {
+
+hd::CaseResult case_of(const std::string& name, double vf, double rf, std::optional<double> fit,
+                       bool synthetic = false)
+{
+  hd::CaseResult c;
+  c.name = name;
+  auto entry = [](std::optional<double> v) {
+    return hd::Json{{"value", v ? hd::Json(*v) : hd::Json()}, {"unit", ""}, {"symbol", ""}};
+  };
+  c.metrics =
+      hd::Json{{"forward_volume", entry(vf)}, {"regurgitant_fraction", entry(rf)}, {"fit_error", entry(fit)}};
+  if (synthetic) {
+    c.metrics["fit_error"]["synthetic_data"] = true;
+    c.metrics["fit_error"]["note"] = "3 of 3 sample(s) synthetic, drawn from a law's own curves";
+  }
+  return c;
+}
+
+} // namespace
+
+TEST(Compare, TheRankingIsShownAndWrittenBestFirst)
+{
+  // Ranks: a 2, b 1, c 3 (the scores of ScalesEachCriterionBestToOneWorstToZeroAndLeavesOutMissingOnes).
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0), case_of("b", 80, 5, std::nullopt),
+                                    case_of("c", 70, 20, 2.0)};
+  const hd::Ranking r = hd::rank_cases(cases);
+  EXPECT_EQ(r.by_rank, (std::vector<std::size_t>{1, 0, 2}));
+  EXPECT_EQ(r.rows[0].name, "a"); // rows stay in the cases' order
+  const auto out = scratch("compare_order");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const auto files = hd::write_comparison(cases, out, pages_only);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  const auto ranking = md.find("## Ranking");
+  EXPECT_LT(md.find("\n| b |", ranking), md.find("\n| a |", ranking));
+  EXPECT_LT(md.find("\n| a |", ranking), md.find("\n| c |", ranking));
+  const std::string csv = ibvalve::io::read_text_file(files.ranking_csv);
+  EXPECT_LT(csv.find("\nb,"), csv.find("\na,"));
+  EXPECT_LT(csv.find("\na,"), csv.find("\nc,"));
+  const std::string html = ibvalve::io::read_text_file(files.html);
+  const auto table = html.find("<table id=\"ranking\">");
+  EXPECT_LT(html.find("<tr><td>b</td>", table), html.find("<tr><td>a</td>", table));
+  EXPECT_LT(html.find("<tr><td>a</td>", table), html.find("<tr><td>c</td>", table));
+  fs::remove_all(out);
+}
+
+TEST(Compare, TheComparisonShowsTheInputsThatDifferBetweenTheCases)
+{
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0), case_of("b", 80, 5, 2.0)};
+  cases[0].inputs = {{"name", "\"a\""},
+                     {"time.step", "0.0001 s"},
+                     {"structure.material.preset", "\"zhu2021-W1\""},
+                     {"output.every", "10"}};
+  cases[1].inputs = {{"name", "\"b\""},
+                     {"time.step", "0.0001 s"},
+                     {"structure.material.preset", "\"zhu2021-W2\""},
+                     {"output.every", "5"},
+                     {"fibers.rule", "\"FD2\""}};
+  using Rows = std::vector<std::pair<std::string, std::vector<std::string>>>;
+  EXPECT_EQ(hd::differing_inputs(cases),
+            (Rows{{"structure.material.preset", {"\"zhu2021-W1\"", "\"zhu2021-W2\""}},
+                  {"fibers.rule", {"(unset)", "\"FD2\""}}}));
+  const auto out = scratch("compare_inputs");
+  hd::ComparisonOptions pages_only;
+  pages_only.plots = false;
+  const auto files = hd::write_comparison(cases, out, pages_only);
+  const std::string md = ibvalve::io::read_text_file(files.markdown);
+  EXPECT_LT(md.find("## What differs between the cases"), md.find("## Metrics per case"));
+  EXPECT_NE(md.find("| `structure.material.preset` | &quot;zhu2021-W1&quot; | &quot;zhu2021-W2&quot; |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(ibvalve::io::read_text_file(files.html).find("<tr data-input=\"fibers.rule\">"),
+            std::string::npos);
+  // A run folder's inputs come from its config.toml.
+  const auto run = scratch("compare_inputs_run");
+  write_cycles(run, 1, 300.0, 5.0, 0.0);
+  std::ofstream(run / "config.toml") << "name = \"r\"\n[time]\nstep = 0.0001\n";
+  const hd::CaseResult loaded = hd::load_case(run);
+  EXPECT_EQ(loaded.inputs,
+            (std::vector<std::pair<std::string, std::string>>{{"name", "'r'"}, {"time.step", "0.0001"}}));
+  fs::remove_all(run);
+  fs::remove_all(out);
+}
+
+TEST(Compare, ACriterionMeasuredAgainstSyntheticDataSaysSoAndCanBeLeftOut)
+{
+  std::vector<hd::CaseResult> cases{case_of("a", 60, 10, 1.0, true), case_of("b", 80, 5, 2.0, true)};
+  const std::size_t fit = criterion_index("fit_error");
+  hd::Ranking ranked = hd::rank_cases(cases);
+  EXPECT_TRUE(ranked.used[fit]);
+  std::vector<std::string> notes = hd::criterion_notes(cases, ranked);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(
+      notes[0].rfind("fit error: measured against synthetic data for a, b (3 of 3 sample(s) synthetic", 0),
+      0u)
+      << notes[0];
+  EXPECT_NE(notes[0].find("--leave-out fit_error"), std::string::npos) << notes[0];
+  const auto out = scratch("compare_synthetic");
+  hd::ComparisonOptions options;
+  options.plots = false;
+  std::string md = ibvalve::io::read_text_file(hd::write_comparison(cases, out, options).markdown);
+  EXPECT_NE(md.find("> **Note:** fit error: measured against synthetic data"), std::string::npos) << md;
+  EXPECT_NE(md.find("(synthetic data: see the note under the ranking)"), std::string::npos) << md;
+  // Left out on request: the ranking goes without it, and the note says so.
+  const std::vector<std::string> leave_out{"fit_error"};
+  const hd::Ranking without = hd::rank_cases(cases, leave_out);
+  EXPECT_FALSE(without.used[fit]);
+  EXPECT_EQ(without.left_out.front(),
+            "fit_error (left out on request)"); // then the criteria these cases lack
+  EXPECT_FALSE(without.rows[0].scores[fit].has_value());
+  EXPECT_NE(hd::criterion_notes(cases, without)[0].find("it is left out of this ranking"), std::string::npos);
+  options.leave_out = leave_out;
+  md = ibvalve::io::read_text_file(hd::write_comparison(cases, out, options).markdown);
+  EXPECT_NE(
+      md.find(
+          "2 of 12 criteria ranked; left out: fit_error (left out on request); max_orifice_area (missing"),
+      std::string::npos);
+  EXPECT_FALSE(hd::check_criteria(std::vector<std::string>{"fit_eror"}).empty());
+  options.leave_out = {"fit_eror"};
+  EXPECT_THROW(hd::write_comparison(cases, out, options), ibvalve::InputError);
+  fs::remove_all(out);
 }

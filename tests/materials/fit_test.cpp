@@ -155,6 +155,23 @@ TEST_F(Csv, ReadsColumnsInAnyOrderWithCommentsAndExtraColumns)
   EXPECT_EQ(read_biaxial_csv(bom).points.size(), 3u);
 }
 
+TEST_F(Csv, ACommentWhoseFirstWordIsSyntheticDeclaresTheDataGeneratedNotMeasured)
+{
+  const std::string rows = "lambda1,lambda2,sigma11_kPa,sigma22_kPa\n1.01,1.02,3,0.5\n1.02,1.04,7,1.5\n"
+                           "1.03,1.06,12,2.5\n";
+  EXPECT_EQ(read_biaxial_csv(write("declared.csv", "# porcine sample 4\n# SYNTHETIC: drawn from W1\n" + rows))
+                .synthetic,
+            "SYNTHETIC: drawn from W1");
+  EXPECT_EQ(read_biaxial_csv(write("lower.csv", "#synthetic\n" + rows)).synthetic, "synthetic");
+  EXPECT_EQ(read_biaxial_csv(write("measured.csv", "# measured, not synthetic\n" + rows)).synthetic, "");
+  EXPECT_EQ(read_biaxial_csv(write("word.csv", "# synthetically aged tissue\n" + rows)).synthetic, "");
+  // The bundled samples are drawn from W1's own curves, and say so.
+  for (const char* name : {"sample1.csv", "sample2.csv", "sample3.csv"}) {
+    const BiaxialSample sample = read_biaxial_csv(std::filesystem::path(IBVALVE_BIAXIAL_EXAMPLES) / name);
+    EXPECT_NE(sample.synthetic.find("(not measured): W1 with"), std::string::npos) << name;
+  }
+}
+
 TEST_F(Csv, BadFilesNameFileAndLine)
 {
   auto p = write("bad_number.csv", "lambda1,lambda2,sigma11_kPa,sigma22_kPa\n1.0,1.0,0,0\n1.1,1.1,abc,2\n");

@@ -83,7 +83,7 @@ def main():
     print("| cycle | " + " | ".join(names) + " |")
     print("|---" * (len(names) + 1) + "|")
     for k in range(cycles):  # the last one last, so report/ is the last cycle's, as the run wrote it
-        run(prefix, "report", run_dir, "--no-plots", "--cycle", k)
+        run(prefix, "report", run_dir, "--no-plots", "--cycle", k + 1)
         figures = cycle_figures(run_dir, times, p_wk)
         shown = [f if isinstance(f, str) else f"{f:.3f}" if abs(f) < 1 else f"{f:.1f}"
                  for f in (figures[n] for n in names)]
