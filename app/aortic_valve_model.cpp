@@ -161,7 +161,8 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(0.05)
       .non_negative();
   keys.real("output.fields_interval",
-            "simulated time between field snapshots (fields/*.h5 + fields.xdmf for ParaView); 0 = none",
+            "simulated time between field snapshots (fields/*.h5 with fields_fluid.xdmf and "
+            "fields_structure.xdmf for ParaView); 0 = none",
             k.fields_interval)
       .unit("s")
       .defaults(0.02)

@@ -126,10 +126,12 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
 
 /// What a run writes into its folder (docs/runs.md). --overwrite removes these, and nothing else, before
 /// the new run starts: no checkpoint of the old run can be pruned with the new run's or continued by
-/// --restart, and no field file, plan or report of the old run passes for the new run's.
-constexpr std::array<const char*, 11> run_outputs{
-    "checkpoints",       "fftw_wisdom",     "fields",  "fields.xdmf", "report",
-    "timeseries.csv",    "diagnostics.csv", "log.txt", "config.toml", "run.json",
+/// --restart, and no field file, plan or report of the old run passes for the new run's (fields.xdmf:
+/// the one series of fluid and structure that older builds wrote).
+constexpr std::array<const char*, 13> run_outputs{
+    "checkpoints",           "fftw_wisdom", "fields",      "fields_fluid.xdmf",
+    "fields_structure.xdmf", "fields.xdmf", "report",      "timeseries.csv",
+    "diagnostics.csv",       "log.txt",     "config.toml", "run.json",
     "extra_metrics.json"};
 
 /// Creates the run folder (rank 0): InputError naming the path when it is not a folder, cannot be
