@@ -791,8 +791,8 @@ std::string quoted_list(const std::string& value)
   return out + "]";
 }
 
-/// One override as a TOML table holding its dotted key.
-toml::table parse_override(const std::string& text, const KeyLookup& lookup)
+/// One override's value as a TOML table holding its dotted key.
+toml::table parse_override_value(const std::string& text, const KeyLookup& lookup)
 {
   const auto equals = text.find('=');
   const std::string key = trimmed(std::string_view(text).substr(0, equals));
@@ -819,6 +819,27 @@ toml::table parse_override(const std::string& text, const KeyLookup& lookup)
     }
     throw InputError("command line: --set " + text + ": " + std::string(error.description()));
   }
+}
+
+/// One override as a TOML table holding its dotted key. A file it names (a path key, or each file of a
+/// list of them) is named from the working folder, as a shell names it, and so written absolute (a case
+/// file's own paths are read against the case file's folder).
+toml::table parse_override(const std::string& text, const KeyLookup& lookup)
+{
+  toml::table parsed = parse_override_value(text, lookup);
+  const std::string key = trimmed(std::string_view(text).substr(0, text.find('=')));
+  const KeySpec* spec = lookup ? lookup(key) : nullptr;
+  toml::node* node = parsed.at_path(key).node();
+  if (!spec || !spec->is_path || !node) return parsed;
+  const auto absolute = [](toml::node& item) {
+    if (const auto* name = item.as_string(); name && !name->get().empty())
+      item.as_string()->get() = std::filesystem::absolute(name->get()).lexically_normal().string();
+  };
+  if (toml::array* files = node->as_array())
+    for (toml::node& item : *files) absolute(item);
+  else
+    absolute(*node);
+  return parsed;
 }
 
 } // namespace

@@ -305,6 +305,23 @@ TEST(Config, OverrideOfAStringKeyTakesABareWord)
             (std::vector<std::string>{"tube_outer"}));
 }
 
+TEST(Config, AFileGivenOnTheCommandLineIsNamedFromTheWorkingFolder)
+{
+  // The case file lies in the temporary folder, the mesh in the working folder: --set names it as the
+  // shell does, and the case holds it absolute.
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const std::string name = fmt::format("ibvalve_set_path_{}_{}.msh", ::getpid(), rank);
+  std::ofstream(name) << "mesh\n";
+  const Config c = load_with("model = \"fluid\"\n[time]\ndt = 1\n", {"mesh.file=" + name});
+  EXPECT_EQ(c.path("mesh.file"), std::filesystem::absolute(name).lexically_normal());
+  EXPECT_EQ(c.string("mesh.file"), std::filesystem::absolute(name).lexically_normal().string());
+  std::filesystem::remove(name);
+  EXPECT_NE(
+      override_error({"mesh.file=" + name}).find("no such file '" + std::filesystem::absolute(name).string()),
+      std::string::npos);
+}
+
 TEST(Config, BareWordForANumberNamesTheKeyAndTheType)
 {
   EXPECT_EQ(override_error({"fluid.viscosity=abc"}),
