@@ -322,6 +322,37 @@ TEST(Config, AFileGivenOnTheCommandLineIsNamedFromTheWorkingFolder)
       std::string::npos);
 }
 
+TEST(Config, AKeyAGivenFileMakesUnusedIsLeftOutOfTheCase)
+{
+  // A generator's resolution beside the file given instead: no default, a given value set aside with
+  // one warning, and nothing of it in the resolved case.
+  Schema schema;
+  schema.add_string("mesh.file", "a mesh file").file(false);
+  schema.add_integer("mesh.cells", "cells of the generated mesh")
+      .defaults(std::int64_t{8})
+      .unused_with("mesh.file");
+  schema.add_real("mesh.radius", "radius").unit("cm").defaults(1.3);
+  CaseFile generated("[mesh]\nradius = 2.0\n");
+  const Config g = Config::load(generated.path(), schema);
+  EXPECT_EQ(g.integer("mesh.cells"), 8);
+  EXPECT_NE(g.resolved_toml().find("cells = 8"), std::string::npos);
+
+  CaseFile read("[mesh]\nfile = \"valve.msh\"\ncells = 4\n");
+  const Config r = Config::load(read.path(), schema);
+  EXPECT_FALSE(r.has("mesh.cells"));
+  EXPECT_TRUE(r.has("mesh.radius"));
+  ASSERT_EQ(r.warnings().size(), 1u);
+  EXPECT_EQ(r.warnings()[0],
+            read.path().string() + ":3: mesh.cells: not used with mesh.file (left out of the case)");
+  const std::string written = r.resolved_toml();
+  EXPECT_EQ(written.find("cells"), std::string::npos) << written;
+  EXPECT_NE(written.find("radius = 1.3"), std::string::npos) << written;
+  const std::vector<std::string> cells{"mesh.cells=6"};
+  EXPECT_EQ(Config::load(read.path(), schema, cells).warnings().size(), 1u);
+  EXPECT_NE(schema.markdown().find("cells of the generated mesh (not used with mesh.file)"),
+            std::string::npos);
+}
+
 TEST(Config, BareWordForANumberNamesTheKeyAndTheType)
 {
   EXPECT_EQ(override_error({"fluid.viscosity=abc"}),
