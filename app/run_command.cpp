@@ -215,6 +215,32 @@ void warn_unused_petsc_options()
 
 } // namespace
 
+PreparedCase prepare_case(const RunOptions& options, const PetscArguments& petsc)
+{
+  auto& log = base::Logger::global();
+  if (options.quiet) log.set_level(base::LogLevel::quiet);
+  if (options.verbose) log.set_level(base::LogLevel::verbose);
+  io::Config config = load_case(options);
+  if (!options.quiet && !options.verbose) {
+    const std::string level = config.string("log.level");
+    log.set_level(level == "quiet"     ? base::LogLevel::quiet
+                  : level == "verbose" ? base::LogLevel::verbose
+                                       : base::LogLevel::normal);
+  }
+  log.set_progress_interval(config.real("log.progress_interval"));
+  // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
+  for (const std::string& warning : config.warnings()) log.warn(warning);
+  // Case options first, then the command line's, so that the command line wins; those of the case that
+  // read or write files are refused first (the command line's are the user's own).
+  check_case_petsc_options(config);
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
+  const Model* model = find_model(config.string("model"));
+  PreparedCase prepared{std::move(config), model, nullptr};
+  prepared.run = model->prepare(prepared.config);
+  return prepared;
+}
+
 int run_case(RunOptions options, const PetscArguments& petsc)
 {
   if (!options.restart.empty() && !options.case_file.empty())
@@ -233,27 +259,10 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   }
   auto& log = base::Logger::global();
   log.start_clock();
-  if (options.quiet) log.set_level(base::LogLevel::quiet);
-  if (options.verbose) log.set_level(base::LogLevel::verbose);
-
-  const io::Config config = load_case(options);
-  if (!options.quiet && !options.verbose) {
-    const std::string level = config.string("log.level");
-    log.set_level(level == "quiet"     ? base::LogLevel::quiet
-                  : level == "verbose" ? base::LogLevel::verbose
-                                       : base::LogLevel::normal);
-  }
-  log.set_progress_interval(config.real("log.progress_interval"));
-  // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
-  for (const std::string& warning : config.warnings()) log.warn(warning);
-  // Case options first, then the command line's, so that the command line wins; those of the case that
-  // read or write files are refused first (the command line's are the user's own).
-  check_case_petsc_options(config);
-  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
-  PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
-
-  const Model& model = *find_model(config.string("model"));
-  std::unique_ptr<PreparedRun> prepared = model.prepare(config);
+  const PreparedCase prepared_case = prepare_case(options, petsc);
+  const io::Config& config = prepared_case.config;
+  const Model& model = *prepared_case.model;
+  PreparedRun* prepared = prepared_case.run.get();
 
   const std::filesystem::path directory = run_directory(options, config);
   int size = 1;
