@@ -168,7 +168,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(0.02)
       .non_negative();
   keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{10})
+      .defaults(std::int64_t{40})
       .at_least(1);
   bind_fluid_density(keys, k.fluid.rho, "blood density");
   keys.real("fluid.viscosity", "blood viscosity", k.fluid.mu)
@@ -179,15 +179,16 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
       .size(3)
       .at_most(max_grid_cells)
-      .defaults(std::vector<std::int64_t>{16, 16, 28});
+      .defaults(std::vector<std::int64_t>{28, 28, 41});
+  // 0.125 cm cells around the default tube (mesh.tube_length), its ends half a cell inside the box.
   keys.reals("fluid.lower", "lower corner of the box (the tube's axis is x = y = 0, inlet at z = 0)", k.lower)
       .unit("cm")
       .size(3)
-      .defaults(std::vector<double>{-4.0, -4.0, -0.5});
+      .defaults(std::vector<double>{-1.75, -1.75, -0.0625});
   keys.reals("fluid.upper", "upper corner of the box", k.upper)
       .unit("cm")
       .size(3)
-      .defaults(std::vector<double>{4.0, 4.0, 13.5});
+      .defaults(std::vector<double>{1.75, 1.75, 5.0625});
   keys.choice("fluid.subsolver",
               "sub-solves of the Krylov Stokes solver's preconditioner: fft (FFTW sine/cosine transforms) "
               "or amg (hypre BoomerAMG V-cycles)",
@@ -210,8 +211,15 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
 
   bind(keys, k.mesh);
 
-  keys.merge(materials::material_schema("leaflets.material"));
-  keys.merge(materials::material_schema("tube.material"));
+  // The leaflets' isochoric invariant holds the commissures' element corners (docs/reference.md, "Choices
+  // the study left open"); the tube is a stiff neo-Hookean wall.
+  materials::MaterialRecommendation leaflets, tube;
+  leaflets.isotropic_invariant = "isochoric";
+  tube.preset.clear();
+  tube.law = "neo-hookean";
+  tube.parameters = {{"mu", 100.0}}; // kPa
+  keys.merge(materials::material_schema("leaflets.material", leaflets));
+  keys.merge(materials::material_schema("tube.material", tube));
   keys.paths("leaflets.fit_data",
              "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "
              "its parameters is measured against: the report's fit_error, the first criterion of the study's "
@@ -225,7 +233,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
                "tube_inlet, tube_outlet",
                k.tube_surfaces)
       .choices({"tube_outer", "tube_inlet", "tube_outlet"})
-      .defaults(std::vector<std::string>{"tube_outer"});
+      .defaults(std::vector<std::string>{"tube_outer", "tube_inlet", "tube_outlet"});
   keys.real("tether.tube_stiffness", "spring per area holding the tube's surfaces in place, dyn/cm^3",
             k.tube_stiffness)
       .defaults(1e8)
@@ -253,7 +261,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
               "the inlet side outside its disk: zero-pressure (the study) or wall (no slip, closes the "
               "space around the tube's end)",
               k.inlet_walled, {{"zero-pressure", false}, {"wall", true}})
-      .defaults(std::string("zero-pressure"));
+      .defaults(std::string("wall"));
   keys.section([](io::Schema& s) { windkessel::add_schema(s, "windkessel"); });
   keys.real("outlet.radius", "radius of the Windkessel disk (0 = the middle of the tube wall)",
             k.outlet_radius)
@@ -262,7 +270,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .non_negative();
   keys.choice("outlet.outside", "the outlet side outside its disk: zero-pressure (the study) or wall",
               k.outlet_walled, {{"zero-pressure", false}, {"wall", true}})
-      .defaults(std::string("zero-pressure"));
+      .defaults(std::string("wall"));
   keys.real("probes.offset", "P_nlv / P_nao: on the axis this far below the nadir / above the commissures",
             k.probe_offset)
       .unit("cm")
@@ -279,7 +287,8 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .at_least(16)
       .at_most(8192);
 
-  bind_coupling_keys(keys, k.coupling);
+  // The default mesh's cells, a little longer than a grid cell, get 2 x 2 x 2 points (docs/reference.md).
+  bind_coupling_keys(keys, k.coupling, 1.0);
   keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
       .defaults(std::int64_t{2})
       .at_least(1)

@@ -195,7 +195,7 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
               "[structure.material] for the whole mesh); every element in exactly one part",
               k.parts);
 
-  bind_coupling_keys(keys, k.ib);
+  bind_coupling_keys(keys, k.ib, 0.5);
   const std::vector<std::pair<std::string, fe::MassKind>> projections{
       {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
   keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",

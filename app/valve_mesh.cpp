@@ -67,19 +67,19 @@ void bind(io::KeyBinder& keys, ValveMeshKeys& k)
       .positive()
       .unused_with(file);
   keys.integer("mesh.leaflet_across", "leaflet elements commissure to commissure (even)", g.leaflet_across)
-      .defaults(std::int64_t{16})
+      .defaults(std::int64_t{d.leaflet_across})
       .at_most(max_mesh_cells)
       .unused_with(file);
   keys.integer("mesh.leaflet_radial", "leaflet elements attachment to free edge", g.leaflet_radial)
-      .defaults(std::int64_t{6})
+      .defaults(std::int64_t{d.leaflet_radial})
       .at_most(max_mesh_cells)
       .unused_with(file);
   keys.integer("mesh.tube_around", "tube elements around", g.tube_around)
-      .defaults(std::int64_t{48})
+      .defaults(std::int64_t{d.tube_around})
       .at_most(max_mesh_cells)
       .unused_with(file);
   keys.integer("mesh.tube_along", "tube elements along", g.tube_along)
-      .defaults(std::int64_t{52})
+      .defaults(std::int64_t{d.tube_along})
       .at_most(max_mesh_cells)
       .unused_with(file);
 }
