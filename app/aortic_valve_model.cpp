@@ -671,7 +671,7 @@ class AorticValveRun : public PreparedRun {
       // The orifice area projects each leaflet element's two faces through the thickness (nodes 1-4
       // and 5-8 of a hexahedron).
       if (mesh_.shape() != fe::CellShape::hexahedron)
-        keys_.fail(m.file, m.file.string() + ": tetrahedra; the model needs hexahedra (docs/own-valve.md)");
+        keys_.fail(m.file, m.file.string() + ": tetrahedra; a valve run needs hexahedra (docs/own-valve.md)");
       check_size(static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
                  keys_.key_of(m.file));
     } else {
@@ -687,7 +687,8 @@ class AorticValveRun : public PreparedRun {
       mesh_ = fe::aortic_valve_mesh(m.geometry);
     }
     const std::string missing =
-        missing_groups(mesh_, required_valve_groups(leaflet_count, k_.rule, k_.tube_surfaces));
+        missing_groups(mesh_, required_valve_groups(leaflet_count, k_.rule, k_.tube_surfaces,
+                                                    keys_.key_of(k_.tube_surfaces)));
     if (!missing.empty())
       keys_.fail(m.file, (m.file.empty() ? "the generated mesh" : m.file.string()) + ": " + missing);
   }

@@ -9,7 +9,7 @@ namespace ibvalve::app {
 void bind(io::KeyBinder& keys, ValveMeshKeys& k)
 {
   keys.path("mesh.file",
-            "a Gmsh mesh of one's own with the groups the model reads (docs/own-valve.md), relative to the "
+            "a Gmsh mesh of one's own with the groups a valve run reads (docs/own-valve.md), relative to the "
             "case file (to the working folder in --set); unset = generate it from the keys below",
             k.file);
   const std::string file = keys.key_of(k.file);
@@ -85,7 +85,8 @@ void bind(io::KeyBinder& keys, ValveMeshKeys& k)
 }
 
 std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule,
-                                                  const std::vector<std::string>& tethered)
+                                                  const std::vector<std::string>& tethered,
+                                                  const std::string& tethered_key)
 {
   std::vector<ValveMeshGroup> groups;
   for (int k = 1; k <= leaflets; ++k) {
@@ -100,7 +101,7 @@ std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRul
   }
   groups.push_back({"tube", true, "the tube's elements: tube.material"});
   for (const std::string& surface : tethered)
-    groups.push_back({surface, false, "held in place: tether.tube_surfaces"});
+    groups.push_back({surface, false, "held in place: " + tethered_key});
   return groups;
 }
 
@@ -119,7 +120,7 @@ std::string missing_groups(const fe::Mesh& mesh, const std::vector<ValveMeshGrou
     ++count;
   }
   if (count == 0) return "";
-  return fmt::format("the mesh lacks {} group{} the model reads (docs/own-valve.md): {}", count,
+  return fmt::format("the mesh lacks {} group{} a valve run reads (docs/own-valve.md): {}", count,
                      count == 1 ? "" : "s", list);
 }
 

@@ -38,9 +38,10 @@ struct ValveMeshGroup {
 };
 
 /// The groups the aortic-valve model needs in a mesh of `leaflets` leaflets whose fibers follow `rule`,
-/// with the tube's surfaces `tethered` held (tether.tube_surfaces).
+/// with the tube's surfaces `tethered` held (named by the key `tethered_key`).
 std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule,
-                                                  const std::vector<std::string>& tethered);
+                                                  const std::vector<std::string>& tethered,
+                                                  const std::string& tethered_key);
 
 /// "" when `mesh` has every group of `required` (volume groups as volume groups); else one message naming
 /// every group it lacks: "the mesh lacks 3 groups: leaflet1 (a volume group: ...), ...".
