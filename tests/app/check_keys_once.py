@@ -18,7 +18,7 @@ MODELS = {
     "lumped": ["lumped_model.cpp"],
     "ibfe": ["ibfe_model.cpp"],
     "fluid": ["fluid_model.cpp"],
-    "aortic-valve": ["aortic_valve_model.cpp", "valve_mesh.cpp"],
+    "aortic-valve": ["aortic_valve_model.cpp", "aortic_valve_keys.cpp", "valve_mesh.cpp"],
 }
 
 KEY_ROW = re.compile(r"^\| `([^`]+)` \|", re.MULTILINE)
