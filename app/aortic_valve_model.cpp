@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/adaptive_step.hpp"
-#include "app/coupling_keys.hpp"
+#include "app/aortic_valve_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -36,6 +36,7 @@
 #include "app/structure_levels.hpp"
 #include "app/structure_parts.hpp"
 #include "app/time_loop.hpp"
+#include "app/valve_mesh.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "base/units.hpp"
@@ -66,293 +67,6 @@ namespace {
 
 constexpr int leaflet_count = 3;
 
-/// The model's own keys and where they go (io/key_binder.hpp); the sections of other folders (the LV
-/// pressure table, the Windkessel, the materials, the report, checkpoints, nested levels) are theirs.
-struct AorticValveKeys {
-  std::int64_t cycles = 2, every = 10;
-  std::optional<double> end;
-  double step = 0, coaptation_step = 0, pressure_ramp = 0, fields_interval = 0;
-  std::vector<double> coaptation_window;
-  bool adaptive = false;
-  AdaptiveStepSettings adaptive_step;
-  std::vector<std::int64_t> cells;
-  std::vector<double> lower, upper;
-  fluid::FluidSettings fluid;
-  double backflow = 0;
-  std::filesystem::path mesh_file;
-  fe::ValveMeshParameters geometry;
-  fibers::FiberRule rule = fibers::FiberRule::FD1;
-  std::vector<std::string> tube_surfaces;
-  double tube_stiffness = 0, tube_damping = 0, attachment_stiffness = 0, attachment_damping = 0;
-  double inlet_radius = 0, outlet_radius = 0;
-  bool inlet_walled = false, outlet_walled = false;
-  double probe_offset = 0, flow_plane_offset = 0;
-  int orifice_resolution = 256;
-  ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing
-  int quadrature_degree = 2;
-  hemodynamics::ReportSettings report;
-  std::vector<std::filesystem::path> fit_data;
-};
-
-void bind(io::KeyBinder& keys, AorticValveKeys& k)
-{
-  keys.integer("time.cycles",
-               "cardiac cycles to run (a report after each; the study reports the second of two)", k.cycles)
-      .defaults(std::int64_t{2})
-      .at_least(1);
-  keys.real("time.end",
-            "simulated end time; unset = " + keys.key_of(k.cycles) +
-                " x the LV pressure's period; a run shorter than a cycle is reported over its whole length",
-            k.end)
-      .unit("s")
-      .positive();
-  keys.real("time.step",
-            "time step (rounded so a cycle holds a whole number of steps); with the adaptive step the "
-            "longest sub-step",
-            k.step)
-      .unit("s")
-      .defaults(3e-5)
-      .positive();
-  keys.real("time.coaptation_step",
-            "a finer step over the coaptation window of each cycle, where the leaflets meet and the "
-            "explicit coupling needs it (the FD2 fiber field: docs/aortic-valve-history-2026-12-02.md); "
-            "0 = one step throughout",
-            k.coaptation_step)
-      .unit("s")
-      .defaults(0.0)
-      .non_negative();
-  keys.reals("time.coaptation_window", "start and end, within each cycle, of the coaptation step",
-             k.coaptation_window)
-      .unit("s")
-      .size(2)
-      .defaults(std::vector<double>{0.37, 0.47});
-  keys.boolean("time.adaptive",
-               "choose the step from the state: fixed intervals, each taken in equal sub-steps within the "
-               "structure's current stability estimate and the fluid's advective limit (docs/runs.md, "
-               "\"The adaptive step\"); false = one step as set throughout",
-               k.adaptive)
-      .defaults(false);
-  const std::string adaptive = keys.key_of(k.adaptive);
-  keys.real("time.interval",
-            "with " + adaptive +
-                ": the run's rows, snapshots, checkpoints and cycle ends fall on these (rounded so a cycle "
-                "holds a whole number), and the counts of its steps count them",
-            k.adaptive_step.interval)
-      .unit("s")
-      .defaults(1.6e-3)
-      .positive();
-  keys.real("time.safety",
-            "with " + adaptive + ": the fraction of the structure's stability estimate a sub-step may take",
-            k.adaptive_step.safety)
-      .defaults(0.9)
-      .positive()
-      .at_most(2.0);
-  keys.real("time.cfl", "with " + adaptive + ": the largest advective CFL number max|u| dt / h of a sub-step",
-            k.adaptive_step.cfl)
-      .defaults(0.5)
-      .positive()
-      .at_most(2.0);
-  keys.real("time.pressure_ramp",
-            "the inlet and outlet pressures rise from zero to their values over this time, as "
-            "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
-            "water hammer of a sudden load (docs/speed-2026-12-01.md, \"The time step\"); 0 = applied "
-            "at once",
-            k.pressure_ramp)
-      .unit("s")
-      .defaults(0.05)
-      .non_negative();
-  keys.real("output.fields_interval",
-            "simulated time between field snapshots (fields/*.h5 + fields.xdmf for ParaView); 0 = none",
-            k.fields_interval)
-      .unit("s")
-      .defaults(0.02)
-      .non_negative();
-  keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{10})
-      .at_least(1);
-  bind_fluid_density(keys, k.fluid.rho, "blood density");
-  keys.real("fluid.viscosity", "blood viscosity", k.fluid.mu)
-      .unit("cP")
-      .defaults(4.0)
-      .positive()
-      .typical(1.0, 20.0, "blood is 3.5 to 4 cP; 1000 times less is a value in Pa s, 100 times less in P");
-  keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
-      .size(3)
-      .at_most(max_grid_cells)
-      .defaults(std::vector<std::int64_t>{16, 16, 28});
-  keys.reals("fluid.lower", "lower corner of the box (the tube's axis is x = y = 0, inlet at z = 0)", k.lower)
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{-4.0, -4.0, -0.5});
-  keys.reals("fluid.upper", "upper corner of the box", k.upper)
-      .unit("cm")
-      .size(3)
-      .defaults(std::vector<double>{4.0, 4.0, 13.5});
-  keys.choice("fluid.subsolver",
-              "sub-solves of the Krylov Stokes solver's preconditioner: fft (FFTW sine/cosine transforms) "
-              "or amg (hypre BoomerAMG V-cycles)",
-              k.fluid.subsolver, {{"amg", fluid::SubsolverKind::amg}, {"fft", fluid::SubsolverKind::fft}})
-      .defaults(std::string("fft"));
-  keys.real("fluid.rtol", "relative tolerance of the Krylov (FGMRES) Stokes solve each step", k.fluid.rtol)
-      .defaults(1e-8)
-      .positive();
-  keys.integer("fluid.max_iterations", "most FGMRES iterations per step", k.fluid.max_iterations)
-      .defaults(std::int64_t{100})
-      .at_least(1)
-      .at_most(max_solver_iterations);
-  keys.real("fluid.backflow_stabilization",
-            "beta: where fluid enters through the box's pressure sides, their pressure is lowered by "
-            "beta rho/2 (u.n)^2 (the LV pressure becomes a total pressure); 0 = plain static pressure, "
-            "which lets backflow grow",
-            k.backflow)
-      .defaults(1.0)
-      .non_negative();
-
-  keys.path("mesh.file", "a Gmsh mesh with the groups of `ibvalve mesh aortic-valve`; unset = generate it",
-            k.mesh_file);
-  const fe::ValveMeshParameters d;
-  fe::ValveMeshParameters& g = k.geometry;
-  keys.real("mesh.tube_radius", "tube inner radius", g.tube_radius)
-      .unit("cm")
-      .defaults(d.tube_radius)
-      .positive()
-      .typical(0.5, 3.0, "an aortic root is about 1.2 cm; 10 times more is a value in mm");
-  keys.real("mesh.tube_wall", "tube wall thickness", g.tube_wall).unit("cm").defaults(d.tube_wall).positive();
-  keys.real("mesh.tube_length", "tube length", g.tube_length)
-      .unit("cm")
-      .defaults(d.tube_length)
-      .positive()
-      .typical(1.0, 30.0, "a few aortic root radii; 10 times more is a value in mm");
-  keys.real("mesh.leaflet_thickness", "leaflet thickness", g.leaflet_thickness)
-      .unit("cm")
-      .defaults(d.leaflet_thickness)
-      .positive();
-  keys.real("mesh.valve_base", "z of the attachment's nadir", g.valve_base)
-      .unit("cm")
-      .defaults(d.valve_base)
-      .positive();
-  keys.real("mesh.commissure_height", "commissures above the nadir", g.commissure_height)
-      .unit("cm")
-      .defaults(d.commissure_height)
-      .positive();
-  keys.real("mesh.commissure_strip",
-            "height of the attachment strip up the wall at each commissure, where a leaflet's attachment and "
-            "free edge meet: the height of the leaflet's end columns of elements (docs/fe.md, \"The "
-            "aortic-valve mesh\")",
-            g.commissure_strip)
-      .unit("cm")
-      .defaults(d.commissure_strip)
-      .positive();
-  keys.real("mesh.sag", "belly depth toward the ventricle", g.sag).unit("cm").defaults(d.sag).non_negative();
-  keys.real("mesh.free_edge_drop",
-            "how far the free edge descends from the commissures to the valve centre (slack for opening)",
-            g.free_edge_drop)
-      .unit("cm")
-      .defaults(d.free_edge_drop)
-      .non_negative();
-  keys.real("mesh.free_edge_gap", "gap between closed free edges", g.free_edge_gap)
-      .unit("cm")
-      .defaults(d.free_edge_gap)
-      .positive();
-  keys.integer("mesh.leaflet_across", "leaflet elements commissure to commissure (even)", g.leaflet_across)
-      .defaults(std::int64_t{16})
-      .at_most(max_mesh_cells);
-  keys.integer("mesh.leaflet_radial", "leaflet elements attachment to free edge", g.leaflet_radial)
-      .defaults(std::int64_t{6})
-      .at_most(max_mesh_cells);
-  keys.integer("mesh.tube_around", "tube elements around", g.tube_around)
-      .defaults(std::int64_t{48})
-      .at_most(max_mesh_cells);
-  keys.integer("mesh.tube_along", "tube elements along", g.tube_along)
-      .defaults(std::int64_t{52})
-      .at_most(max_mesh_cells);
-
-  keys.merge(materials::material_schema("leaflets.material"));
-  keys.merge(materials::material_schema("tube.material"));
-  keys.paths("leaflets.fit_data",
-             "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "
-             "its parameters is measured against: the report's fit_error, the first criterion of the study's "
-             "ranking; unset = no fit error",
-             k.fit_data);
-  keys.choice("fibers.rule", "leaflet fiber rule (docs/fibers.md)", k.rule,
-              {{"FD1", fibers::FiberRule::FD1}, {"FD2", fibers::FiberRule::FD2}})
-      .defaults(std::string("FD1"));
-  keys.strings("tether.tube_surfaces",
-               "the tube's surface groups held in place: tube_outer (the study), and its end faces "
-               "tube_inlet, tube_outlet",
-               k.tube_surfaces)
-      .choices({"tube_outer", "tube_inlet", "tube_outlet"})
-      .defaults(std::vector<std::string>{"tube_outer"});
-  keys.real("tether.tube_stiffness", "spring per area holding the tube's surfaces in place, dyn/cm^3",
-            k.tube_stiffness)
-      .defaults(1e8)
-      .non_negative();
-  keys.real("tether.tube_damping", "dashpot per area on the tube's surfaces", k.tube_damping)
-      .defaults(0.0)
-      .non_negative();
-  keys.real("tether.attachment_stiffness", "spring per area holding each leaflet's attachment, dyn/cm^3",
-            k.attachment_stiffness)
-      .defaults(1e8)
-      .non_negative();
-  keys.real("tether.attachment_damping", "dashpot per area on the attachments", k.attachment_damping)
-      .defaults(0.0)
-      .non_negative();
-
-  keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg");
-  });
-  keys.real("inlet.radius", "radius of the inlet pressure disk (0 = the middle of the tube wall)",
-            k.inlet_radius)
-      .unit("cm")
-      .defaults(0.0)
-      .non_negative();
-  keys.choice("inlet.outside",
-              "the inlet side outside its disk: zero-pressure (the study) or wall (no slip, closes the "
-              "space around the tube's end)",
-              k.inlet_walled, {{"zero-pressure", false}, {"wall", true}})
-      .defaults(std::string("zero-pressure"));
-  keys.section([](io::Schema& s) { windkessel::add_schema(s, "windkessel"); });
-  keys.real("outlet.radius", "radius of the Windkessel disk (0 = the middle of the tube wall)",
-            k.outlet_radius)
-      .unit("cm")
-      .defaults(0.0)
-      .non_negative();
-  keys.choice("outlet.outside", "the outlet side outside its disk: zero-pressure (the study) or wall",
-              k.outlet_walled, {{"zero-pressure", false}, {"wall", true}})
-      .defaults(std::string("zero-pressure"));
-  keys.real("probes.offset", "P_nlv / P_nao: on the axis this far below the nadir / above the commissures",
-            k.probe_offset)
-      .unit("cm")
-      .defaults(1.0)
-      .positive();
-  keys.real("probes.flow_plane_offset", "Q_valve through the tube section this far below the nadir",
-            k.flow_plane_offset)
-      .unit("cm")
-      .defaults(0.5)
-      .non_negative();
-  keys.integer("probes.orifice_resolution", "pixels per side of the orifice-area raster",
-               k.orifice_resolution)
-      .defaults(std::int64_t{256})
-      .at_least(16)
-      .at_most(8192);
-
-  bind_coupling_keys(keys, k.coupling);
-  keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
-      .defaults(std::int64_t{2})
-      .at_least(1)
-      .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) {
-    // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
-    // integrated on the full rule: selective reduced integration by default (docs/fe.md).
-    add_volumetric_integration_key(s, VolumetricIntegration::reduced);
-  });
-  hemodynamics::bind_report(keys, k.report);
-  keys.section([](io::Schema& s) {
-    io::add_checkpoint_schema(s);
-    // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
-    s.merge(fluid::nested_schema());
-  });
-}
 
 class AorticValveRun : public PreparedRun {
  public:
@@ -369,33 +83,8 @@ class AorticValveRun : public PreparedRun {
     fluid_ = k.fluid;
     fluid_.solver = fluid::SolverKind::krylov;
 
-    const fe::ValveMeshParameters& g = k.geometry;
-    if (!k.mesh_file.empty()) {
-      mesh_ = fe::read_msh(k.mesh_file);
-      check_size(static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
-                 keys_.key_of(k.mesh_file));
-    } else {
-      try {
-        fe::check(g);
-      } catch (const std::invalid_argument& e) {
-        config.fail("mesh", e.what());
-      }
-      // Hexahedra of the three leaflets and the tube, one layer through each (two layers of nodes).
-      const double leaflets = leaflet_count * static_cast<double>(g.leaflet_across) *
-                              static_cast<double>(g.leaflet_radial),
-                   tube = static_cast<double>(g.tube_around) * static_cast<double>(g.tube_along);
-      const double nodes = 2.0 * (leaflet_count * (g.leaflet_across + 1.0) * (g.leaflet_radial + 1.0) +
-                                  g.tube_around * (g.tube_along + 1.0));
-      check_size(nodes, leaflets + tube,
-                 tube > leaflets ? keys_.key_of(g.tube_around) : keys_.key_of(g.leaflet_across));
-      mesh_ = fe::aortic_valve_mesh(g);
-    }
-    for (const std::string group : {"tube", "tube_outer"})
-      if (!mesh_.has_group(group)) keys_.fail(k.mesh_file, "the mesh has no group '" + group + "'");
-    for (int n = 1; n <= leaflet_count; ++n)
-      for (const std::string suffix : {"", "_attachment", "_n1", "_n2", "_tau1", "_tau2", "_free_edge"})
-        if (!mesh_.has_group(leaflet(n) + suffix))
-          keys_.fail(k.mesh_file, "the mesh has no group '" + leaflet(n) + suffix + "'");
+    const fe::ValveMeshParameters& g = k.mesh.geometry;
+    read_mesh();
     for (const fe::Vec3& X : mesh_.nodes())
       for (int d = 0; d < 3; ++d)
         if (!(X[d] > box_.lower[d] && X[d] < box_.upper[d]))
@@ -406,10 +95,8 @@ class AorticValveRun : public PreparedRun {
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
     tube_material_ = read_part_material(config, "tube.material", 0);
     ib_ = k.coupling;
-    for (const std::string& surface : k.tube_surfaces) {
-      if (!mesh_.has_group(surface)) keys_.fail(k.tube_surfaces, "the mesh has no group '" + surface + "'");
+    for (const std::string& surface : k.tube_surfaces)
       ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});
-    }
     for (int n = 1; n <= leaflet_count; ++n)
       ib_.tethers.push_back({leaflet(n) + "_attachment", k.attachment_stiffness, k.attachment_damping});
 
@@ -459,6 +146,15 @@ class AorticValveRun : public PreparedRun {
     near_ao_z_ = top + k.probe_offset;
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
     if (has_nested_levels(config)) read_levels(config);
+    compute_leaflet_fibers(); // the last check: it solves a Laplace problem per leaflet
+  }
+
+  std::string summary() const override
+  {
+    return fmt::format("{}; fibers {}; {} steps to t = {} s (dt {})",
+                       describe_valve_mesh(k_.mesh, mesh_, leaflet_count),
+                       k_.rule == fibers::FiberRule::FD1 ? "FD1" : "FD2", steps_,
+                       hemodynamics::format_value(schedule_.time_of(steps_)), describe_steps());
   }
 
   RunSummary run(const RunContext& context) override
@@ -466,17 +162,6 @@ class AorticValveRun : public PreparedRun {
     auto& log = base::Logger::global();
     // The mean step: whole cycles end at steps x dt; with a coaptation step the steps differ.
     const double dt = schedule_.mean_step();
-
-    // Fibers (rule FD1/FD2) from each leaflet's groups, computed on the mesh at start-up.
-    std::vector<fibers::LeafletSpec> specs;
-    for (int k = 1; k <= leaflet_count; ++k) {
-      fibers::LeafletSpec spec;
-      spec.group = leaflet(k);
-      specs.push_back(spec);
-    }
-    const fibers::FiberField field = fibers::compute_fibers(mesh_, k_.rule, specs, context.comm);
-    std::vector<materials::FiberFrame> frames(mesh_.num_elements());
-    for (std::size_t e = 0; e < frames.size(); ++e) frames[e].f0 = field.element_directions[e];
 
     std::vector<fe::BodyPart> parts;
     const VolumetricIntegration volumetric_integration = read_volumetric_integration(config_);
@@ -489,7 +174,7 @@ class AorticValveRun : public PreparedRun {
     parts.push_back(
         material_part("tube", mesh_.group("tube").elements, tube_material_.build(), volumetric_integration));
     fe::SolidModel solid(mesh_, parts, k_.quadrature_degree, context.comm);
-    solid.set_fibers(frames);
+    solid.set_fibers(frames_);
 
     // Boundary: every side a traction side; zero pressure except the inlet and outlet disks, and the
     // inlet/outlet sides outside their disks walled when asked (fluid/boundary.hpp).
@@ -524,6 +209,7 @@ class AorticValveRun : public PreparedRun {
     ib::IbfeIntegrator ibfe(*fluid, solid, ib_);
     windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
     const ib::StabilityEstimate stability = ibfe.stability_estimate();
+    log.info(describe_valve_mesh(k_.mesh, mesh_, leaflet_count));
     log.info(fmt::format("aortic valve: {} elements ({} in the leaflets), {} nodes; {}; dt {} (the "
                          "stability estimate {} s), {} steps to t = {} s; leaflets {}; fibers {}",
                          mesh_.num_elements(), leaflet_elements.size(), mesh_.num_nodes(), fluid->describe(),
@@ -535,7 +221,7 @@ class AorticValveRun : public PreparedRun {
     // the outlet flux half a cell inside the outlet side.
     const fluid::Real3 axis{0.0, 0.0, 0.0};
     const double h_z = box_.spacing(2);
-    const auto valve_plane = fluid::PlaneRegion::disk(2, flow_plane_z_, axis, k_.geometry.tube_radius);
+    const auto valve_plane = fluid::PlaneRegion::disk(2, flow_plane_z_, axis, k_.mesh.geometry.tube_radius);
     const auto outlet_plane = fluid::PlaneRegion::disk(2, box_.upper[2] - 0.5 * h_z, axis, outlet_radius_);
     const std::vector<fluid::Real3> probes{{0.0, 0.0, box_.lower[2] + 0.5 * h_z},
                                            {0.0, 0.0, box_.upper[2] - 0.5 * h_z},
@@ -550,8 +236,8 @@ class AorticValveRun : public PreparedRun {
                                static_cast<std::size_t>(n[6]), static_cast<std::size_t>(n[7])});
     }
     hemodynamics::CrossSection section;
-    section.radius = k_.geometry.tube_radius;
-    section.centre = {0.0, 0.0, k_.geometry.valve_base};
+    section.radius = k_.mesh.geometry.tube_radius;
+    section.centre = {0.0, 0.0, k_.mesh.geometry.valve_base};
     auto orifice_area = [&] {
       const auto positions = ibfe.positions();
       std::vector<hemodynamics::Point> points(positions.size());
@@ -561,7 +247,7 @@ class AorticValveRun : public PreparedRun {
                                                   hemodynamics::OrificeOptions{k_.orifice_resolution});
     };
 
-    const LeafletState leaflet_state(solid, leaflet_count, k_.geometry.leaflet_thickness);
+    const LeafletState leaflet_state(solid, leaflet_count, k_.mesh.geometry.leaflet_thickness);
     log.info(leaflet_state.describe());
     write_extra_metrics(context);
 
@@ -713,6 +399,54 @@ class AorticValveRun : public PreparedRun {
                        hemodynamics::format_value(k_.coaptation_window[1]));
   }
 
+  // The structure: the mesh file, or the generated valve (its size checked before it is built), with
+  // every group the model reads from it; all it lacks are named in one error.
+  void read_mesh()
+  {
+    const ValveMeshKeys& m = k_.mesh;
+    if (!m.file.empty()) {
+      try {
+        mesh_ = fe::read_msh(m.file);
+      } catch (const InputError& e) {
+        keys_.fail(m.file, e.what());
+      }
+      // The orifice area projects each leaflet element's two faces through the thickness (nodes 1-4
+      // and 5-8 of a hexahedron).
+      if (mesh_.shape() != fe::CellShape::hexahedron)
+        keys_.fail(m.file, m.file.string() + ": tetrahedra; a valve run needs hexahedra (docs/own-valve.md)");
+      check_size(static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
+                 keys_.key_of(m.file));
+    } else {
+      try {
+        fe::check(m.geometry);
+      } catch (const std::invalid_argument& e) {
+        config_.fail("mesh", e.what());
+      }
+      const GeneratedSize size = generated_size(m.geometry, leaflet_count);
+      check_size(size.nodes, size.elements,
+                 size.tube_dominates ? keys_.key_of(m.geometry.tube_around)
+                                     : keys_.key_of(m.geometry.leaflet_across));
+      mesh_ = fe::aortic_valve_mesh(m.geometry);
+    }
+    const std::string missing =
+        missing_groups(mesh_, required_valve_groups(leaflet_count, k_.rule, k_.tube_surfaces,
+                                                    keys_.key_of(k_.tube_surfaces)));
+    if (!missing.empty())
+      keys_.fail(m.file, (m.file.empty() ? "the generated mesh" : m.file.string()) + ": " + missing);
+  }
+
+  // Fibers (fibers.rule) computed before the run starts, so that a mesh they cannot be computed on is bad
+  // input before the run folder exists (and `ibvalve check` finds it).
+  void compute_leaflet_fibers()
+  {
+    try {
+      frames_ = leaflet_fibers(mesh_, k_.rule, leaflet_count, PETSC_COMM_WORLD);
+    } catch (const InputError& e) {
+      keys_.fail(k_.rule,
+                 fmt::format("{} ({})", e.what(), describe_valve_mesh(k_.mesh, mesh_, leaflet_count)));
+    }
+  }
+
   // The run's last step: time.end when given (it wins over time.cycles), else whole cycles. A run
   // shorter than a cycle gets its report over its whole length, which needs rows enough for one.
   void read_end()
@@ -814,6 +548,7 @@ class AorticValveRun : public PreparedRun {
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_;
   fe::Mesh mesh_;
+  std::vector<materials::FiberFrame> frames_; // per element: the leaflets' fibers, zero in the tube
   materials::MaterialSettings leaflet_material_, tube_material_;
   ib::IbfeSettings ib_;
   double inlet_radius_ = 0, outlet_radius_ = 0, period_ = 0.8;

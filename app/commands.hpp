@@ -4,12 +4,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <mpi.h>
 
+#include "app/model.hpp"
 #include "hemodynamics/compare.hpp"
 
 namespace ibvalve::app {
@@ -47,6 +49,19 @@ struct RunOptions {
 };
 /// Validates and runs one case (what `ibvalve run` does; `ibvalve study` calls it once per case).
 int run_case(RunOptions options, const PetscArguments& petsc);
+/// A case read with its overrides and its model prepared: every check a run makes before it writes
+/// anything (app/model.hpp).
+struct PreparedCase {
+  io::Config config;
+  const Model* model = nullptr;
+  std::unique_ptr<PreparedRun> run;
+};
+/// Reads `options.case_file` with `options.overrides`, sets the log level, prints the case's warnings,
+/// takes the case's and the command line's PETSc options and prepares the model: InputError on bad
+/// input, nothing written.
+PreparedCase prepare_case(const RunOptions& options, const PetscArguments& petsc);
+/// Registers `ibvalve check CASE [--set key=value ...]` (app/check_command.cpp).
+void add_check_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve keys [MODEL] [--format markdown|toml]` (app/keys_command.cpp).
 void add_keys_command(CLI::App& app, CommandAction& action);
 /// Registers `ibvalve study STUDY.toml` (app/study_command.cpp).

@@ -6,7 +6,8 @@
 
 namespace ibvalve::app {
 
-/// Binds ib.kernel and ib.point_spacing to `ib` (io/key_binder.hpp).
-void bind_coupling_keys(io::KeyBinder& keys, ib::IbfeSettings& ib);
+/// Binds ib.kernel and ib.point_spacing to `ib` (io/key_binder.hpp); the spacing defaults to
+/// `default_point_spacing` grid cells, the model's (its structure's elements against its grid).
+void bind_coupling_keys(io::KeyBinder& keys, ib::IbfeSettings& ib, double default_point_spacing);
 
 } // namespace ibvalve::app

@@ -107,7 +107,7 @@ int run_fibers(const FibersCommandOptions& options)
   const std::vector<fe::MeshField> fields{{"potential", io::Center::node, 1, field.potential, "1"},
                                           {"dirichlet", io::Center::node, 1, field.dirichlet, "1"},
                                           {"fiber", io::Center::cell, 3, directions, "1"}};
-  io::XdmfTimeSeries series(PETSC_COMM_WORLD, options.output / "fibers.xdmf");
+  io::XdmfTimeSeries series(PETSC_COMM_WORLD, options.output / "fibers.xdmf", "fibers");
   series.add_step(0.0, {fe::write_mesh_fields(PETSC_COMM_WORLD, mesh, options.output / "fibers.h5",
                                               options.output, "fibers", fields)});
   fibers::write_element_fibers(options.output / "element_fibers.txt", field.element_directions,

@@ -2,7 +2,7 @@
 // are periodic, walls, prescribed velocity (uniform or parabolic) or prescribed pressure (over the
 // whole side or a disk of it, zero elsewhere). Writes timeseries.csv (t, norms, fluxes through the
 // sides, the centre pressure; errors against the exact solution for the Taylor–Green and ABC
-// initial conditions) and fields/*.h5 + fields.xdmf (velocity, vorticity, pressure).
+// initial conditions) and fields/*.h5 + fields_fluid.xdmf (velocity, vorticity, pressure).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -310,14 +310,14 @@ class FluidRun : public PreparedRun {
       }
       return row;
     };
-    loop.write_fields = [&](io::XdmfTimeSeries& series, std::int64_t step) {
+    loop.write_fields = [&](FieldSeries& series, std::int64_t step) {
       const std::string name = fmt::format("fields/fluid_{:06}.h5", step);
       io::Hdf5File h5(context.comm, context.run_directory / name, io::Hdf5File::Mode::create);
       h5.write_attribute("time", fluid->time());
       h5.write_attribute("pressure_time", fluid->pressure_time());
       std::vector<io::XdmfGrid> grids = fluid->write_fields(h5, "fluid", name);
-      h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
-      series.add_step(fluid->time(), grids);
+      h5.close(); // written, or a RunError on every rank (a full disk), before fields_fluid.xdmf names it
+      series.at("fluid").add_step(fluid->time(), grids);
     };
     // The state of a continued run (docs/runs.md): the fluid's.
     loop.save = [&](io::Hdf5File& h5) { fluid->save(h5, "fluid"); };

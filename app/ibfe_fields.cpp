@@ -12,6 +12,7 @@
 
 #include "app/fftw_plans.hpp"
 #include "base/logger.hpp"
+#include "base/units.hpp"
 #include "fe/element.hpp"
 #include "io/collective.hpp"
 #include "io/petsc_check.hpp"
@@ -24,6 +25,13 @@ namespace {
 const std::string geometry_description =
     "current positions x = X + displacement (cm): shown as is; Warp By Vector with displacement "
     "would move the body twice (the reference X = coordinates - displacement)";
+
+// The stress a field file shows, in the report's unit (its S_ff columns and metrics are the same quantity
+// averaged over spheres, hemodynamics/timeseries.hpp).
+const std::string stress_name = "cauchy_stress_along_fiber";
+const std::string stress_description =
+    "f . (sigma f), f = F f0 / |F f0|: the total Cauchy stress (matrix, fibers and volumetric penalty) "
+    "normal to the plane across the current fiber, element average, kPa as the report's S_ff";
 
 } // namespace
 
@@ -85,20 +93,23 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
   auto structure = io::XdmfGrid::mesh("structure", fe::xdmf_topology(mesh.shape()), elements, per_element,
                                       file + ":/mesh/connectivity", nodes, file + ":/mesh/coordinates");
   structure.add_information("geometry", geometry_description)
+      .add_information(stress_name, stress_description)
       .add_information("part", structure_part_table(solid))
       .add_field("part", io::Center::cell, {elements}, file + ":/mesh/part", "", true);
+  std::vector<double> stress(ef.fiber_stress.size());
+  for (std::size_t e = 0; e < stress.size(); ++e) stress[e] = ef.fiber_stress[e] / units::kPa;
   struct Field {
-    const char* name;
+    std::string name;
     io::Center center;
     std::span<const double> values;
     bool vector;
     const char* units;
   };
   const Field fields[] = {{"displacement", io::Center::node, ibfe.displacement(), true, "cm"},
-                          {"velocity", io::Center::node, ibfe.velocity(), true, "cm/s"},
+                          {"structure_velocity", io::Center::node, ibfe.velocity(), true, "cm/s"},
                           {"J", io::Center::cell, ef.J, false, "1"},
                           {"fiber_strain", io::Center::cell, ef.fiber_strain, false, "1"},
-                          {"fiber_stress", io::Center::cell, ef.fiber_stress, false, "dyn/cm^2"},
+                          {stress_name, io::Center::cell, stress, false, "kPa"},
                           {"fiber_direction", io::Center::cell, fiber_direction, true, "1"},
                           {"fiber_reference", io::Center::cell, fiber_reference, true, "1"},
                           {"stable_step", io::Center::cell, stable_steps, false, "s"}};
@@ -106,7 +117,7 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
     const std::size_t count = f.center == io::Center::node ? nodes : elements;
     std::vector<hsize_t> dims{count};
     if (f.vector) dims.push_back(3);
-    const std::string dataset = std::string("mesh/") + f.name;
+    const std::string dataset = "mesh/" + f.name;
     h5.write_root(dataset, f.values, dims);
     h5.write_string_attribute(dataset, "units", f.units);
     structure.add_field(f.name, f.center, {dims.begin(), dims.end()}, file + ":/" + dataset, f.units);
@@ -114,16 +125,17 @@ io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, cons
   return structure;
 }
 
-void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, FieldSeries& series,
                        const fe::Mesh& mesh, const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe,
                        long step)
 {
   const std::string file = fields_file_name(step);
   io::Hdf5File h5(comm, directory / file, io::Hdf5File::Mode::create);
-  std::vector<io::XdmfGrid> grids = fluid.write_fields(h5, "fluid", file);
-  grids.push_back(write_structure_fields(h5, mesh, ibfe, file));
-  h5.close(); // written, or a RunError on every rank (a full disk), before fields.xdmf names it
-  series.add_step(ibfe.time(), grids);
+  std::vector<io::XdmfGrid> fluid_grids = fluid.write_fields(h5, "fluid", file);
+  io::XdmfGrid structure = write_structure_fields(h5, mesh, ibfe, file);
+  h5.close(); // written, or a RunError on every rank (a full disk), before an XDMF file names it
+  series.at("fluid").add_step(ibfe.time(), std::move(fluid_grids));
+  series.at("structure").add_step(ibfe.time(), {std::move(structure)});
 }
 
 void InversionWatch::observe(double t, const fe::SmallestJacobian& smallest)
@@ -168,7 +180,8 @@ void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& m
   fluid::FlowSolver* flow = &fluid;
   ib::IbfeIntegrator* coupled = &ibfe;
   loop.time = [coupled](std::int64_t) { return coupled->time(); };
-  loop.write_fields = [=](io::XdmfTimeSeries& series, std::int64_t step) {
+  loop.field_parts = ibfe_field_parts;
+  loop.write_fields = [=](FieldSeries& series, std::int64_t step) {
     write_ibfe_fields(run->comm, run->run_directory, series, *structure, *flow, *coupled,
                       static_cast<long>(step));
   };
@@ -197,8 +210,10 @@ std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, doub
          << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ")" << after_parts;
   return {timing.str(),
           fmt::format("structure volume change {:g} %", 100.0 * (ibfe.volume() / initial_volume - 1.0)),
-          fmt::format("fields: {} ({} outputs), time series: {}", (directory / "fields.xdmf").string(),
-                      outputs, (directory / "timeseries.csv").string())};
+          fmt::format("fields: {} and {} ({} outputs), time series: {}",
+                      (directory / field_series_file("fluid")).string(),
+                      (directory / field_series_file("structure")).string(), outputs,
+                      (directory / "timeseries.csv").string())};
 }
 
 } // namespace ibvalve::app

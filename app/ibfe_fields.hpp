@@ -1,9 +1,10 @@
 #pragma once
 // Field snapshots of an IB/FE run (the ibfe and aortic-valve models, on one level or nested levels): one
 // HDF5 file per snapshot, <run>/fields/step_<n>.h5, with the fluid's fields (each rank writes its block)
-// and the structure's current mesh with its displacement, velocity, J, fiber strain and stress, fiber
-// directions and part ids, plus one entry in <run>/fields.xdmf so ParaView ("Xdmf3 Reader") shows both
-// together. Units (CGS) are in each dataset's `units` attribute and in the XDMF names.
+// and the structure's current mesh with its displacement, velocity, J, fiber strain, the Cauchy stress
+// along the fiber, fiber directions and part ids, plus one entry in each of <run>/fields_fluid.xdmf and
+// <run>/fields_structure.xdmf, which ParaView ("Xdmf3 Reader") opens as two datasets. Units are in each
+// dataset's `units` attribute and in the XDMF names (CGS, and the stress in kPa as the report gives it).
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -33,13 +34,18 @@ std::string structure_part_table(const fe::SolidModel& solid);
 /// Writes the structure's mesh/* datasets into `h5` (rank 0 writes; collective) and returns their XDMF
 /// grid; `file` is the HDF5 file as the XDMF file names it. The geometry is the current positions;
 /// every real dataset has a `units` attribute; `part` (int64 per element) names its ids in its
-/// `parts` attribute and in the grid's Information "part".
+/// `parts` attribute and in the grid's Information "part". The nodes' velocity is `structure_velocity`,
+/// a name apart from the fluid's cell `velocity`.
 io::XdmfGrid write_structure_fields(io::Hdf5File& h5, const fe::Mesh& mesh, const ib::IbfeIntegrator& ibfe,
                                     const std::string& file);
 
-/// Writes the snapshot of step `step` and adds it to `series` (collective): the fluid's fields
-/// (FlowSolver::write_fields: one grid, or every level box of nested levels) and the structure's.
-void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, io::XdmfTimeSeries& series,
+/// The parts of an IB/FE run's field snapshots, each with its series (TimeLoop::field_parts).
+inline const std::vector<std::string> ibfe_field_parts{"fluid", "structure"};
+
+/// Writes the snapshot of step `step` and adds it to the series (collective): the fluid's fields
+/// (FlowSolver::write_fields: one grid, or every level box of nested levels) to series "fluid", the
+/// structure's to series "structure".
+void write_ibfe_fields(MPI_Comm comm, const std::filesystem::path& directory, FieldSeries& series,
                        const fe::Mesh& mesh, const fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe,
                        long step);
 
@@ -75,7 +81,7 @@ void set_ibfe_hooks(TimeLoop& loop, const RunContext& context, const fe::Mesh& m
 
 /// The closing lines of an IB/FE run's summary: time per coupled step and its parts (then `after_parts`,
 /// e.g. solver iterations), the structure's volume change from `initial_volume`, and where the fields
-/// (`outputs` snapshots) and the time series are.
+/// (`outputs` snapshots, fields_fluid.xdmf and fields_structure.xdmf) and the time series are.
 std::vector<std::string> ibfe_summary_lines(const ib::IbfeIntegrator& ibfe, double initial_volume,
                                             const std::filesystem::path& directory, std::size_t outputs,
                                             const std::string& after_parts = "");

@@ -1,9 +1,10 @@
 // `model = "ibfe"`: an elastic structure (a finite-element mesh) immersed in viscous incompressible
 // fluid on a staggered grid, coupled by the IB/FE method (ib/ibfe.hpp; docs/ib.md). The structure is
 // read from a Gmsh file or generated (a box of hexahedra, a thick spherical shell), may start from a
-// stretched or inflated configuration, and may be tethered. Output: fields/*.h5 + fields.xdmf with
-// the grid's velocity, vorticity and pressure and the mesh's displacement, velocity, J, fiber strain
-// and fiber stress side by side (one ParaView state opens both), and timeseries.csv.
+// stretched or inflated configuration, and may be tethered. Output: fields/*.h5 with fields_fluid.xdmf
+// (the grid's velocity, vorticity and pressure) and fields_structure.xdmf (the mesh's displacement,
+// velocity, J, fiber strain and the Cauchy stress along the fiber), two datasets one ParaView state
+// opens side by side, and timeseries.csv.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -194,7 +195,7 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
               "[structure.material] for the whole mesh); every element in exactly one part",
               k.parts);
 
-  bind_coupling_keys(keys, k.ib);
+  bind_coupling_keys(keys, k.ib, 0.5);
   const std::vector<std::pair<std::string, fe::MassKind>> projections{
       {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
   keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",

@@ -58,6 +58,7 @@ int main(int argc, char** argv)
   cli.require_subcommand(1);
   app::CommandAction action;
   app::add_run_command(cli, action);
+  app::add_check_command(cli, action);
   app::add_keys_command(cli, action);
   // A build of a subset of the folders (IBVALVE_FOLDERS) has the subcommands whose folders it has.
 #if IBVALVE_HAVE_MATERIALS

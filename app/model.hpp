@@ -48,6 +48,9 @@ class PreparedRun {
  public:
   virtual ~PreparedRun() = default;
   virtual RunSummary run(const RunContext& context) = 0;
+  /// What the prepared run is, in a few words (`ibvalve check`'s line): "" when the model says nothing
+  /// beyond its name.
+  virtual std::string summary() const { return ""; }
   /// The memory estimate (app/resource_estimate.hpp) the run logs at its start; "" for none.
   const std::string& memory_line() const { return memory_line_; }
 

@@ -126,10 +126,12 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
 
 /// What a run writes into its folder (docs/runs.md). --overwrite removes these, and nothing else, before
 /// the new run starts: no checkpoint of the old run can be pruned with the new run's or continued by
-/// --restart, and no field file, plan or report of the old run passes for the new run's.
-constexpr std::array<const char*, 11> run_outputs{
-    "checkpoints",       "fftw_wisdom",     "fields",  "fields.xdmf", "report",
-    "timeseries.csv",    "diagnostics.csv", "log.txt", "config.toml", "run.json",
+/// --restart, and no field file, plan or report of the old run passes for the new run's (fields.xdmf:
+/// the one series of fluid and structure that older builds wrote).
+constexpr std::array<const char*, 13> run_outputs{
+    "checkpoints",           "fftw_wisdom", "fields",      "fields_fluid.xdmf",
+    "fields_structure.xdmf", "fields.xdmf", "report",      "timeseries.csv",
+    "diagnostics.csv",       "log.txt",     "config.toml", "run.json",
     "extra_metrics.json"};
 
 /// Creates the run folder (rank 0): InputError naming the path when it is not a folder, cannot be
@@ -213,6 +215,32 @@ void warn_unused_petsc_options()
 
 } // namespace
 
+PreparedCase prepare_case(const RunOptions& options, const PetscArguments& petsc)
+{
+  auto& log = base::Logger::global();
+  if (options.quiet) log.set_level(base::LogLevel::quiet);
+  if (options.verbose) log.set_level(base::LogLevel::verbose);
+  io::Config config = load_case(options);
+  if (!options.quiet && !options.verbose) {
+    const std::string level = config.string("log.level");
+    log.set_level(level == "quiet"     ? base::LogLevel::quiet
+                  : level == "verbose" ? base::LogLevel::verbose
+                                       : base::LogLevel::normal);
+  }
+  log.set_progress_interval(config.real("log.progress_interval"));
+  // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
+  for (const std::string& warning : config.warnings()) log.warn(warning);
+  // Case options first, then the command line's, so that the command line wins; those of the case that
+  // read or write files are refused first (the command line's are the user's own).
+  check_case_petsc_options(config);
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
+  const Model* model = find_model(config.string("model"));
+  PreparedCase prepared{std::move(config), model, nullptr};
+  prepared.run = model->prepare(prepared.config);
+  return prepared;
+}
+
 int run_case(RunOptions options, const PetscArguments& petsc)
 {
   if (!options.restart.empty() && !options.case_file.empty())
@@ -231,27 +259,10 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   }
   auto& log = base::Logger::global();
   log.start_clock();
-  if (options.quiet) log.set_level(base::LogLevel::quiet);
-  if (options.verbose) log.set_level(base::LogLevel::verbose);
-
-  const io::Config config = load_case(options);
-  if (!options.quiet && !options.verbose) {
-    const std::string level = config.string("log.level");
-    log.set_level(level == "quiet"     ? base::LogLevel::quiet
-                  : level == "verbose" ? base::LogLevel::verbose
-                                       : base::LogLevel::normal);
-  }
-  log.set_progress_interval(config.real("log.progress_interval"));
-  // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
-  for (const std::string& warning : config.warnings()) log.warn(warning);
-  // Case options first, then the command line's, so that the command line wins; those of the case that
-  // read or write files are refused first (the command line's are the user's own).
-  check_case_petsc_options(config);
-  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
-  PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
-
-  const Model& model = *find_model(config.string("model"));
-  std::unique_ptr<PreparedRun> prepared = model.prepare(config);
+  const PreparedCase prepared_case = prepare_case(options, petsc);
+  const io::Config& config = prepared_case.config;
+  const Model& model = *prepared_case.model;
+  PreparedRun* prepared = prepared_case.run.get();
 
   const std::filesystem::path directory = run_directory(options, config);
   int size = 1;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <fmt/format.h>
 #include <optional>
+#include <string>
 
 #include "app/stop_signal.hpp"
 #include "base/errors.hpp"
@@ -47,6 +48,11 @@ bool due(std::int64_t step, std::int64_t every, std::int64_t last)
 
 } // namespace
 
+std::string field_series_file(const std::string& part)
+{
+  return "fields_" + part + ".xdmf";
+}
+
 std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
                          const std::filesystem::path& run_directory, int signal)
 {
@@ -62,10 +68,11 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
   const std::filesystem::path& directory = context.run_directory;
   const std::int64_t steps = loop.steps;
   const bool fields = loop.fields_every >= 0;
-  std::optional<io::XdmfTimeSeries> series;
+  FieldSeries series;
   if (fields) {
     io::create_directories_on_root(loop.comm, directory / "fields");
-    series.emplace(loop.comm, directory / "fields.xdmf");
+    for (const std::string& part : loop.field_parts)
+      series.try_emplace(part, loop.comm, directory / field_series_file(part), part);
   }
   const io::Checkpoints checkpoints(loop.comm, directory, loop.checkpoints);
   std::int64_t first_step = 0, rows = 0;
@@ -73,7 +80,8 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
     const io::CheckpointHeader header = restart(checkpoints, context, loop.comm, steps, loop.restore);
     first_step = header.step;
     rows = header.timeseries_rows;
-    if (series) series->resume(loop.time(first_step));
+    // Each series goes on from the checkpoint in the file the interrupted run left.
+    for (auto& [part, part_series] : series) part_series.resume(loop.time(first_step));
   }
   io::CsvWriter csv; // rank 0's; a failure to open it reaches every rank
   io::on_root(loop.comm, [&] {
@@ -87,7 +95,7 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
       io::on_root(loop.comm, [&] { csv.write_row(row); });
       ++rows;
     }
-    if (fields && due(step, loop.fields_every, steps)) loop.write_fields(*series, step);
+    if (fields && due(step, loop.fields_every, steps)) loop.write_fields(series, step);
   };
   auto save = [&](std::int64_t step) {
     if (loop.before_save) loop.before_save();
@@ -134,7 +142,8 @@ RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)
       summary.exit_code = exit_code_of_signal(stop_signal);
     }
   }
-  if (loop.finish) loop.finish(summary, last_step == steps, series ? series->steps() : 0);
+  if (loop.finish)
+    loop.finish(summary, last_step == steps, series.empty() ? 0 : series.begin()->second.steps());
   return summary;
 }
 

@@ -7,13 +7,15 @@
 //    timeseries.csv and diagnostics.csv back to the checkpoint's step and goes on from there;
 //  - timeseries.csv (rank 0 writes; a failure reaches every rank), a row at step 0, every
 //    `record_every` steps, at every multiple of `record_also_every` and at the last;
-//  - field snapshots in fields/ with fields.xdmf, at step 0, every `fields_every` steps and at the last;
+//  - field snapshots in fields/ with an XDMF series per part of the model (fields_fluid.xdmf,
+//    fields_structure.xdmf), at step 0, every `fields_every` steps and at the last;
 //  - diagnostics.csv and the progress line;
 //  - checkpoints (checkpoint.every), --stop-after-steps, and a stop by SIGINT/SIGTERM, which leave a
 //    checkpoint and say how to continue.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,13 @@
 #include "io/xdmf.hpp"
 
 namespace ibvalve::app {
+
+/// The XDMF series of a run's field snapshots by part ("fluid", "structure"): each part its own file,
+/// <run>/fields_<part>.xdmf, so that ParaView opens each as a dataset of its own.
+using FieldSeries = std::map<std::string, io::XdmfTimeSeries>;
+
+/// "fields_<part>.xdmf": the file of a part's series, relative to the run folder.
+std::string field_series_file(const std::string& part);
 
 struct TimeLoop {
   /// The ranks that take part: the run's communicator, or MPI_COMM_SELF for a model rank 0 runs alone.
@@ -40,8 +49,10 @@ struct TimeLoop {
   /// last instant, whatever record_every); 0: none.
   std::int64_t record_also_every = 0;
   /// Field snapshots every this many steps, and at the first and the last step; 0: only those two;
-  /// negative: none (no fields/ folder, no fields.xdmf).
+  /// negative: none (no fields/ folder, no XDMF files).
   std::int64_t fields_every = -1;
+  /// The parts of the snapshots, each with its series (FieldSeries).
+  std::vector<std::string> field_parts{"fluid"};
   std::int64_t progress_every = 1;   // the progress line's update
   std::int64_t stop_check_every = 1; // the ranks' agreement on a stop signal
 
@@ -51,9 +62,9 @@ struct TimeLoop {
   std::function<void(std::int64_t step)> advance;
   /// The row of timeseries.csv at step `step` (collective; rank 0's is written).
   std::function<std::vector<double>(std::int64_t step)> row;
-  /// Writes the snapshot of step `step` and adds it to the series (collective). Needed when
-  /// fields_every >= 0.
-  std::function<void(io::XdmfTimeSeries& series, std::int64_t step)> write_fields;
+  /// Writes the snapshot of step `step` and adds it to the series of each of its parts (collective).
+  /// Needed when fields_every >= 0.
+  std::function<void(FieldSeries& series, std::int64_t step)> write_fields;
   /// The model's part of a checkpoint, and reading it back (collective over `comm`).
   std::function<void(io::Hdf5File&)> save;
   std::function<void(const io::Hdf5File&)> restore;
@@ -66,7 +77,7 @@ struct TimeLoop {
   /// The stop signal the ranks agree on (app/stop_signal.hpp); empty: agreed_stop_signal(comm).
   std::function<int()> stop_signal;
   /// The summary's closing lines; `finished` is false after a stop, `snapshots` the field snapshots of
-  /// the series. May be empty.
+  /// the series (each part has them all). May be empty.
   std::function<void(RunSummary& summary, bool finished, std::size_t snapshots)> finish;
 };
 

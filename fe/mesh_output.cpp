@@ -49,7 +49,7 @@ io::XdmfGrid write_mesh_fields(MPI_Comm comm, const Mesh& mesh, const std::files
 
 MeshOutput::MeshOutput(MPI_Comm comm, const Mesh& mesh, std::filesystem::path directory, std::string name)
     : comm_(comm), mesh_(mesh), directory_(std::move(directory)), name_(std::move(name)),
-      xdmf_path_(directory_ / (name_ + ".xdmf")), series_(comm, xdmf_path_)
+      xdmf_path_(directory_ / (name_ + ".xdmf")), series_(comm, xdmf_path_, name_)
 {
 }
 

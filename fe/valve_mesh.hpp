@@ -17,8 +17,8 @@
 //       corners folded: docs/fe.md, "The aortic-valve mesh");
 //     free edge E(u): two straight segments from the commissures to the valve centre, each parallel to
 //       a coaptation line (theta_k +- 60 degrees) in projection and free_edge_gap / 2 away from it,
-//       descending from the commissures' height by free_edge_drop (1 - |u|) toward the centre (0 by
-//       default: a level free edge; a drop lengthens the free edge, the slack an opening valve needs to
+//       descending from the commissures' height by free_edge_drop (1 - |u|) toward the centre (0: a
+//       level free edge; a drop lengthens the free edge, the slack an opening valve needs to
 //       reach the wall without stretching its fibers: 2 sqrt(c^2 + drop^2) against the level 2 c, c the
 //       commissure-to-centre distance), so that neighbouring free edges (mid-surface) are free_edge_gap
 //       apart: seen along the axis, the closed valve leaves three strips of that width open, an orifice of
@@ -42,27 +42,30 @@
 
 namespace ibvalve::fe {
 
+// The defaults are the default valve case's (examples/aortic_valve/default.toml), and so the aortic-valve
+// model's mesh.* keys' and `ibvalve mesh aortic-valve`'s: the study's radius, wall and leaflet thickness
+// (docs/reference.md, "Geometry") around 5 cm of its 13 cm tube, the free edge's slack, and about one
+// element per 0.125 cm grid cell (the study's tube and finer mesh: examples/aortic_valve/paper.toml).
 struct ValveMeshParameters {
-  // Geometry, cm (defaults from docs/reference.md, "Geometry", where the study gives them, else chosen
-  // and documented).
+  // Geometry, cm.
   double tube_radius = 1.3;
   double tube_wall = 0.15;
-  double tube_length = 13.0;
+  double tube_length = 5.0; ///< 2 cm below the valve's nadir, 1.8 cm above its commissures
   double leaflet_thickness = 0.04;
-  double valve_base = 5.0;        ///< z of the attachment's nadir (leaflet centre), from the inlet
+  double valve_base = 2.0;        ///< z of the attachment's nadir (leaflet centre), from the inlet
   double commissure_height = 1.2; ///< z of the commissures (and the closed free edge) above the nadir
   /// Height of the attachment strip up the wall at each commissure (see above).
   double commissure_strip = 0.3;
   double sag = 0.25;               ///< belly depth toward the ventricle
-  double free_edge_drop = 0.0;     ///< how far the free edge descends from the commissures to the centre
+  double free_edge_drop = 0.5;     ///< how far the free edge descends from the commissures to the centre
   double free_edge_gap = 0.02;     ///< distance between neighbouring closed free edges (mid-surface)
   double first_leaflet_angle = 90; ///< degrees: direction of leaflet 1's centre about the axis
   // Resolution (elements).
-  int leaflet_across = 32; ///< commissure to commissure (u); even
-  int leaflet_radial = 12; ///< attachment to free edge (s)
+  int leaflet_across = 24; ///< commissure to commissure (u); even
+  int leaflet_radial = 10; ///< attachment to free edge (s)
   int leaflet_through = 1; ///< through the thickness
-  int tube_around = 96;
-  int tube_along = 104;
+  int tube_around = 64;
+  int tube_along = 40;
   int tube_through = 1;
   bool include_tube = true;
 };

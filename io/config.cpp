@@ -91,6 +91,13 @@ KeyBuilder& KeyBuilder::file(bool must_exist)
   return *this;
 }
 
+KeyBuilder& KeyBuilder::unused_with(std::string key)
+{
+  spec_->doc += " (not used with " + key + ")";
+  spec_->unused_with = std::move(key);
+  return *this;
+}
+
 KeyBuilder& KeyBuilder::typical(double lo, double hi, std::string why)
 {
   spec_->typical_min = lo;
@@ -660,11 +667,33 @@ struct Validator {
     }
   }
 
-  /// Reports a missing required key and inserts defaults for every other missing key.
+  /// Sets aside the given keys that another given key makes unused (KeySpec::unused_with), with one
+  /// warning naming them all, so that the case holds none of them.
+  void set_aside_unused(toml::table& root, const Schema& schema, std::string_view display_prefix) const
+  {
+    std::string names, where, because;
+    for (const auto& spec : schema.keys()) {
+      toml::node* node = root.at_path(spec->key).node();
+      if (spec->unused_with.empty() || !node || !root.at_path(spec->unused_with)) continue;
+      if (names.empty()) where = location(node, file);
+      names += (names.empty() ? "" : ", ") + join_key(display_prefix, spec->key);
+      because = join_key(display_prefix, spec->unused_with);
+      const auto dot = spec->key.rfind('.');
+      toml::table* parent =
+          dot == std::string::npos ? &root : root.at_path(spec->key.substr(0, dot)).as_table();
+      parent->erase(spec->key.substr(dot == std::string::npos ? 0 : dot + 1));
+    }
+    if (!names.empty())
+      warnings.push_back(where + ": " + names + ": not used with " + because + " (left out of the case)");
+  }
+
+  /// Reports a missing required key and inserts defaults for every other missing key (none for a key
+  /// another given key makes unused).
   void complete(toml::table& root, const Schema& schema, std::string_view display_prefix) const
   {
     for (const auto& spec : schema.keys()) {
       if (root.at_path(spec->key)) continue;
+      if (!spec->unused_with.empty() && root.at_path(spec->unused_with)) continue;
       if (spec->required)
         throw InputError(node_location(&root, file) + ": " + join_key(display_prefix, spec->key) +
                          ": missing required key (" + spec->doc + ")");
@@ -699,6 +728,7 @@ struct Validator {
   void validate_table(toml::table& table, const Schema& schema, std::string_view display_prefix) const
   {
     check_given(table, schema, "", display_prefix);
+    set_aside_unused(table, schema, display_prefix);
     complete(table, schema, display_prefix);
   }
 };
@@ -795,8 +825,8 @@ std::string quoted_list(const std::string& value)
   return out + "]";
 }
 
-/// One override as a TOML table holding its dotted key.
-toml::table parse_override(const std::string& text, const KeyLookup& lookup)
+/// One override's value as a TOML table holding its dotted key.
+toml::table parse_override_value(const std::string& text, const KeyLookup& lookup)
 {
   const auto equals = text.find('=');
   const std::string key = trimmed(std::string_view(text).substr(0, equals));
@@ -823,6 +853,27 @@ toml::table parse_override(const std::string& text, const KeyLookup& lookup)
     }
     throw InputError("command line: --set " + text + ": " + std::string(error.description()));
   }
+}
+
+/// One override as a TOML table holding its dotted key. A file it names (a path key, or each file of a
+/// list of them) is named from the working folder, as a shell names it, and so written absolute (a case
+/// file's own paths are read against the case file's folder).
+toml::table parse_override(const std::string& text, const KeyLookup& lookup)
+{
+  toml::table parsed = parse_override_value(text, lookup);
+  const std::string key = trimmed(std::string_view(text).substr(0, text.find('=')));
+  const KeySpec* spec = lookup ? lookup(key) : nullptr;
+  toml::node* node = parsed.at_path(key).node();
+  if (!spec || !spec->is_path || !node) return parsed;
+  const auto absolute = [](toml::node& item) {
+    if (const auto* name = item.as_string(); name && !name->get().empty())
+      item.as_string()->get() = std::filesystem::absolute(name->get()).lexically_normal().string();
+  };
+  if (toml::array* files = node->as_array())
+    for (toml::node& item : *files) absolute(item);
+  else
+    absolute(*node);
+  return parsed;
 }
 
 } // namespace
@@ -1152,7 +1203,7 @@ void write_table(std::ostringstream& os, const toml::table& table, const Schema&
       const std::string rest = spec->key.substr(section.size() + 1);
       if (const toml::node* n = table.at_path(spec->key).node())
         os << rest << " = " << format_value(*n, *spec, paths) << comment(*spec) << "\n";
-      else
+      else if (spec->unused_with.empty() || !table.at_path(spec->unused_with))
         os << unset_line(table, *spec, rest, comment(*spec));
     }
   }

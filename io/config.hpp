@@ -67,6 +67,10 @@ struct KeySpec {
   // the value the preset gives, as the case file would write it (nothing when it gives none).
   std::string preset_key;
   std::function<std::optional<Value>(const std::string& preset)> from_preset;
+  // A key (same table) that makes this one unused when it is given: a generator's setting beside the
+  // file given instead. The key is then left out of the case (no default, a given value set aside with
+  // a warning), so what a run records holds no setting it did not use.
+  std::string unused_with;
 };
 
 /// Sets the properties of one key; returned by the Schema::add_* calls.
@@ -93,6 +97,8 @@ class KeyBuilder {
   KeyBuilder& typical(double lo, double hi, std::string why);
   /// When the key is not given, the preset named by `preset_key` supplies `value(preset name)`.
   KeyBuilder& preset(std::string preset_key, std::function<std::optional<Value>(const std::string&)> value);
+  /// Not used when `key` is given (KeySpec::unused_with); the meaning says so.
+  KeyBuilder& unused_with(std::string key);
 
  private:
   KeySpec* spec_;

@@ -10,6 +10,13 @@
 
 namespace ibvalve::io {
 
+namespace {
+
+// The indentation of the temporal collection's grids, one per step (resume finds them by it).
+const std::string step_indent(6, ' ');
+
+} // namespace
+
 XdmfGrid XdmfGrid::regular(std::string name, std::array<std::size_t, 3> cells, std::array<double, 3> origin,
                            std::array<double, 3> spacing)
 {
@@ -50,8 +57,8 @@ XdmfGrid& XdmfGrid::add_information(std::string info_name, std::string value)
   return *this;
 }
 
-XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path)
-    : comm_(comm), path_(std::move(path))
+XdmfTimeSeries::XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path, std::string name)
+    : comm_(comm), path_(std::move(path)), name_(std::move(name))
 {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -72,16 +79,18 @@ void XdmfTimeSeries::drop_after(double time)
 
 void XdmfTimeSeries::resume(double time)
 {
-  // The file holds one spatial collection per step between the temporal collection's opening and
-  // closing lines (text() below); each names its time with 17 digits, so the times read back exactly.
+  // The file holds one grid per step between the temporal collection's opening and closing lines
+  // (text() below), each opening and closing at the steps' indentation (the grids inside a step's
+  // collection are indented further); each names its time with 17 digits, so the times read back exactly.
   steps_.clear();
   long kept = 0;
   if (writer_ && std::filesystem::exists(path_)) {
     const std::string text = read_text_file(path_);
-    const std::string opening = "     <Grid Name=\"t = ", closing = "\n     </Grid>\n",
+    const std::string opening = "\n" + step_indent + "<Grid ", closing = "\n" + step_indent + "</Grid>\n",
                       value = "<Time Value=\"";
     for (std::size_t begin = text.find(opening); begin != std::string::npos;
          begin = text.find(opening, begin)) {
+      ++begin; // the step's text starts after the line break
       const std::size_t end = text.find(closing, begin);
       const std::size_t at = text.find(value, begin);
       if (end == std::string::npos || at == std::string::npos || at > end)
@@ -89,7 +98,7 @@ void XdmfTimeSeries::resume(double time)
       const double t = std::stod(text.substr(at + value.size()));
       if (t > time) break;
       steps_.emplace_back(t, text.substr(begin, end + closing.size() - begin));
-      begin = end + closing.size();
+      begin = end + closing.size() - 1;
     }
     kept = static_cast<long>(steps_.size());
   }
@@ -121,10 +130,12 @@ void data_item(std::ostringstream& os, const std::vector<std::size_t>& dims, con
      << "\" Precision=\"8\" Format=\"HDF\">" << xml_escaped(data) << "</DataItem>\n";
 }
 
-void grid_text(std::ostringstream& os, const XdmfGrid& g)
+/// One grid at `indent`, its elements indented further; `time`, when given, as its Time element.
+void grid_text(std::ostringstream& os, const XdmfGrid& g, const std::string& indent, const double* time)
 {
-  const std::string in = "        ";
-  os << "      <Grid Name=\"" << xml_escaped(g.name) << "\" GridType=\"Uniform\">\n";
+  const std::string in = indent + "  ";
+  os << indent << "<Grid Name=\"" << xml_escaped(g.name) << "\" GridType=\"Uniform\">\n";
+  if (time) os << in << "<Time Value=\"" << *time << "\"/>\n";
   for (const XdmfInformation& info : g.information)
     os << in << "<Information Name=\"" << xml_escaped(info.name) << "\" Value=\"" << xml_escaped(info.value)
        << "\"/>\n";
@@ -160,19 +171,26 @@ void grid_text(std::ostringstream& os, const XdmfGrid& g)
     data_item(os, f.dims, f.integer ? "Int" : "Float", f.data, in + "  ");
     os << in << "</Attribute>\n";
   }
-  os << "      </Grid>\n";
+  os << indent << "</Grid>\n";
 }
 
 } // namespace
 
-std::string XdmfTimeSeries::step_text(double time, const std::vector<XdmfGrid>& grids)
+std::string XdmfTimeSeries::step_text(double time, const std::vector<XdmfGrid>& grids) const
 {
+  // The time's grid is named as the series' grids are, not after the time: ParaView names a block by
+  // it, and a block renamed from one time to the next is another block.
   std::ostringstream os;
   os << std::setprecision(17);
-  os << "     <Grid Name=\"t = " << time << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
-  os << "      <Time Value=\"" << time << "\"/>\n";
-  for (const XdmfGrid& g : grids) grid_text(os, g);
-  os << "     </Grid>\n";
+  if (grids.size() == 1) {
+    grid_text(os, grids.front(), step_indent, &time);
+    return os.str();
+  }
+  os << step_indent << "<Grid Name=\"" << xml_escaped(name_)
+     << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+  os << step_indent << "  <Time Value=\"" << time << "\"/>\n";
+  for (const XdmfGrid& g : grids) grid_text(os, g, step_indent + "  ", nullptr);
+  os << step_indent << "</Grid>\n";
   return os.str();
 }
 
@@ -181,7 +199,8 @@ std::string XdmfTimeSeries::text() const
   std::ostringstream os;
   os << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  "
         "<Domain>\n";
-  os << "    <Grid Name=\"time series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  os << "    <Grid Name=\"" << xml_escaped(name_)
+     << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   for (const auto& step : steps_) os << step.second;
   os << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   return os.str();

@@ -1,8 +1,11 @@
 #pragma once
 // XDMF (version 3) descriptions of HDF5 data, so ParaView and VisIt open a run's fields.
 //
-// A run's fields.xdmf is a temporal collection; each output time holds a spatial collection of grids
-// (the fluid's regular grid and the structure's mesh side by side), so one ParaView state shows both.
+// A series is a temporal collection with one grid per output time: the one grid a step holds (a run's
+// fluid on one level, its structure), or a spatial collection of a step's grids (the level boxes of
+// nested levels) named after the series. The name of a time's grid is the same at every time, so
+// ParaView keeps one block of one name as the animation runs; a run writes its fluid and its structure
+// as two series (fields_fluid.xdmf, fields_structure.xdmf), which ParaView opens as two datasets.
 // The file is rewritten atomically after every output, so it is always complete.
 //
 // Outputs explain themselves: a field with units is shown as "name [units]" (the name ParaView lists;
@@ -69,8 +72,10 @@ struct XdmfGrid {
 class XdmfTimeSeries {
  public:
   /// Rank 0 of `comm` writes `path`. add_step, drop_after and resume are collective: a failure to write
-  /// the file (RunError) reaches every rank.
-  XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path);
+  /// the file (RunError) reaches every rank. `name` names the temporal collection and a step's spatial
+  /// collection.
+  XdmfTimeSeries(MPI_Comm comm, std::filesystem::path path, std::string name = "series");
+  /// The grids of one output time: one grid is the time's grid itself; several are a spatial collection.
   void add_step(double time, std::vector<XdmfGrid> grids);
   /// Forgets steps after `time` (a restart from a checkpoint at `time`) and rewrites the file.
   void drop_after(double time);
@@ -82,10 +87,11 @@ class XdmfTimeSeries {
 
  private:
   void write() const;
-  static std::string step_text(double time, const std::vector<XdmfGrid>& grids);
+  std::string step_text(double time, const std::vector<XdmfGrid>& grids) const;
   MPI_Comm comm_;
   bool writer_ = true;
   std::filesystem::path path_;
+  std::string name_;
   // Each step's time and its spatial collection as XDMF text (what a resumed series reads back).
   std::vector<std::pair<double, std::string>> steps_;
 };

@@ -90,7 +90,7 @@ std::vector<double> to_user_units(LawKind law, std::span<const double> cgs_value
   return out;
 }
 
-io::Schema material_schema(const std::string& prefix)
+io::Schema material_schema(const std::string& prefix, const MaterialRecommendation& recommended)
 {
   io::Schema schema;
   const std::string p = prefix.empty() ? "" : prefix + ".";
@@ -100,19 +100,23 @@ io::Schema material_schema(const std::string& prefix)
   for (const Preset& preset : presets()) preset_choices.push_back(preset.name);
   // Keys left out take the preset's values (config.toml writes them out, naming the preset).
   const std::string preset_key = p + "preset";
-  schema
-      .add_string(p + "law", "constitutive law (" + law_names() +
+  auto law = schema
+                 .add_string(p + "law",
+                             "constitutive law (" + law_names() +
                                  ", or expression: a formula in `energy`); implied by `preset` when omitted")
-      .choices(law_choices)
-      .preset(preset_key, [](const std::string& name) -> std::optional<io::Value> {
-        const Preset* preset = find_preset(name);
-        if (!preset) return std::nullopt;
-        return law_info(preset->law).name;
-      });
-  // A case needs a law or a preset: the skeleton of `ibvalve keys --format toml` starts from a preset.
-  schema.add_string(p + "preset", "named parameter set; explicit parameter keys override its values")
-      .choices(preset_choices)
-      .example(std::string("zhu2021-W1"));
+                 .choices(law_choices)
+                 .preset(preset_key, [](const std::string& name) -> std::optional<io::Value> {
+                   const Preset* preset = find_preset(name);
+                   if (!preset) return std::nullopt;
+                   return law_info(preset->law).name;
+                 });
+  // A case needs a law or a preset: the skeleton of `ibvalve keys --format toml` starts from the
+  // recommended one.
+  auto preset =
+      schema.add_string(p + "preset", "named parameter set; explicit parameter keys override its values")
+          .choices(preset_choices);
+  if (!recommended.preset.empty()) preset.example(recommended.preset);
+  if (!recommended.law.empty()) law.example(recommended.law);
   for (const auto& [name, info] : all_parameters()) {
     std::string used_by;
     for (const LawInfo& law : all_laws())
@@ -133,6 +137,8 @@ io::Schema material_schema(const std::string& prefix)
             });
     if (info->is_modulus) key.unit("kPa");
     if (info->upper < 1e300) key.at_most(info->upper);
+    for (const auto& [given, value] : recommended.parameters)
+      if (given == name) key.example(value);
   }
   schema.add_string(p + "energy",
                     "law expression: the strain energy as a formula of I1, I1bar, I2, I4, I6, I8, J and the "
@@ -157,7 +163,7 @@ io::Schema material_schema(const std::string& prefix)
                   "J^(-2/3) tr C (the same for incompressible tissue; resists the collapse of an element "
                   "corner, docs/materials.md)")
       .choices({"I1", "isochoric"})
-      .defaults(std::string("I1"));
+      .defaults(recommended.isotropic_invariant);
   std::vector<std::string> penalty_choices;
   for (const auto kind :
        {PenaltyKind::none, PenaltyKind::log, PenaltyKind::quadratic_log, PenaltyKind::quadratic})

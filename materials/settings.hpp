@@ -49,8 +49,18 @@ const Preset* find_preset(std::string_view name);
 std::vector<double> to_cgs(LawKind law, std::span<const double> user_values);
 std::vector<double> to_user_units(LawKind law, std::span<const double> cgs_values);
 
+/// What a model recommends for one of its material tables: where the case skeleton (`ibvalve keys
+/// --format toml`) starts from, a preset or a law with its parameters (in the case file's units, kPa for
+/// moduli), and the isotropic invariant's default.
+struct MaterialRecommendation {
+  std::string preset = "zhu2021-W1";
+  std::string law; ///< with `parameters`, when `preset` is empty
+  std::vector<std::pair<std::string, double>> parameters;
+  std::string isotropic_invariant = "I1";
+};
+
 /// The keys of a material table under `prefix` (e.g. "leaflet.material"), for the case schema.
-io::Schema material_schema(const std::string& prefix);
+io::Schema material_schema(const std::string& prefix, const MaterialRecommendation& recommended = {});
 
 /// Everything a material table resolves to.
 /// The law = "expression" part of a material: the formula and its named parameters (CGS).

@@ -143,7 +143,7 @@ void add_waveform_schema(io::Schema& schema, const std::string& prefix, const st
   io::KeyBuilder file = schema.add_string(
       prefix + ".file", doc + ": CSV table with a header, one period, last row = first row one period later");
   if (file_required) file.required();
-  file.example(std::string("lv_pressure.csv")).file();
+  file.example(std::string("lv_pressure_typeA.csv")).file();
   schema.add_string(prefix + ".time_column", "the table's time column (s)").defaults(std::string("time"));
   schema.add_string(prefix + ".value_column", "the table's value column").defaults(std::string("pressure"));
   schema.add_string(prefix + ".interpolation", "between table points")

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The closed valve's centre, from an aortic-valve run folder's field snapshots (fields.xdmf).
+"""The closed valve's centre, from an aortic-valve run folder's field snapshots (fields_fluid.xdmf).
 
   examples/aortic_valve/closed_centre.py RUN_DIR TIME...
 
@@ -25,7 +25,7 @@ import numpy as np
 if len(sys.argv) < 3:
     sys.exit(__doc__)
 run = Path(sys.argv[1])
-xdmf = (run / "fields.xdmf").read_text()
+xdmf = (run / "fields_fluid.xdmf").read_text()  # the fluid grid; the snapshot files hold the mesh too
 origin, spacing = (np.array(v.split(), float)[::-1] for v in re.findall(
     r'<DataItem Dimensions="3"[^>]*Format="XML">([^<]+)</DataItem>', xdmf)[:2])  # (z, y, x) -> (x, y, z)
 snapshots = [(float(t), name) for t, name in

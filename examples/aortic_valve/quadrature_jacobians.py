@@ -50,7 +50,7 @@ def jacobian_ratio(p, x, X):  # det F at p for elements x, X: (elements, 8, 3)
     return np.linalg.det(np.einsum("eai,aj->eij", x, g)) / np.linalg.det(np.einsum("eai,aj->eij", X, g))
 
 
-xdmf = (args.run / "fields.xdmf").read_text()
+xdmf = (args.run / "fields_structure.xdmf").read_text()
 snapshots = re.findall(r'<Time Value="([^"]+)"/>.*?(fields/step_\d+\.h5)', xdmf, re.S)
 for t, name in snapshots[::args.every]:
     with h5py.File(args.run / name) as f:

@@ -94,9 +94,8 @@ def budget(whole, when, at, every, keep=2):
     total = 0
     for name in ("config.toml", "log.txt"):
         total += pages((whole / name).stat().st_size)
-    for name in ("fields.xdmf",):
-        if (whole / name).exists():
-            total += 2 * pages((whole / name).stat().st_size)
+    for series in whole.glob("fields_*.xdmf"):
+        total += 2 * pages(series.stat().st_size)
     for wisdom in (whole / "fftw_wisdom").glob("*"):
         total += 2 * pages(wisdom.stat().st_size)
     field_files = sorted((whole / "fields").glob("*.h5")) if (whole / "fields").exists() else []

@@ -3,8 +3,8 @@
 
   check_keys_once.py IBVALVE SOURCE_DIR
 
-For each app/<model>_model.cpp, the keys `ibvalve keys <model>` lists are looked for in the file's string
-literals (comments left out): a literal that is the key, or names it in a message ("must be below
+For each model's source (app/<model>_model.cpp, and the files its keys are bound in), the keys `ibvalve
+keys <model>` lists are looked for in the files' string literals (comments left out): a literal that is the key, or names it in a message ("must be below
 valve.max_area_fraction"). A key the model binds once is found once; one written again (read by its
 name, or named in a message instead of through keys_.key_of) is found twice. Prints each model's count
 of keys found more than once and what they are; exits 1 when any model has one.
@@ -15,10 +15,10 @@ import subprocess
 import sys
 
 MODELS = {
-    "lumped": "lumped_model.cpp",
-    "ibfe": "ibfe_model.cpp",
-    "fluid": "fluid_model.cpp",
-    "aortic-valve": "aortic_valve_model.cpp",
+    "lumped": ["lumped_model.cpp"],
+    "ibfe": ["ibfe_model.cpp"],
+    "fluid": ["fluid_model.cpp"],
+    "aortic-valve": ["aortic_valve_model.cpp", "aortic_valve_keys.cpp", "valve_mesh.cpp"],
 }
 
 KEY_ROW = re.compile(r"^\| `([^`]+)` \|", re.MULTILINE)
@@ -50,12 +50,12 @@ def repeated_keys(keys, source):
 def main():
     ibvalve, source_dir = sys.argv[1], pathlib.Path(sys.argv[2])
     failed = False
-    for model, file in MODELS.items():
-        path = source_dir / "app" / file
+    for model, files in MODELS.items():
+        paths = [source_dir / "app" / file for file in files]
         keys = declared_keys(ibvalve, model)
-        if keys is None or not path.exists():
+        if keys is None or not all(path.exists() for path in paths):
             continue
-        repeated = repeated_keys(keys, path.read_text())
+        repeated = repeated_keys(keys, "\n".join(path.read_text() for path in paths))
         print(f"{model}: {len(repeated)} key(s) written more than once"
               + "".join(f"\n  {key}: {n} times" for key, n in repeated.items()))
         failed = failed or bool(repeated)

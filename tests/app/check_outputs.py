@@ -1,6 +1,14 @@
-"""Checks that a run folder's outputs explain themselves (issue 20, item 15), reading them as ParaView and
-a user would: fields.xdmf (ElementTree) and the HDF5 files it names (h5py), and timeseries.csv.
+"""Checks that a run folder's outputs explain themselves, reading them as ParaView and a user would: the
+XDMF series fields_fluid.xdmf and fields_structure.xdmf (ElementTree) and the HDF5 files they name (h5py),
+and timeseries.csv.
 
+  - the fluid and the structure are two series, two datasets in ParaView: fields_fluid.xdmf holds the
+    fluid's grids alone, fields_structure.xdmf the structure's mesh alone (no fields.xdmf holding both),
+    at the same times; each is XML with one grid per time whose name is the same at every time (and so
+    are the names of the grids inside it), so ParaView keeps one block as the animation runs;
+  - no array name is in both series (the structure's node velocity is `structure_velocity`, the fluid's
+    cell velocity `velocity`); the structure's stress is `cauchy_stress_along_fiber [kPa]`, the unit of
+    the report, with an Information element saying what it is;
   - every real dataset an XDMF Attribute or Geometry names has a `units` attribute, and the Attribute's
     name is "<dataset name> [<units>]" ("J" alone for a pure number, units "1");
   - the structure (when there is one): an integer cell attribute `part` whose ids are 1..N with the names
@@ -67,6 +75,11 @@ def check_structure(grid, fields, args, step):
     information = {i.get("Name"): i.get("Value") for i in grid.findall("Information")}
     if "current positions" not in information.get("geometry", ""):
         fail(f"{step}: the structure's Information 'geometry' does not say the coordinates are current positions")
+    stress = fields.get("cauchy_stress_along_fiber")
+    if stress is None or stress[1].get("units") != "kPa":
+        fail(f"{step}: the structure has no 'cauchy_stress_along_fiber' in kPa")
+    elif "total Cauchy stress" not in information.get("cauchy_stress_along_fiber", ""):
+        fail(f"{step}: no Information saying what cauchy_stress_along_fiber is")
     if "part" not in fields:
         fail(f"{step}: the structure has no cell attribute 'part'")
         return
@@ -94,6 +107,99 @@ def check_structure(grid, fields, args, step):
                  f"{np.abs(length[with_fibers] - 1).max():.2e})")
         if np.abs(length[~with_fibers]).max(initial=0) > 0:
             fail(f"{step}: {name} not zero outside the fiber parts")
+
+
+def read_series(run, name):
+    """The output times of the series <run>/<name>: [(time, [grids])], one grid per time holding them.
+    Fails where the name of a time's grid, or of a grid inside it, changes from one time to the next."""
+    try:
+        root = ET.parse(run / name).getroot()
+    except ET.ParseError as error:
+        fail(f"{name}: not XML: {error}")
+        return []
+    steps = root.findall("./Domain/Grid/Grid")
+    if not steps:
+        fail(f"{name}: no output time")
+    names = sorted({step.get("Name") for step in steps})
+    inner = sorted({tuple(grid.get("Name") for grid in step.findall("Grid")) for step in steps})
+    if len(names) != 1 or len(inner) > 1:
+        fail(f"{name}: the names of the grids change with time: {names} holding {inner}")
+    series = []
+    for step in steps:
+        inside = step.findall("Grid")
+        series.append((float(step.find("Time").get("Value")), inside if inside else [step]))
+    print(f"{name}: {len(steps)} output times, each one grid named {names[0]!r}"
+          + (f" holding {len(inner[0])} grids" if inner and inner[0] else ""))
+    return series
+
+
+def check_fluid_series(run):
+    """fields_fluid.xdmf: regular grids only. Returns the times and the array names."""
+    times, names = [], set()
+    for t, grids in read_series(run, "fields_fluid.xdmf"):
+        times.append(t)
+        for grid in grids:
+            if grid.find("Topology").get("TopologyType") != "3DCoRectMesh":
+                fail(f"fields_fluid.xdmf, t = {t}: grid {grid.get('Name')!r} is not the fluid's regular grid")
+            check_grid(run, grid, f"t = {t}")
+            names |= {attribute.get("Name") for attribute in grid.findall("Attribute")}
+    return times, names
+
+
+def check_structure_series(run, args):
+    """fields_structure.xdmf: the structure's mesh alone. Returns the times, the array names and the
+    fields of each time."""
+    times, names, structures = [], set(), []
+    for t, grids in read_series(run, "fields_structure.xdmf"):
+        times.append(t)
+        if [grid.get("Name") for grid in grids] != ["structure"]:
+            fail(f"fields_structure.xdmf, t = {t}: grids {[g.get('Name') for g in grids]}, expected the structure alone")
+            continue
+        fields = check_grid(run, grids[0], f"t = {t}")
+        check_structure(grids[0], fields, args, f"t = {t}")
+        names |= {attribute.get("Name") for attribute in grids[0].findall("Attribute")}
+        structures.append(fields)
+    return times, names, structures
+
+
+def check_reference(structures):
+    """Current positions: the last snapshot's coordinates minus its displacement are the first's."""
+    if len(structures) < 2 or "displacement" not in structures[-1]:
+        return
+    first, last = structures[0], structures[-1]
+    moved = np.abs(last["displacement"][0]).max()
+    reference = last["coordinates"][0] - last["displacement"][0]
+    error = np.abs(reference - (first["coordinates"][0] - first["displacement"][0])).max()
+    print(f"structure: coordinates - displacement = reference to {error:.1e} cm "
+          f"(largest displacement {moved:.1e} cm)")
+    if error > 1e-12 * max(1.0, np.abs(reference).max()):
+        fail("the structure's coordinates are not the current positions (coordinates - displacement "
+             "changes between snapshots)")
+
+
+def check_fields(args):
+    run = args.run
+    if (run / "fields.xdmf").exists():
+        fail("fields.xdmf: one series holding the fluid and the structure (ParaView merges or renames "
+             "them); they go in fields_fluid.xdmf and fields_structure.xdmf")
+    if not (run / "fields").is_dir():
+        return
+    if not (run / "fields_fluid.xdmf").exists():
+        fail("field files but no fields_fluid.xdmf")
+        return
+    fluid_times, fluid_names = check_fluid_series(run)
+    if args.parts is None:
+        return
+    if not (run / "fields_structure.xdmf").exists():
+        fail("no fields_structure.xdmf")
+        return
+    times, names, structures = check_structure_series(run, args)
+    if times != fluid_times:
+        fail(f"the structure's output times {times} are not the fluid's {fluid_times}")
+    if fluid_names & names:
+        fail(f"array names in both series: {sorted(fluid_names & names)}")
+    print(f"fluid arrays {sorted(fluid_names)}, structure arrays {sorted(names)}: none in both")
+    check_reference(structures)
 
 
 def check_series(run):
@@ -140,30 +246,7 @@ def main():
     check_series(args.run)
     if args.extra_metrics:
         check_extra_metrics(args.run, args.extra_metrics)
-    xdmf = args.run / "fields.xdmf"
-    if xdmf.exists():
-        steps = ET.parse(xdmf).getroot().findall("./Domain/Grid/Grid")
-        structures = []
-        for step in steps:
-            label = f"t = {step.find('Time').get('Value')}"
-            for grid in step.findall("Grid"):
-                fields = check_grid(args.run, grid, label)
-                if grid.get("Name") == "structure":
-                    check_structure(grid, fields, args, label)
-                    structures.append(fields)
-        print(f"fields.xdmf: {len(steps)} snapshots checked")
-        if args.parts is not None and not structures:
-            fail("fields.xdmf has no structure grid")
-        if len(structures) >= 2 and "displacement" in structures[-1]:
-            first, last = structures[0], structures[-1]
-            moved = np.abs(last["displacement"][0]).max()
-            reference = last["coordinates"][0] - last["displacement"][0]
-            error = np.abs(reference - (first["coordinates"][0] - first["displacement"][0])).max()
-            print(f"structure: coordinates - displacement = reference to {error:.1e} cm "
-                  f"(largest displacement {moved:.1e} cm)")
-            if error > 1e-12 * max(1.0, np.abs(reference).max()):
-                fail("the structure's coordinates are not the current positions (coordinates - displacement "
-                     "changes between snapshots)")
+    check_fields(args)
     if failures:
         print("FAIL:\n  " + "\n  ".join(failures))
         sys.exit(1)

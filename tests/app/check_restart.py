@@ -12,7 +12,8 @@
    - every checkpoint both runs wrote after step S (the restarted run's own) holds the same datasets
      with the same bits: the whole state (fluid, structure, outlet) continued exactly, not only what
      the time series prints;
-   - every field file (fields/*.h5) both wrote holds the same bits, and fields.xdmf is the same text.
+   - every field file (fields/*.h5) both wrote holds the same bits, and each XDMF series
+     (fields_fluid.xdmf, fields_structure.xdmf) is the same text.
 With --from K instead of --stop: the whole run's own folder, copied and cut back to its checkpoint at
 step K, is restarted to the end and compared the same way. Both halves then run in different processes
 with FFTW plans timed in the first (the default -fluid_fftw_planner measure): the restart must load
@@ -145,10 +146,17 @@ def main():
         compare_h5(whole / "fields" / name, split / "fields" / name, "fields/" + name)
     if fields:
         print(f"fields: {len(fields)} files identical bit for bit")
-    if (whole / "fields.xdmf").exists():
-        if (whole / "fields.xdmf").read_text() != (split / "fields.xdmf").read_text():
-            sys.exit("FAIL: fields.xdmf differs")
-        print("fields.xdmf: identical")
+    # One XDMF series per part (fields_fluid.xdmf, and fields_structure.xdmf with a structure), each
+    # taken over from the stopped run's file and continued.
+    series = sorted(p.name for p in whole.glob("fields_*.xdmf"))
+    if fields and "fields_fluid.xdmf" not in series:
+        sys.exit("FAIL: the run wrote field files but no fields_fluid.xdmf")
+    for name in series:
+        if not (split / name).exists():
+            sys.exit(f"FAIL: the restarted run has no {name}")
+        if (whole / name).read_text() != (split / name).read_text():
+            sys.exit(f"FAIL: {name} differs")
+        print(f"{name}: identical")
     print("PASS")
 
 

@@ -1,4 +1,4 @@
-"""Reads a fluid run's fields.xdmf and the HDF5 files it names (h5py), and checks them against the
+"""Reads a fluid run's fields_fluid.xdmf and the HDF5 files it names (h5py), and checks them against the
 Taylor-Green vortex the run started from: the array shapes and grid the XDMF describes, the time of
 each step, the velocity and pressure against the exact solution, the vorticity against the exact
 vorticity, and timeseries.csv's columns. Usage: check_fields.py RUN_DIR"""
@@ -15,13 +15,13 @@ run = Path(sys.argv[1])
 nu, mean, k = 0.01, (0.5, 0.0, 0.0), 2.0 * math.pi
 nx, ny, nz, h = 16, 16, 8, 1.0 / 16
 
-root = ET.parse(run / "fields.xdmf").getroot()
-steps = root.findall("./Domain/Grid/Grid")
+root = ET.parse(run / "fields_fluid.xdmf").getroot()
+steps = root.findall("./Domain/Grid/Grid")  # one grid per output time, the fluid's
 assert len(steps) == 3, f"expected 3 output times (steps 0, 5, 10), found {len(steps)}"
 z, y, x = np.meshgrid((np.arange(nz) + 0.5) * h, (np.arange(ny) + 0.5) * h, (np.arange(nx) + 0.5) * h, indexing="ij")
 for step in steps:
     t = float(step.find("Time").get("Value"))
-    grid = step.find("Grid")
+    grid = step
     dims = [int(v) for v in grid.find("Topology").get("Dimensions").split()]
     assert dims == [nz + 1, ny + 1, nx + 1], dims
     fields = {}
@@ -70,4 +70,4 @@ energy0 = float(rows[0]["kinetic_energy"])
 volume = 0.5
 # 1/2 int |u|^2 = V/2 (U^2 + 1/4 + 1/4) for the vortex of amplitude 1 carried by (U, 0, 0).
 assert abs(energy0 - 0.5 * volume * (mean[0] ** 2 + 0.5)) < 1e-2 * energy0, energy0
-print("fields.xdmf, HDF5 files and timeseries.csv check out")
+print("fields_fluid.xdmf, HDF5 files and timeseries.csv check out")

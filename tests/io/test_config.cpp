@@ -305,6 +305,54 @@ TEST(Config, OverrideOfAStringKeyTakesABareWord)
             (std::vector<std::string>{"tube_outer"}));
 }
 
+TEST(Config, AFileGivenOnTheCommandLineIsNamedFromTheWorkingFolder)
+{
+  // The case file lies in the temporary folder, the mesh in the working folder: --set names it as the
+  // shell does, and the case holds it absolute.
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  const std::string name = fmt::format("ibvalve_set_path_{}_{}.msh", ::getpid(), rank);
+  std::ofstream(name) << "mesh\n";
+  const Config c = load_with("model = \"fluid\"\n[time]\ndt = 1\n", {"mesh.file=" + name});
+  EXPECT_EQ(c.path("mesh.file"), std::filesystem::absolute(name).lexically_normal());
+  EXPECT_EQ(c.string("mesh.file"), std::filesystem::absolute(name).lexically_normal().string());
+  std::filesystem::remove(name);
+  EXPECT_NE(
+      override_error({"mesh.file=" + name}).find("no such file '" + std::filesystem::absolute(name).string()),
+      std::string::npos);
+}
+
+TEST(Config, AKeyAGivenFileMakesUnusedIsLeftOutOfTheCase)
+{
+  // A generator's resolution beside the file given instead: no default, a given value set aside with
+  // one warning, and nothing of it in the resolved case.
+  Schema schema;
+  schema.add_string("mesh.file", "a mesh file").file(false);
+  schema.add_integer("mesh.cells", "cells of the generated mesh")
+      .defaults(std::int64_t{8})
+      .unused_with("mesh.file");
+  schema.add_real("mesh.radius", "radius").unit("cm").defaults(1.3);
+  CaseFile generated("[mesh]\nradius = 2.0\n");
+  const Config g = Config::load(generated.path(), schema);
+  EXPECT_EQ(g.integer("mesh.cells"), 8);
+  EXPECT_NE(g.resolved_toml().find("cells = 8"), std::string::npos);
+
+  CaseFile read("[mesh]\nfile = \"valve.msh\"\ncells = 4\n");
+  const Config r = Config::load(read.path(), schema);
+  EXPECT_FALSE(r.has("mesh.cells"));
+  EXPECT_TRUE(r.has("mesh.radius"));
+  ASSERT_EQ(r.warnings().size(), 1u);
+  EXPECT_EQ(r.warnings()[0],
+            read.path().string() + ":3: mesh.cells: not used with mesh.file (left out of the case)");
+  const std::string written = r.resolved_toml();
+  EXPECT_EQ(written.find("cells"), std::string::npos) << written;
+  EXPECT_NE(written.find("radius = 1.3"), std::string::npos) << written;
+  const std::vector<std::string> cells{"mesh.cells=6"};
+  EXPECT_EQ(Config::load(read.path(), schema, cells).warnings().size(), 1u);
+  EXPECT_NE(schema.markdown().find("cells of the generated mesh (not used with mesh.file)"),
+            std::string::npos);
+}
+
 TEST(Config, BareWordForANumberNamesTheKeyAndTheType)
 {
   EXPECT_EQ(override_error({"fluid.viscosity=abc"}),

@@ -107,6 +107,45 @@ TEST(XdmfTimeSeries, DescribesRegularGridsAndMeshesPerTime)
   EXPECT_EQ(series.steps(), 1u);
 }
 
+TEST(XdmfTimeSeries, EachTimeIsOneGridNamedTheSameAtEveryTime)
+{
+  // ParaView names a block after the grid of its time: a name that changed with the time (a step's
+  // "t = 0.5") made another block at every time. One grid is the time's grid itself; several (the level
+  // boxes of nested levels) a spatial collection named after the series.
+  const auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  // Collective: every rank names the files (shared_temp_path broadcasts).
+  const auto one_path = shared_temp_path("one").replace_extension(".xdmf");
+  const auto levels_path = shared_temp_path("levels").replace_extension(".xdmf");
+  XdmfTimeSeries structure(MPI_COMM_WORLD, one_path, "structure");
+  const auto mesh = XdmfGrid::mesh("structure", "Hexahedron", 2, 8, "m.h5:/cells", 12, "m.h5:/x");
+  structure.add_step(0.0, {mesh});
+  structure.add_step(0.5, {mesh});
+  const std::string one = structure.text();
+  EXPECT_EQ(count(one, "<Grid Name=\"structure\" GridType=\"Uniform\">\n        <Time Value="), 2u) << one;
+  EXPECT_EQ(count(one, "<Grid "), 3u) << one; // the temporal collection and a grid per time
+  EXPECT_EQ(count(one, "t = "), 0u) << one;
+
+  XdmfTimeSeries fluid(MPI_COMM_WORLD, levels_path, "fluid");
+  const auto coarse = XdmfGrid::regular("fluid_level0_box0", {4, 4, 4}, {0, 0, 0}, {0.5, 0.5, 0.5});
+  const auto fine = XdmfGrid::regular("fluid_level1_box0", {4, 4, 4}, {0.5, 0.5, 0.5}, {0.25, 0.25, 0.25});
+  fluid.add_step(0.0, {coarse, fine});
+  fluid.add_step(0.5, {coarse, fine});
+  const std::string levels = fluid.text();
+  EXPECT_EQ(count(levels, "<Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Spatial\">"), 2u)
+      << levels;
+  EXPECT_EQ(count(levels, "<Grid Name=\"fluid_level1_box0\" GridType=\"Uniform\">"), 2u) << levels;
+  EXPECT_EQ(count(levels, "t = "), 0u) << levels;
+  MPI_Barrier(MPI_COMM_WORLD);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0)
+    for (const auto& path : {one_path, levels_path}) std::filesystem::remove(path);
+}
+
 TEST(Hdf5File, DatasetsCarryStringAttributes)
 {
   // Every rank makes the same attribute call (rank 0 writes the file); every rank reads it back. An
