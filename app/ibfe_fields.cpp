@@ -30,8 +30,9 @@ const std::string geometry_description =
 // averaged over spheres, hemodynamics/timeseries.hpp).
 const std::string stress_name = "cauchy_stress_along_fiber";
 const std::string stress_description =
-    "f . (sigma f), f = F f0 / |F f0|: the total Cauchy stress (matrix, fibers and volumetric penalty) "
-    "normal to the plane across the current fiber, element average, kPa as the report's S_ff";
+    "f . (sigma f), f = F f0 / |F f0|: the total Cauchy stress (matrix, fibers and volumetric penalty, "
+    "the penalty's element checkerboard filtered: docs/fe.md) normal to the plane across the current "
+    "fiber, element average, kPa as the report's S_ff";
 
 } // namespace
 

@@ -76,7 +76,8 @@ def main():
             u = h["mesh/displacement"][:]
             conn = h["mesh/connectivity"][:]
             part = h["mesh/part"][:]
-            s = h["mesh/fiber_stress"][:]
+            # dyn/cm^2 as fiber_stress before 2026-12-06, kPa as cauchy_stress_along_fiber since
+            s = h["mesh/fiber_stress"][:] if "mesh/fiber_stress" in h else h["mesh/cauchy_stress_along_fiber"][:] * 1e4
         leaf = np.where(part <= 3)[0]  # parts 1-3 are the leaflets, element-major from 0
         if len(leaf) != 3 * args.radial * args.across or leaf.max() != len(leaf) - 1:
             raise SystemExit(f"{name}: {len(leaf)} leaflet elements, not 3 x {args.radial} x {args.across}")
