@@ -675,7 +675,7 @@ struct Validator {
     for (const auto& spec : schema.keys()) {
       toml::node* node = root.at_path(spec->key).node();
       if (spec->unused_with.empty() || !node || !root.at_path(spec->unused_with)) continue;
-      if (names.empty()) where = location(node, file);
+      if (names.empty()) where = node_location(node, file);
       names += (names.empty() ? "" : ", ") + join_key(display_prefix, spec->key);
       because = join_key(display_prefix, spec->unused_with);
       const auto dot = spec->key.rfind('.');
