@@ -67,7 +67,6 @@ namespace {
 
 constexpr int leaflet_count = 3;
 
-
 class AorticValveRun : public PreparedRun {
  public:
   explicit AorticValveRun(const io::Config& config)
