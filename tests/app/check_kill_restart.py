@@ -5,17 +5,18 @@ was checkpointed.
   check_kill_restart.py IBVALVE MPIEXEC RANKS CASE WORK_DIR --every E [--kills N] [--seed S] [--set ...]
 
 Runs CASE once uninterrupted (checkpoint.every = E), then N times (default 20): starts it, waits for
-its first checkpoint on disk and then a random time (reproducible: --seed, printed; a new one is
-drawn when none is given), sends SIGKILL to every rank at once (mpiexec's children, as a node failure
-would end them) and, once they are gone, `--restart`s the folder. Asserts for each: the restart continues from the newest checkpoint on disk
-when the ranks died (every checkpoint file there is complete: no warning about a torn one), and the
-restarted timeseries.csv equals the uninterrupted run's byte for byte. Every third kill is aimed at a
-checkpoint write (sent when a checkpoint's temporary file first appears); a kill counts as inside a
-write when such a temporary file is there after the ranks died. The random wait is drawn from the
-time between the first checkpoint and the end of a run timed on its own; a kill after the run's last
-checkpoint is drawn again from a window shrunk by a third, so that a machine busier or idler than
-during the timing run still lands its kills. Prints what it checked and the time it took; exits 1 on
-the first failure.
+a checkpoint drawn at random to be on disk and then a random part of the time between two checkpoints
+(reproducible: --seed, printed; a new one is drawn when none is given), sends SIGKILL to every rank at
+once (mpiexec's children, as a node failure would end them) and, once they are gone, `--restart`s the
+folder. Asserts for each: the restart continues from the newest checkpoint on disk when the ranks died
+(every checkpoint file there is complete: no warning about a torn one), and the restarted
+timeseries.csv equals the uninterrupted run's byte for byte. Every third kill is aimed at a checkpoint
+write (sent when a checkpoint's temporary file first appears); a kill counts as inside a write when
+such a temporary file is there after the ranks died. The kill is placed by the run's progress (which
+checkpoint is on disk), not by the time since its start, so a machine busier or idler than during the
+timing run still lands its kills; a kill that lands after the last checkpoint is drawn again, and the
+reasons are printed when too few land. Prints what it checked and the time it took; exits 1 on the
+first failure.
 """
 import argparse
 import os
@@ -39,7 +40,10 @@ def temporaries(folder):
     return [p.name for p in directory.iterdir() if not re.fullmatch(r"step_\d{9}\.h5", p.name)]
 
 
-def one_kill(runner, folder, ranks, delay, aim_at_write, last):
+def one_kill(runner, folder, ranks, after, delay, aim_at_write, last):
+    """Starts the run, waits for checkpoint `after` on disk and then `delay` seconds (or, aimed at a
+    write, for the next temporary checkpoint file after them) and kills every rank. Returns the newest
+    checkpoint and whether a write was cut, or the reason the kill has nothing to continue."""
     shutil.rmtree(folder, ignore_errors=True)
     command = runner.command(folder, "-q")
     launcher = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
@@ -51,18 +55,20 @@ def one_kill(runner, folder, ranks, delay, aim_at_write, last):
         if launcher.poll() is not None or time.time() > deadline:
             fail("the run ended or did not start before the kill")
         processes = processes_of(launcher.pid)
-    # The wait starts at the first checkpoint on disk: the start-up's length (MPI, PETSc, FFTW plans)
-    # varies most with the machine's load and is not part of the window.
-    while not checkpoints(folder):
+        time.sleep(0.001)
+    # The wait starts at a checkpoint on disk, not at the ranks' start: how far a run has come in a
+    # given time varies with the machine's load, which checkpoint it has written does not.
+    # Older checkpoints are deleted (checkpoint.keep): `after` or a newer one.
+    while not checkpoints(folder) or checkpoints(folder)[-1] < after:
         if launcher.poll() is not None:
-            return None
+            return f"the run ended (exit {launcher.returncode}) before {after} was on disk"
         time.sleep(0.001)
     start = time.time()
     if aim_at_write:
-        # The first temporary checkpoint file after `delay`: a kill while a checkpoint is written.
         while time.time() - start < delay or not temporaries(folder):
             if launcher.poll() is not None:
-                return None
+                return "the run ended before a checkpoint write came"
+            time.sleep(0.0002)
     else:
         time.sleep(delay)
     for pid in processes.values():
@@ -72,33 +78,29 @@ def one_kill(runner, folder, ranks, delay, aim_at_write, last):
             pass
     launcher.communicate(timeout=60)
     if launcher.returncode == 0:
-        return None  # it finished before the kill
+        return "the run finished before the kill"
     saved = checkpoints(folder)
     if not saved or saved[-1] == last:
-        return None  # killed after its last checkpoint: nothing to continue
+        return "the kill came after the run's last checkpoint"
     return saved[-1], bool(temporaries(folder))
 
 
 def timeline(runner, folder, ranks):
-    """Seconds from the ranks' start to the run's first checkpoint and to its end, in a run of its own:
-    the window in which a kill has something to lose and something to continue."""
+    """The checkpoints of a run of its own in the order they appeared, and the mean seconds between
+    two of them: a kill is placed after one of them, within about one interval."""
     shutil.rmtree(folder, ignore_errors=True)
     launcher = subprocess.Popen(runner.command(folder, "-q"), stdin=subprocess.DEVNULL,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.time() + 60
-    while len(processes_of(launcher.pid)) < ranks:
-        if launcher.poll() is not None or time.time() > deadline:
-            fail("the timing run ended or did not start")
-    start = time.time()
-    first = None
+    seen = {}
     while launcher.poll() is None:
-        if first is None and checkpoints(folder):
-            first = time.time() - start
-        time.sleep(0.002)
-    end = time.time() - start
-    if launcher.returncode != 0 or first is None:
-        fail(f"the timing run exited with {launcher.returncode} or wrote no checkpoint")
-    return first, end
+        for name in checkpoints(folder):
+            seen.setdefault(name, time.time())
+        time.sleep(0.001)
+    if launcher.returncode != 0 or len(seen) < 3:
+        fail(f"the timing run exited with {launcher.returncode} or wrote fewer than 3 checkpoints")
+    names = sorted(seen)
+    interval = (seen[names[-1]] - seen[names[0]]) / (len(names) - 1)
+    return names, interval
 
 
 def main():
@@ -125,19 +127,22 @@ def main():
     ranks = int(args.ranks)
     inside, kill, draws = 0, 0, 0
     folder = work / "killed"
-    # Kill moments are drawn after the first checkpoint, within the rest of a run timed on its own.
-    first, end = timeline(runner, folder, ranks)
-    print(f"from the ranks' start: first checkpoint at {first:.2f} s, end at {end:.2f} s", flush=True)
-    window = end - first
+    names, interval = timeline(runner, folder, ranks)
+    print(f"{len(names)} checkpoints, {interval * 1000:.1f} ms apart in a run of its own", flush=True)
+    missed = {}
     while kill < args.kills:
         draws += 1
-        if draws > 5 * args.kills:
-            fail(f"only {kill} of {draws} kills landed between the first checkpoint and the end")
+        if draws > 2 * args.kills:
+            fail(f"only {kill} of {draws} kills landed before the run's last checkpoint: "
+                 + "; ".join(f"{n} x {why}" for why, n in missed.items()))
         aim = kill % 3 == 2
-        delay = chance.uniform(0.0, window)
-        outcome = one_kill(runner, folder, ranks, delay, aim, checkpoints(whole)[-1])
-        if outcome is None:
-            window *= 2.0 / 3.0  # the kill came after the run's last checkpoint: it ran faster than timed
+        # After a checkpoint drawn from all but the last two, within about one interval: the kill
+        # has something checkpointed to continue and something not yet checkpointed to lose.
+        after = chance.choice(names[:-2])
+        delay = chance.uniform(0.0, interval)
+        outcome = one_kill(runner, folder, ranks, after, delay, aim, names[-1])
+        if isinstance(outcome, str):
+            missed[outcome] = missed.get(outcome, 0) + 1
             continue
         kill += 1
         newest, in_write = outcome
@@ -150,7 +155,7 @@ def main():
         if f"restarting from {expected}" not in result.stdout:
             fail(f"kill {kill}: the restart did not continue from the newest checkpoint {newest}", result.stdout)
         aimed = " (aimed at a write)" if aim else ""
-        print(f"kill {kill}: {delay:.3f} s after the first checkpoint{aimed}, newest checkpoint {newest}"
+        print(f"kill {kill}: {delay * 1000:.1f} ms after {after}{aimed}, newest checkpoint {newest}"
               f"{', inside a checkpoint write' if in_write else ''}", flush=True)
         same_series(whole, folder, f"kill {kill}, restarted")
     print(f"{args.kills} kills ({draws - args.kills} drawn again), {inside} inside a checkpoint write; "
