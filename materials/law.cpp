@@ -12,10 +12,16 @@ namespace {
 const std::array<LawInfo, 5>& law_table()
 {
   static const std::array<LawInfo, 5> table{{
-      {LawKind::neo_hookean, "neo-hookean", "mu/2 (I1-3)", {{"mu", true, 1e300, "isotropic modulus"}}, false},
+      {LawKind::neo_hookean,
+       "neo-hookean",
+       "mu/2 (I1-3)",
+       "mu/2*(I1 - 3)",
+       {{"mu", true, 1e300, "isotropic modulus"}},
+       false},
       {LawKind::W1,
        "W1",
        "C10 (exp(C01 (I1-3)) - 1) + k1/(2 k2) (exp(k2 (I4-1)^2) - 1)",
+       "C10*(exp(C01*(I1 - 3)) - 1) + k1/(2*k2)*(exp(k2*(I4 - 1)^2) - 1)",
        {{"C10", true, 1e300, "isotropic modulus"},
         {"C01", false, 1e300, "isotropic exponent"},
         {"k1", true, 1e300, "fiber modulus"},
@@ -24,6 +30,7 @@ const std::array<LawInfo, 5>& law_table()
       {LawKind::W2,
        "W2",
        "mu (I1-3) + c0 (exp(c1 (I1-3)^2 + c2 (I4-1)^4) - 1)",
+       "mu*(I1 - 3) + c0*(exp(c1*(I1 - 3)^2 + c2*(I4 - 1)^4) - 1)",
        {{"mu", true, 1e300, "isotropic modulus"},
         {"c0", true, 1e300, "exponential modulus"},
         {"c1", false, 1e300, "isotropic exponent"},
@@ -32,6 +39,7 @@ const std::array<LawInfo, 5>& law_table()
       {LawKind::W3,
        "W3",
        "C1 (I1-3) + a/(2 b) (exp(b (I4-1)^2) - 1)",
+       "C1*(I1 - 3) + a/(2*b)*(exp(b*(I4 - 1)^2) - 1)",
        {{"C1", true, 1e300, "isotropic modulus"},
         {"a", true, 1e300, "fiber modulus"},
         {"b", false, 1e300, "fiber exponent"}},
@@ -39,6 +47,10 @@ const std::array<LawInfo, 5>& law_table()
       {LawKind::hgo,
        "hgo",
        "mu/2 (I1-3) + sum_{i=4,6} k1/(2 k2) (exp(k2 E_i^2) - 1), E_i = kappa (I1-3) + (1-3 kappa)(I_i-1)",
+       // The built-in drops a compressed family's whole term; with fibers off the formula clamps I_i
+       // to 1 instead, which is the same term only when kappa = 0.
+       "mu/2*(I1 - 3) + k1/(2*k2)*(exp(k2*(kappa*(I1 - 3) + (1 - 3*kappa)*(I4 - 1))^2) - 1) + "
+       "k1/(2*k2)*(exp(k2*(kappa*(I1 - 3) + (1 - 3*kappa)*(I6 - 1))^2) - 1)",
        {{"mu", true, 1e300, "shear modulus of the matrix"},
         {"k1", true, 1e300, "fiber modulus"},
         {"k2", false, 1e300, "fiber exponent"},

@@ -66,6 +66,9 @@ struct LawInfo {
   LawKind kind;
   std::string name;    ///< as written in case files and on the command line
   std::string formula; ///< Psi in plain text
+  /// Psi in the case file's formula syntax (law = "expression", docs/materials.md): the built-in kernel
+  /// to round-off with the same options (hgo: with kappa = 0, or with fiber_compression = "on").
+  std::string energy;
   std::vector<ParameterInfo> parameters;
   bool uses_second_family = false; ///< HGO reads FiberFrame::s0
 };

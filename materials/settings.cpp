@@ -113,7 +113,10 @@ io::Schema material_schema(const std::string& prefix, const MaterialRecommendati
   // A case needs a law or a preset: the skeleton of `ibvalve keys --format toml` starts from the
   // recommended one.
   auto preset =
-      schema.add_string(p + "preset", "named parameter set; explicit parameter keys override its values")
+      schema
+          .add_string(p + "preset", "named parameter set; explicit parameter keys override its values (with "
+                                    "law = \"expression\": its "
+                                    "law's formula and parameters, which `energy` and `parameters` override)")
           .choices(preset_choices);
   if (!recommended.preset.empty()) preset.example(recommended.preset);
   if (!recommended.law.empty()) law.example(recommended.law);
@@ -229,21 +232,47 @@ void read_builtin_law(const io::Config& config, const std::string& p, const Pres
                                  " (give it, or a preset)");
 }
 
+/// A preset's parameters as a formula's (CGS; the law's moduli are the preset's kPa values).
+std::vector<ExpressionParameter> preset_parameters(const Preset& preset)
+{
+  std::vector<ExpressionParameter> out;
+  const LawInfo& info = law_info(preset.law);
+  for (std::size_t i = 0; i < info.parameters.size() && i < preset.values.size(); ++i) {
+    const bool modulus = info.parameters[i].is_modulus;
+    out.push_back(
+        {info.parameters[i].name, modulus ? preset.values[i] * units::kPa : preset.values[i], modulus});
+  }
+  return out;
+}
+
 /// law = "expression": the formula and its parameters, parsed and checked (expression_checks.hpp).
-void read_expression_law(const io::Config& config, const std::string& p, MaterialSettings& s)
+/// With a preset, its law's formula and parameters are the defaults (`energy` and `parameters`
+/// entries override them) and `moduli` defaults to the law's moduli.
+void read_expression_law(const io::Config& config, const std::string& p, const Preset* preset,
+                         MaterialSettings& s)
 {
   for (const auto& [name, spec] : all_parameters())
     if (config.has(p + name))
       config.fail(p + name, "not a key of law expression (its parameters go in `parameters = { ... }`)");
-  if (!config.has(p + "energy"))
+  if (!config.has(p + "energy") && !preset)
     config.fail(p + "law",
-                "law expression needs `energy`, a formula of the invariants, and its `parameters`");
+                "law expression needs `energy`, a formula of the invariants, and its `parameters` (or a "
+                "preset, whose law's formula it takes)");
   ExpressionDefinition definition;
-  definition.energy = config.string(p + "energy");
-  const std::vector<std::string> moduli =
-      config.has(p + "moduli") ? config.strings(p + "moduli") : std::vector<std::string>{};
-  std::string names;
-  for (const auto& [name, value] : config.named_reals(p + "parameters")) {
+  definition.energy = config.has(p + "energy") ? config.string(p + "energy") : law_info(preset->law).energy;
+  std::vector<std::string> moduli;
+  if (config.has(p + "moduli")) {
+    moduli = config.strings(p + "moduli");
+  } else if (preset) {
+    for (const ParameterInfo& q : law_info(preset->law).parameters)
+      if (q.is_modulus) moduli.push_back(q.name);
+  }
+  if (preset) {
+    s.preset = preset->name;
+    definition.parameters = preset_parameters(*preset);
+  }
+  const auto given_parameters = config.named_reals(p + "parameters");
+  for (const auto& [name, value] : given_parameters) {
     const std::string key = p + "parameters." + name;
     if (!is_identifier(name))
       config.fail(key, "a parameter's name is a letter or _ followed by letters, digits or _");
@@ -251,11 +280,19 @@ void read_expression_law(const io::Config& config, const std::string& p, Materia
         expression_invariants.end())
       config.fail(key, "'" + name + "' is an invariant, not a parameter");
     const bool modulus = std::find(moduli.begin(), moduli.end(), name) != moduli.end();
-    definition.parameters.push_back({name, modulus ? value * units::kPa : value, modulus});
-    names += (names.empty() ? "" : ", ") + name;
+    const ExpressionParameter given{name, modulus ? value * units::kPa : value, modulus};
+    const auto same = std::find_if(definition.parameters.begin(), definition.parameters.end(),
+                                   [&](const ExpressionParameter& q) { return q.name == name; });
+    if (same != definition.parameters.end())
+      *same = given;
+    else
+      definition.parameters.push_back(given);
   }
+  std::string names;
+  for (const ExpressionParameter& q : definition.parameters) names += (names.empty() ? "" : ", ") + q.name;
   for (const std::string& name : moduli)
-    if (std::none_of(definition.parameters.begin(), definition.parameters.end(),
+    if (config.has(p + "moduli") &&
+        std::none_of(definition.parameters.begin(), definition.parameters.end(),
                      [&](const ExpressionParameter& q) { return q.name == name; }))
       config.fail(p + "moduli", "'" + name + "' is not one of the parameters (" + names + ")");
   const auto fail_at = [&](std::size_t position, const std::string& message) {
@@ -264,8 +301,14 @@ void read_expression_law(const io::Config& config, const std::string& p, Materia
   try {
     const ExpressionLaw law(definition.energy, definition.parameters, s.options);
     for (std::size_t i = 0; i < definition.parameters.size(); ++i)
-      if (!law.formula().uses(static_cast<int>(expression_invariants.size() + i)))
-        config.fail(p + "parameters." + definition.parameters[i].name, "not used in the energy");
+      if (!law.formula().uses(static_cast<int>(expression_invariants.size() + i))) {
+        const std::string& name = definition.parameters[i].name;
+        if (std::any_of(given_parameters.begin(), given_parameters.end(),
+                        [&](const auto& given) { return given.first == name; }))
+          config.fail(p + "parameters." + name, "not used in the energy");
+        config.fail(p + "energy",
+                    "parameter " + name + " of preset \"" + preset->name + "\" is not used in the energy");
+      }
     if (const auto problem = check_expression_law(law)) fail_at(problem->position, problem->message);
     for (const std::string& warning : convexity_warnings(law))
       s.warnings.push_back(config.where(p + "energy") + ": " + p + "energy: " + warning);
@@ -294,10 +337,7 @@ MaterialSettings read_material(const io::Config& config, const std::string& pref
 
   const Preset* preset = config.has(p + "preset") ? find_preset(config.string(p + "preset")) : nullptr;
   if (config.has(p + "law") && config.string(p + "law") == expression_law_name) {
-    if (preset)
-      config.fail(p + "preset", "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
-                                    ", not expression");
-    read_expression_law(config, p, s);
+    read_expression_law(config, p, preset, s);
     return s;
   }
   if (config.has(p + "law")) {
@@ -341,7 +381,7 @@ std::string MaterialSettings::describe() const
       text += (i ? ", " : "") + q.name + " = " + format(q.is_modulus ? q.value / units::kPa : q.value) +
               (q.is_modulus ? " kPa" : "");
     }
-    return text + ")" + describe_options();
+    return text + ")" + (preset.empty() ? "" : " from preset " + preset) + describe_options();
   }
   const LawInfo& info = law_info(law);
   const auto user = to_user_units(law, parameters);

@@ -1,5 +1,7 @@
 // Case-file materials (materials/settings.hpp): presets in kPa become CGS laws, explicit keys override
 // them, and every inconsistent choice is one InputError line naming file:line and key.
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -178,9 +180,69 @@ TEST(MaterialSettings, EachMistakeInAnExpressionLawNamesFileLineKeyAndCharacter)
   EXPECT_EQ(
       error_of("[leaflet.material]\nlaw = \"expression\"\n"),
       "case.toml:2: leaflet.material.law: law expression needs `energy`, a formula of the invariants, and "
-      "its `parameters`");
+      "its `parameters` (or a preset, whose law's formula it takes)");
   EXPECT_EQ(error_of("[leaflet.material]\nlaw = \"W3\"\nC1 = 1\na = 1\nb = 1\nenergy = \"a\"\n"),
             "case.toml:6: leaflet.material.energy: only for law = \"expression\" (law W3 is built in)");
+}
+
+/// The largest relative difference of W, P and dP/dF between two materials over deformations with
+/// both fiber families stretched or shortened.
+double largest_difference(const Material& a, const Material& b)
+{
+  FiberFrame frame;
+  frame.f0 = Vec3(1.0, 0.4, -0.3).normalized();
+  frame.s0 = Vec3(0.9, -0.5, 0.2).normalized();
+  double worst = 0.0;
+  for (int k = 0; k < 12; ++k) {
+    Mat3 F = Mat3::Identity();
+    for (int i = 0; i < 9; ++i) F.data()[i] += 0.15 * std::sin(1.7 * (k + 1) * (i + 2)); // det F > 0.5
+    Mat3 Pa, Pb;
+    Tangent Ta, Tb;
+    a.stress_and_tangent(F, frame, Pa, Ta);
+    b.stress_and_tangent(F, frame, Pb, Tb);
+    const double Wa = a.energy(F, frame), Wb = b.energy(F, frame);
+    worst = std::max({worst, std::abs(Wa - Wb) / std::abs(Wb), (Pa - Pb).norm() / Pb.norm(),
+                      (Ta - Tb).norm() / Tb.norm()});
+  }
+  return worst;
+}
+
+TEST(MaterialSettings, EveryPresetTakenAsAnExpressionIsTheBuiltInPresetToRoundOff)
+{
+  for (const Preset& preset : presets())
+    for (const char* fibers : {"off", "on"}) {
+      const std::string options = "fiber_compression = \"" + std::string(fibers) + "\"\n";
+      const std::string table = "[leaflet.material]\npreset = \"" + preset.name + "\"\n" + options;
+      const MaterialSettings formula = read(table + "law = \"expression\"\n");
+      const MaterialSettings built_in = read(table);
+      ASSERT_TRUE(formula.expression) << preset.name;
+      EXPECT_EQ(formula.expression->energy, law_info(preset.law).energy);
+      EXPECT_NE(formula.describe().find("from preset " + preset.name), std::string::npos)
+          << formula.describe();
+      EXPECT_LT(largest_difference(*formula.build(), *built_in.build()), 1e-12)
+          << preset.name << ", " << fibers;
+    }
+}
+
+TEST(MaterialSettings, APresetsFormulaTakesParametersAndAnEnergyThatOverrideIt)
+{
+  // A parameter given overrides the preset's (a modulus in kPa, as the law's moduli are).
+  const MaterialSettings changed = read("[leaflet.material]\npreset = \"zhu2021-W1\"\nlaw = \"expression\"\n"
+                                        "parameters = { k1 = 30.0, k2 = 40.0 }\n");
+  const MaterialSettings built_in =
+      read("[leaflet.material]\npreset = \"zhu2021-W1\"\nk1 = 30.0\nk2 = 40.0\n");
+  EXPECT_LT(largest_difference(*changed.build(), *built_in.build()), 1e-12);
+  // An energy of one's own that reads the preset's parameters (here W1 with its fiber term stiffened
+  // in I4's square root, the fiber stretch).
+  const MaterialSettings own =
+      read("[leaflet.material]\npreset = \"zhu2021-W1\"\nlaw = \"expression\"\n"
+           "energy = \"C10*(exp(C01*(I1 - 3)) - 1) + k1/(2*k2)*(exp(k2*(sqrt(I4) - 1)^2) - 1)\"\n");
+  EXPECT_EQ(own.expression->parameters.size(), 4u);
+  // One that leaves a preset's parameter out names it.
+  EXPECT_EQ(error_of("[leaflet.material]\npreset = \"zhu2021-W1\"\nlaw = \"expression\"\n"
+                     "energy = \"C10*(exp(C01*(I1 - 3)) - 1)\"\n"),
+            "case.toml:4: leaflet.material.energy: parameter k1 of preset \"zhu2021-W1\" is not used in the "
+            "energy");
 }
 
 TEST(MaterialSettings, AnExpressionReadingFibersThePartLacksIsAnInputError)
