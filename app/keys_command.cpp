@@ -4,6 +4,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -64,7 +65,9 @@ int print_keys(const KeysOptions& options)
         "command line: keys --format toml: give a model (a case is of one model: " + model_list() + ")");
   std::string text;
   if (options.format == "toml") {
-    std::string head = "# A " + model->name + " case, every key at its default (ibvalve keys " + model->name +
+    const bool vowel = std::string_view("aeiou").find(model->name.front()) != std::string_view::npos;
+    std::string head = std::string(vowel ? "# An " : "# A ") + model->name +
+                       " case, every key at its default (ibvalve keys " + model->name +
                        " --format toml).\n# " + model->description +
                        "\n# REQUIRED keys hold an example value; commented keys are optional.\n";
     const std::vector<std::pair<std::string, io::Value>> fixed{{"model", model->name}};
