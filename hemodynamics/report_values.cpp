@@ -51,12 +51,19 @@ data metric_row(const std::string& key, const Json& m)
   row.set("note", text(m, "note"));
   // "± 0.91" and "time step 0.91, grid 0.3" when the metric carries an uncertainty, else empty.
   const auto u = m.find("uncertainty");
-  row.set("uncertainty", u != m.end() && u->is_number() ? "± " + format_value(u->get<double>()) : "");
+  // A section over an empty string is still rendered: an absent part is false, not "".
+  if (u != m.end() && u->is_number())
+    row.set("uncertainty", "± " + format_value(u->get<double>()));
+  else
+    row.set("uncertainty", data(false));
   std::vector<std::string> sources;
   const Json by_source = m.value("uncertainty_sources", Json::object());
   for (const auto& [name, value] : by_source.items())
     sources.push_back(name + " " + format_value(number(value)));
-  row.set("uncertainty_sources", fmt::format("{}", fmt::join(sources, ", ")));
+  if (sources.empty())
+    row.set("uncertainty_sources", data(false));
+  else
+    row.set("uncertainty_sources", fmt::format("{}", fmt::join(sources, ", ")));
   return row;
 }
 

@@ -621,6 +621,10 @@ TEST(Report, TheReportOpensWithTheHeadlineThenThePlotsThenTheMetricsInGroups)
   EXPECT_LT(md.find("> **Implausible:** EOA"), md.find("| figure |"));
   EXPECT_LT(md.find("## Plots"), md.find("### flow and pressure"));
   EXPECT_NE(md.find("| &lt; 20 (at most mild stenosis) | Baumgartner et al. 2017 |"), std::string::npos);
+  // A metric without an uncertainty shows none: no empty "(u from )" and no "±".
+  EXPECT_EQ(md.find("(u from"), std::string::npos);
+  EXPECT_EQ(html.find("(u from"), std::string::npos);
+  EXPECT_EQ(md.find("±"), std::string::npos);
   fs::remove_all(run);
   // A valve whose EOA is below its orifice, in a periodic cycle: nothing flagged.
   const auto fine = scratch("headline_fine");
