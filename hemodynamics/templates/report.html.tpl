@@ -36,7 +36,7 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 <tr data-headline="{{key}}"{{#outside}} class="outside"{{/outside}}><td>{{name}}</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}">{{value}}</td><td>{{unit}}</td><td>{{range}}</td><td>{{source}}</td><td>{{#outside}}outside{{/outside}}</td></tr>
 {{/headline}}
 </table>
-<p>The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve lies on their near side. A figure without a range has no published one here. The peak velocity is the largest fluid speed anywhere in the box: where it lies is not recorded, so a peak at the box's boundary cannot be flagged.</p>
+<p>The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve lies on their near side. A figure without a range has no published one here. The peak velocity is the jet's: the largest fluid speed in the tube between the pressure probes, off the box's sides (the run's log names the region; docs/hemodynamics.md, "Peak velocity").</p>
 {{#has_cycle_table}}
 <h2>Cycle to cycle</h2>
 <p>{{periodicity}}.</p>

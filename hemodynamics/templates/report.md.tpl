@@ -53,8 +53,8 @@ Cycle {{cycle}} of {{cycles}}: [{{cycle_start}}, {{cycle_end}}] s of `timeseries
 
 The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve
 lies on their near side. A figure without a range has no published one here. The peak velocity is the
-largest fluid speed anywhere in the box: where it lies is not recorded, so a peak at the box's boundary
-cannot be flagged.
+jet's: the largest fluid speed in the tube between the pressure probes, off the box's sides (the run's
+log names the region; docs/hemodynamics.md, "Peak velocity").
 
 {{#has_cycle_table}}
 ## Cycle to cycle
