@@ -273,6 +273,8 @@ class AorticValveRun : public PreparedRun {
     auto coupled_step = [&](std::int64_t n, double step) {
       try {
         ibfe.step(step);
+      } catch (const InputError&) {
+        throw; // a warning --strict made an error (base/logger.hpp)
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
         throw RunError(fmt::format(

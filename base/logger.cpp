@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "base/errors.hpp"
+
 namespace ibvalve::base {
 
 namespace {
@@ -68,6 +70,8 @@ void Logger::open_file(const std::filesystem::path& path)
 {
   close_file();
   if (root_) file_ = std::fopen(path.c_str(), "a");
+  // The warnings given before (the case's) belong to the run's record too.
+  for (const std::string& warning : warnings_) write(stderr, "warning: ", warning, false);
 }
 
 void Logger::close_file()
@@ -109,7 +113,16 @@ void Logger::always(std::string_view message)
 
 void Logger::warn(std::string_view message)
 {
+  if (strict_) throw InputError(std::string(message));
   write(stderr, "warning: ", message);
+  if (!root_ || std::find(warnings_.begin(), warnings_.end(), message) != warnings_.end()) return;
+  warnings_.emplace_back(message);
+  if (!warning_record_) return;
+  try {
+    warning_record_(warnings_);
+  } catch (const std::exception&) {
+    // The record is a copy (a full disk must not stop the run): log.txt has the warning.
+  }
 }
 
 void Logger::error(std::string_view message)

@@ -7,12 +7,14 @@
 // Under Open MPI's mpiexec a rank's own stdout is always a pseudo-terminal and its stderr a pipe,
 // whatever mpiexec's output is, so there the terminal test asks mpiexec's stdout (docs/runs.md,
 // "Progress and diagnostics"). Everything is also appended to the run folder's log.txt once a run has
-// one.
+// one. Warnings are kept (run.json and the report show them); under --strict a warning is an error.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <mpi.h>
 
@@ -49,17 +51,33 @@ class Logger {
   void set_progress_interval(double seconds) { progress_interval_ = seconds; }
   bool is_root() const { return root_; }
 
-  /// Appends every later message to `path` (rank 0 only). Closes any earlier file.
+  /// Appends every later message to `path` (rank 0 only), after the warnings kept so far. Closes any
+  /// earlier file.
   void open_file(const std::filesystem::path& path);
   void close_file();
 
   void info(std::string_view message);
   void verbose(std::string_view message);
+  /// "warning: ..." on stderr and in the log file, kept (warnings()); under set_strict an InputError
+  /// with the message instead (exit 2).
   void warn(std::string_view message);
   /// One line on stdout (and in the log file), whatever the level: how a stopped run goes on.
   void always(std::string_view message);
   /// One line on stderr (and in the log file), whatever the level.
   void error(std::string_view message);
+
+  /// Warnings turn into errors: warn() throws InputError (ibvalve run --strict).
+  void set_strict(bool strict) { strict_ = strict; }
+  bool strict() const { return strict_; }
+  /// The warnings rank 0 has given since clear_warnings(), in order, each once (others keep none).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  void clear_warnings() { warnings_.clear(); }
+  /// Called on rank 0 with every warning so far each time one is added (run.json keeps them); what it
+  /// throws is dropped (log.txt holds the warning whatever happens). Empty: none.
+  void set_warning_record(std::function<void(const std::vector<std::string>&)> record)
+  {
+    warning_record_ = std::move(record);
+  }
 
   /// Restarts the wall clock of the run (log file stamps, "finished in").
   void start_clock();
@@ -90,6 +108,9 @@ class Logger {
   double interval_wall_ = 0.0;          // averaging interval of "s/step" began at
   double step_seconds_ = -1.0;          // time a step over the last interval
   std::FILE* file_ = nullptr;
+  bool strict_ = false;
+  std::vector<std::string> warnings_;
+  std::function<void(const std::vector<std::string>&)> warning_record_;
   std::chrono::steady_clock::time_point start_;
 };
 

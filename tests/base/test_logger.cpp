@@ -1,14 +1,19 @@
 // The logger: rank 0 alone prints; in a pipe progress is a plain line at most once per interval; the ETA
-// counts this invocation's steps at this invocation's pace; every message also lands in the run's log file.
+// counts this invocation's steps at this invocation's pace; every message also lands in the run's log file;
+// warnings are kept, and errors under --strict.
 #include <algorithm>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "io/files.hpp"
 
@@ -110,6 +115,61 @@ TEST(Logger, MessagesGoToTheLogFile)
     EXPECT_NE(text.find("error: bad thing"), std::string::npos);
     std::filesystem::remove(path);
   }
+}
+
+// Warnings are kept once each on rank 0, handed to the run's record (run.json) as they come, and
+// written into a log file opened after them (the case's warnings come before the run folder exists).
+TEST(Logger, WarningsAreKeptRecordedAndLogged)
+{
+  int rank = 0, pid = static_cast<int>(::getpid());
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Bcast(&pid, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  Logger& log = Logger::global();
+  log.clear_warnings();
+  std::vector<std::vector<std::string>> recorded;
+  ::testing::internal::CaptureStderr();
+  log.warn("case.toml:3: fluid.density: 1060 g/mL is outside the typical 0.5 to 2 g/mL");
+  log.set_warning_record([&](const std::vector<std::string>& all) { recorded.push_back(all); });
+  log.warn("ib: dt = 1e-04 s is above the stability estimate 5e-05 s; the run may blow up");
+  log.warn("ib: dt = 1e-04 s is above the stability estimate 5e-05 s; the run may blow up");
+  log.set_warning_record([](const std::vector<std::string>&) { throw std::runtime_error("disk full"); });
+  EXPECT_NO_THROW(log.warn("a third")); // a record that fails does not stop the run
+  log.set_warning_record(nullptr);
+  const auto path = std::filesystem::temp_directory_path() / (fmt::format("ibvalve_warnings_{}.txt", pid));
+  log.open_file(path);
+  log.close_file();
+  ::testing::internal::GetCapturedStderr();
+  if (rank == 0) {
+    ASSERT_EQ(log.warnings().size(), 3u);
+    EXPECT_EQ(log.warnings()[1],
+              "ib: dt = 1e-04 s is above the stability estimate 5e-05 s; the run may blow up");
+    ASSERT_EQ(recorded.size(), 1u); // the repeated warning is recorded once
+    EXPECT_EQ(recorded[0].size(), 2u);
+    const std::string text = io::read_text_file(path);
+    EXPECT_NE(text.find("warning: case.toml:3: fluid.density: 1060 g/mL"), std::string::npos) << text;
+    EXPECT_NE(text.find("warning: a third"), std::string::npos) << text;
+    std::filesystem::remove(path);
+  } else {
+    EXPECT_TRUE(log.warnings().empty());
+    EXPECT_TRUE(recorded.empty());
+  }
+  log.clear_warnings();
+}
+
+// Under --strict a warning is an error with the same one-line message, on every rank that gives it.
+TEST(Logger, StrictMakesAWarningAnError)
+{
+  Logger& log = Logger::global();
+  log.clear_warnings();
+  log.set_strict(true);
+  try {
+    log.warn("PETSc options not used: -fluid_stokes_ksp_typo");
+    ADD_FAILURE() << "no error under --strict";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "PETSc options not used: -fluid_stokes_ksp_typo");
+  }
+  log.set_strict(false);
+  EXPECT_TRUE(log.warnings().empty());
 }
 
 TEST(Logger, AQuietTerminalStillLeavesTheRunsRecordInTheLogFile)
