@@ -527,6 +527,9 @@ class AorticValveRun : public PreparedRun {
       if (files.directory != files.cycle_pages.back().parent_path())
         line += fmt::format(" (the reported cycle's: {})", files.html.string());
       summary.lines.push_back(line);
+      summary.lines.push_back(fmt::format(
+          "cycle {}: {}", cycle,
+          hemodynamics::metrics_summary(files.cycle_pages.back().parent_path() / "metrics.json")));
     });
   }
 
