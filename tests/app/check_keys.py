@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Finding the keys and options of a case (issue 20, item 14): each scenario is one specification.
+"""Finding the keys and options of a case: each scenario is one specification.
 
   check_keys.py SCENARIO IBVALVE MPIEXEC SOURCE_DIR WORK_DIR [MODEL]
 

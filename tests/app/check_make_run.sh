@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `make run` (issue 20, item 12), read without building anything (make -n):
+# `make run`, read without building anything (make -n):
 #   check_make_run.sh SOURCE_DIR
 # - the run folder follows the case: RUN_CASE=examples/lumped/default.toml runs in runs/lumped_default,
 #   not in the default case's runs/aortic_valve_default; RUN_DIR=... still chooses;

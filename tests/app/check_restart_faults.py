@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs that survive faults and mistakes (issue 20): each scenario is one specification.
+"""Runs that survive faults and mistakes: each scenario is one specification.
 
   check_restart_faults.py SCENARIO IBVALVE MPIEXEC RANKS CASE WORK_DIR [--set key=value ...]
 
