@@ -17,9 +17,9 @@ MAKEFLAGS += --no-print-directory
 export OMPI_ALLOW_RUN_AS_ROOT = 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM = 1
 
-.PHONY: run test nightly bench build deps configure format clean regression-reference
+.PHONY: run test nightly bench build quiet-build deps configure format clean regression-reference
 
-run: build
+run: quiet-build
 	mpiexec --oversubscribe -n $(RUN_RANKS) $(BUILD_DIR)/app/ibvalve run $(RUN_CASE) -o $(RUN_DIR) --overwrite
 	@echo "Run folder: $(RUN_DIR)  (report: $(RUN_DIR)/report/report.html)"
 
@@ -46,6 +46,13 @@ configure: deps
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# `make run` builds in one line: the compiler's output goes to build/build.log, shown whole when the
+# build fails.
+quiet-build: configure
+	@echo "Building ibvalve (the build's output: $(BUILD_DIR)/build.log)"
+	@cmake --build $(BUILD_DIR) -j $(JOBS) > $(BUILD_DIR)/build.log 2>&1 || { cat $(BUILD_DIR)/build.log; \
+	  echo "The build failed: its output is above and in $(BUILD_DIR)/build.log"; exit 1; }
 
 format:
 	find . -path ./$(BUILD_DIR) -prune -o \( -name '*.cpp' -o -name '*.hpp' \) -print | xargs clang-format -i

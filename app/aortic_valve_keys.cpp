@@ -39,8 +39,8 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
       .positive();
   keys.real("time.coaptation_step",
             "a finer step over the coaptation window of each cycle, where the leaflets meet and the "
-            "explicit coupling needs it (the FD2 fiber field: docs/aortic-valve-history-2026-12-02.md); "
-            "0 = one step throughout",
+            "explicit coupling needs it (the FD2 fiber field: docs/runs.md, \"A finer step over the "
+            "coaptation\"); 0 = one step throughout",
             k.coaptation_step)
       .unit("s")
       .defaults(0.0)
@@ -79,7 +79,7 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
   keys.real("time.pressure_ramp",
             "the inlet and outlet pressures rise from zero to their values over this time, as "
             "(1 - cos(pi t / T)) / 2, so that the valve closes under the Windkessel pressure without the "
-            "water hammer of a sudden load (docs/speed-2026-12-01.md, \"The time step\"); 0 = applied "
+            "water hammer of a sudden load (docs/reference.md, \"Choices the study left open\"); 0 = applied "
             "at once",
             k.pressure_ramp)
       .unit("s")

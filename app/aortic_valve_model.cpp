@@ -27,6 +27,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
+#include "app/jet_region.hpp"
 #include "app/leaflet_fit_error.hpp"
 #include "app/leaflet_state.hpp"
 #include "app/model.hpp"
@@ -248,6 +249,8 @@ class AorticValveRun : public PreparedRun {
 
     const LeafletState leaflet_state(solid, leaflet_count, k_.mesh.geometry.leaflet_thickness);
     log.info(leaflet_state.describe());
+    const JetRegion jet = jet_region(near_lv_z_, near_ao_z_, k_.mesh.geometry.tube_radius, box_);
+    log.info(jet.describe());
     write_extra_metrics(context);
 
     double outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
@@ -270,6 +273,8 @@ class AorticValveRun : public PreparedRun {
     auto coupled_step = [&](std::int64_t n, double step) {
       try {
         ibfe.step(step);
+      } catch (const InputError&) {
+        throw; // a warning --strict made an error (base/logger.hpp)
       } catch (const std::runtime_error& e) {
         // A solver that diverges here is the run going unstable, not bad input: keep the output.
         throw RunError(fmt::format(
@@ -318,7 +323,8 @@ class AorticValveRun : public PreparedRun {
                               p[2] / units::mmHg,
                               p[3] / units::mmHg,
                               area};
-      for (double v : leaflet_state.row(ibfe.displacement(), fluid->max_velocity())) row.push_back(v);
+      for (double v : leaflet_state.row(ibfe.displacement(), fluid->max_speed_in(jet.points())))
+        row.push_back(v);
       return row;
     };
     // Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the Windkessel and the
@@ -521,6 +527,9 @@ class AorticValveRun : public PreparedRun {
       if (files.directory != files.cycle_pages.back().parent_path())
         line += fmt::format(" (the reported cycle's: {})", files.html.string());
       summary.lines.push_back(line);
+      summary.lines.push_back(fmt::format(
+          "cycle {}: {}", cycle,
+          hemodynamics::metrics_summary(files.cycle_pages.back().parent_path() / "metrics.json")));
     });
   }
 

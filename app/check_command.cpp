@@ -40,6 +40,7 @@ void add_check_command(CLI::App& app, CommandAction& action)
   sub->add_option("case", options->case_file, "the case file (TOML)")->required();
   sub->add_option("--set", options->overrides,
                   "override a key as `ibvalve run --set` does (a file relative to the working folder)");
+  sub->add_flag("--strict", options->strict, "a warning is an error, as with `ibvalve run --strict`");
   sub->callback([options, &action] {
     action = [options](const PetscArguments& petsc) { return check_case(*options, petsc); };
   });

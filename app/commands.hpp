@@ -46,6 +46,7 @@ struct RunOptions {
   bool overwrite = false;
   bool verbose = false;
   bool quiet = false;
+  bool strict = false; // --strict: a warning is an error (exit 2)
 };
 /// Validates and runs one case (what `ibvalve run` does; `ibvalve study` calls it once per case).
 int run_case(RunOptions options, const PetscArguments& petsc);

@@ -267,6 +267,8 @@ class FluidRun : public PreparedRun {
     loop.advance = [&](std::int64_t) {
       try {
         fluid->step(k_.step);
+      } catch (const InputError&) {
+        throw; // a warning --strict made an error (base/logger.hpp)
       } catch (const std::runtime_error& e) {
         throw RunError(e.what());
       }

@@ -3,9 +3,9 @@
 // figures are read from (docs/reference.md, "Hemodynamic metrics"; the columns and metrics:
 // hemodynamics/timeseries.hpp and docs/hemodynamics.md, "Leaflet state").
 //
-// Per row: the mean and largest leaflet displacement, the largest fluid speed, and the fiber strain
-// f0 . (E f0) and fiber stress f . (sigma f) (f = F f0) averaged over spheres of radius 0.15 cm at each
-// leaflet's belly and top-centre, then over the leaflets. The spheres are material regions: the
+// Per row: the mean and largest leaflet displacement, the peak velocity (app/jet_region.hpp), and the fiber
+// strain f0 . (E f0) and fiber stress f . (sigma f) (f = F f0) averaged over spheres of radius 0.15 cm at
+// each leaflet's belly and top-centre, then over the leaflets. The spheres are material regions: the
 // quadrature points of the leaflet whose reference position lies inside, weighted by their volume.
 // Their centres come from the mesh's groups, so any mesh with the generator's groups gets them:
 //  - top-centre: the middle of the free edge, the mean of the leafletK_free_edge nodes within one

@@ -270,18 +270,7 @@ class LumpedRun : public PreparedRun {
     options.plots = k_.report.plots;
     options.templates = k_.report.templates;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
-    const auto doc = hemodynamics::Json::parse(io::read_text_file(files.json));
-    const auto& m = doc.at("metrics");
-    auto show = [&](const char* key) {
-      if (!m.contains(key)) return std::string("missing ");
-      const auto& entry = m.at(key);
-      const auto& v = entry.at("value");
-      return (v.is_number() ? hemodynamics::format_value(v.get<double>()) : std::string("missing")) + " " +
-             entry.at("unit").get<std::string>();
-    };
-    summary.lines.push_back("V_F " + show("forward_volume") + ", RF " + show("regurgitant_fraction") +
-                            ", TPG " + show("transvalvular_pressure_gradient") + ", EOA " +
-                            show("effective_orifice_area") + ", E_L " + show("energy_loss"));
+    summary.lines.push_back(hemodynamics::metrics_summary(files.json));
     summary.lines.push_back(fmt::format("report of cycle {} of {}: {} (each cycle's in {}/cycle_N/)",
                                         files.reported_cycle, files.cycles, files.html.string(),
                                         files.directory.string()));

@@ -1,5 +1,5 @@
 #pragma once
-// What a case needs before it allocates anything (issue 20, item 8): grid and mesh counts that PETSc's
+// What a case needs before it allocates anything: grid and mesh counts that PETSc's
 // index type can hold, and the memory of the fluid grid and the structure, estimated from their sizes
 // with the bytes per cell, node and element measured for each solver (docs/runs.md, "Memory"). A case
 // that does not fit is bad input naming the key that drives its size, so it is refused in a second,

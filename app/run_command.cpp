@@ -196,6 +196,47 @@ void write_run_record(const std::filesystem::path& directory, const std::filesys
   }
 }
 
+/// Keeps the run's warnings in run.json's "warnings" (rank 0), after those of its earlier invocations,
+/// from now until the end of this invocation: each time one is logged, and once for those of the case
+/// (base/logger.hpp). The report shows them (hemodynamics/report.hpp).
+class WarningRecord {
+ public:
+  explicit WarningRecord(const std::filesystem::path& directory) : file_(directory / "run.json")
+  {
+    auto& log = base::Logger::global();
+    if (!log.is_root()) return;
+    try {
+      earlier_ = nlohmann::ordered_json::parse(io::read_text_file(file_)).value("warnings", earlier_);
+    } catch (const std::exception&) {
+      // No record to add to: log.txt keeps the warnings.
+      return;
+    }
+    log.set_warning_record([this](const std::vector<std::string>& warnings) { write(warnings); });
+    try {
+      write(log.warnings());
+    } catch (const std::exception&) {
+      // As Logger::warn: a record that cannot be written leaves log.txt's.
+    }
+  }
+  ~WarningRecord() { base::Logger::global().set_warning_record(nullptr); }
+  WarningRecord(const WarningRecord&) = delete;
+  WarningRecord& operator=(const WarningRecord&) = delete;
+
+ private:
+  void write(const std::vector<std::string>& warnings) const
+  {
+    nlohmann::ordered_json record = nlohmann::ordered_json::parse(io::read_text_file(file_));
+    nlohmann::ordered_json all = earlier_;
+    for (const std::string& w : warnings)
+      if (std::find(all.begin(), all.end(), w) == all.end()) all.push_back(w);
+    record["warnings"] = all;
+    io::write_file_atomically(file_, record.dump(2) + "\n");
+  }
+
+  std::filesystem::path file_;
+  nlohmann::ordered_json earlier_ = nlohmann::ordered_json::array();
+};
+
 /// PETSc options that no solver read, usually a misspelt name or solver prefix, which PETSc passes over
 /// in silence: one warning line naming them (those of the case file and those after --).
 void warn_unused_petsc_options()
@@ -220,6 +261,8 @@ PreparedCase prepare_case(const RunOptions& options, const PetscArguments& petsc
   auto& log = base::Logger::global();
   if (options.quiet) log.set_level(base::LogLevel::quiet);
   if (options.verbose) log.set_level(base::LogLevel::verbose);
+  log.set_strict(options.strict);
+  log.clear_warnings();
   io::Config config = load_case(options);
   if (!options.quiet && !options.verbose) {
     const std::string level = config.string("log.level");
@@ -290,6 +333,7 @@ int run_case(RunOptions options, const PetscArguments& petsc)
     });
   }
   log.open_file(directory / "log.txt");
+  const WarningRecord warning_record(directory);
   log.info(fmt::format("ibvalve {}: {}{}{} on {}{}", base::version(), model.name,
                        (options.restart.empty() ? " run of " : " restart of "), options.case_file.string(),
                        size, (size == 1 ? " rank" : " ranks")));
@@ -367,6 +411,9 @@ void add_run_command(CLI::App& app, CommandAction& action)
       "replace the run in an existing folder (its config, log, series, fields, checkpoints, report)");
   sub->add_flag("-v,--verbose", options->verbose, "print more");
   sub->add_flag("-q,--quiet", options->quiet, "print only errors");
+  sub->add_flag("--strict", options->strict,
+                "a warning is an error (exit 2 with its line): a value outside its key's usual range, a step "
+                "beyond the stability estimate, an inverted element, a PETSc option no solver read, ...");
   sub->callback([options, &action] {
     action = [options](const PetscArguments& petsc) { return run_case(*options, petsc); };
   });

@@ -1,7 +1,7 @@
 #pragma once
 // The time steps of a periodic run: one step through the cycle, or a finer one over a window of each
-// cycle (the leaflets' coaptation, where the explicit IB/FE coupling needs it:
-// docs/aortic-valve-history-2026-12-02.md, "The FD2 fiber field needs a smaller step at coaptation").
+// cycle (the leaflets' coaptation, where the explicit IB/FE coupling needs it: docs/runs.md, "A finer
+// step over the coaptation").
 // The cycle is cut into [0, a), [a, b) and [b, T); each part holds a whole number of equal steps, the
 // nearest to the asked step, so every cycle starts and ends on a step and the window's ends are met
 // exactly.

@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "app/launch_command.hpp"
 #include "app/stop_signal.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
@@ -56,10 +57,10 @@ std::string field_series_file(const std::string& part)
 std::string stopped_line(std::int64_t step, std::int64_t steps, const std::filesystem::path& file,
                          const std::filesystem::path& run_directory, int signal)
 {
-  return fmt::format(
-      "{}{} of {} (checkpoint {}); continue with: ibvalve run --restart {}",
-      (signal ? "stopped by " + signal_name(signal) + " after step " : std::string("stopped after step ")),
-      step, steps, file.string(), run_directory.string());
+  return fmt::format("{}{} of {} (checkpoint {}); continue with: {}",
+                     (signal ? "stopped by " + stop_signal_description(signal) + " after step "
+                             : std::string("stopped after step ")),
+                     step, steps, file.string(), restart_command(launch_command(), run_directory));
 }
 
 RunSummary run_time_loop(const RunContext& context, const TimeLoop& loop)

@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 
+#include "base/errors.hpp"
+
 namespace ibvalve::base {
 
 namespace {
@@ -68,6 +70,8 @@ void Logger::open_file(const std::filesystem::path& path)
 {
   close_file();
   if (root_) file_ = std::fopen(path.c_str(), "a");
+  // The warnings given before (the case's) belong to the run's record too.
+  for (const std::string& warning : warnings_) write(stderr, "warning: ", warning, false);
 }
 
 void Logger::close_file()
@@ -109,7 +113,16 @@ void Logger::always(std::string_view message)
 
 void Logger::warn(std::string_view message)
 {
+  if (strict_) throw InputError(std::string(message));
   write(stderr, "warning: ", message);
+  if (!root_ || std::find(warnings_.begin(), warnings_.end(), message) != warnings_.end()) return;
+  warnings_.emplace_back(message);
+  if (!warning_record_) return;
+  try {
+    warning_record_(warnings_);
+  } catch (const std::exception&) {
+    // The record is a copy (a full disk must not stop the run): log.txt has the warning.
+  }
 }
 
 void Logger::error(std::string_view message)
@@ -136,18 +149,12 @@ std::string format_duration(double seconds)
   return h > 0 ? fmt::format("{}:{:02}:{:02}", h, m, s) : fmt::format("{}:{:02}", m, s);
 }
 
-double eta_seconds(long step, long first_step, long last_step, double seconds)
-{
-  const long measured = step - first_step;
-  if (measured <= 0 || seconds < 0) return -1.0;
-  return static_cast<double>(std::max(0L, last_step - step)) * seconds / static_cast<double>(measured);
-}
-
 void Logger::begin_steps(long first_step, long last_step)
 {
   first_step_ = interval_step_ = first_step;
   last_step_ = last_step;
-  steps_wall_ = interval_wall_ = wall_seconds();
+  interval_wall_ = wall_seconds();
+  eta_.begin(first_step, interval_wall_);
   step_seconds_ = -1.0;
 }
 
@@ -163,10 +170,13 @@ void Logger::progress(const Progress& p)
     interval_wall_ = wall;
   }
   const long last = last_step_ > first_step_ ? last_step_ : p.steps;
-  const double eta = eta_seconds(p.step, first_step_, last, wall - steps_wall_);
+  eta_.record(p.step, wall);
+  const double eta = eta_.seconds_left(last);
+  const double done = p.steps > 0 ? 100.0 * static_cast<double>(p.step) / static_cast<double>(p.steps) : 0.0;
   std::ostringstream line;
   line.precision(4);
-  line << "step " << p.step << "/" << p.steps << "  t = " << p.time << " s / " << p.end_time << " s  ";
+  line << "step " << p.step << "/" << p.steps << "  t = " << p.time << " s / " << p.end_time << " s ("
+       << fmt::format("{:.1f}", done) << " %)  ";
   if (step_seconds_ >= 0)
     line << step_seconds_ << " s/step";
   else

@@ -2,19 +2,24 @@
 // The one logger every rank-0 message goes through.
 //
 // Only rank 0 of the run's communicator writes. On a terminal, progress is a single line redrawn in
-// place (step/total, simulated time, wall time a step, ETA, the model's solver figures); in a pipe or
-// file it becomes a plain log line every `progress_interval` wall seconds, so CI logs stay readable.
-// Under Open MPI's mpiexec a rank's own stdout is always a pseudo-terminal and its stderr a pipe,
-// whatever mpiexec's output is, so there the terminal test asks mpiexec's stdout (docs/runs.md,
-// "Progress and diagnostics"). Everything is also appended to the run folder's log.txt once a run has
-// one.
+// place (step/total, simulated time and the share of the run done, wall time a step, ETA over a recent
+// window, the model's solver figures); in a pipe or file it becomes a plain log line every
+// `progress_interval` wall seconds, so CI logs stay readable. Under Open MPI's mpiexec a rank's own stdout is
+// always a pseudo-terminal and its stderr a pipe, whatever mpiexec's output is, so there the terminal test
+// asks mpiexec's stdout (docs/runs.md, "Progress and diagnostics"). Everything is also appended to the run
+// folder's log.txt once a run has one. Warnings are kept (run.json and the report show them); under --strict
+// a warning is an error.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <mpi.h>
+
+#include "base/eta.hpp"
 
 namespace ibvalve::base {
 
@@ -27,12 +32,6 @@ struct Progress {
   double end_time = 0.0; // simulated end time, s
   std::string details;   // the model's figures of the step (solver iterations, max |u|, CFL); may be empty
 };
-
-/// Wall seconds left of this invocation: the steps from `step` to `last_step` (the run's end, or its stop
-/// by --stop-after-steps when that comes first) at the mean time a step this invocation has measured,
-/// `seconds` for the steps since `first_step` (0, or the checkpoint's step on --restart). Negative
-/// (unknown) before a step was measured.
-double eta_seconds(long step, long first_step, long last_step, double seconds);
 
 class Logger {
  public:
@@ -49,23 +48,39 @@ class Logger {
   void set_progress_interval(double seconds) { progress_interval_ = seconds; }
   bool is_root() const { return root_; }
 
-  /// Appends every later message to `path` (rank 0 only). Closes any earlier file.
+  /// Appends every later message to `path` (rank 0 only), after the warnings kept so far. Closes any
+  /// earlier file.
   void open_file(const std::filesystem::path& path);
   void close_file();
 
   void info(std::string_view message);
   void verbose(std::string_view message);
+  /// "warning: ..." on stderr and in the log file, kept (warnings()); under set_strict an InputError
+  /// with the message instead (exit 2).
   void warn(std::string_view message);
   /// One line on stdout (and in the log file), whatever the level: how a stopped run goes on.
   void always(std::string_view message);
   /// One line on stderr (and in the log file), whatever the level.
   void error(std::string_view message);
 
+  /// Warnings turn into errors: warn() throws InputError (ibvalve run --strict).
+  void set_strict(bool strict) { strict_ = strict; }
+  bool strict() const { return strict_; }
+  /// The warnings rank 0 has given since clear_warnings(), in order, each once (others keep none).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+  void clear_warnings() { warnings_.clear(); }
+  /// Called on rank 0 with every warning so far each time one is added (run.json keeps them); what it
+  /// throws is dropped (log.txt holds the warning whatever happens). Empty: none.
+  void set_warning_record(std::function<void(const std::vector<std::string>&)> record)
+  {
+    warning_record_ = std::move(record);
+  }
+
   /// Restarts the wall clock of the run (log file stamps, "finished in").
   void start_clock();
   double wall_seconds() const;
-  /// This invocation takes the steps after `first_step` up to `last_step`: the ETA and the time a step
-  /// are measured from here.
+  /// This invocation takes the steps after `first_step` up to `last_step`: the ETA (over a recent
+  /// window, base/eta.hpp) and the time a step are measured from here.
   void begin_steps(long first_step, long last_step);
   void progress(const Progress& progress);
   /// Whether progress is redrawn in place (a terminal), else printed as plain lines.
@@ -85,11 +100,14 @@ class Logger {
   double progress_interval_ = 10.0;
   double last_progress_wall_ = -1.0;
   long first_step_ = 0, last_step_ = 0; // this invocation's steps (begin_steps)
-  double steps_wall_ = 0.0;             // wall seconds when they began
-  long interval_step_ = 0;              // the step and wall time the current
-  double interval_wall_ = 0.0;          // averaging interval of "s/step" began at
-  double step_seconds_ = -1.0;          // time a step over the last interval
+  EtaEstimator eta_;
+  long interval_step_ = 0;     // the step and wall time the current
+  double interval_wall_ = 0.0; // averaging interval of "s/step" began at
+  double step_seconds_ = -1.0; // time a step over the last interval
   std::FILE* file_ = nullptr;
+  bool strict_ = false;
+  std::vector<std::string> warnings_;
+  std::function<void(const std::vector<std::string>&)> warning_record_;
   std::chrono::steady_clock::time_point start_;
 };
 

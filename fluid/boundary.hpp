@@ -34,6 +34,8 @@ namespace ibvalve::fluid {
 
 using VelocityFunction = std::function<Real3(const Real3& x, double t)>;
 using ScalarFunction = std::function<double(const Real3& x, double t)>;
+/// A region of the box: whether it holds the point x (cm).
+using PointSet = std::function<bool(const Real3& x)>;
 
 enum class SideKind { periodic, velocity, traction };
 

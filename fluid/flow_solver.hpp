@@ -76,6 +76,10 @@ class FlowSolver {
   virtual double kinetic_energy() const = 0;
   /// The largest speed, cm/s (the CFL number's).
   virtual double max_velocity() const = 0;
+  /// The largest speed |u^n| at the cell centres that `region` holds, cm/s (each component the mean of
+  /// the cell's two faces); 0 when it holds none. A peak velocity measured where the flow of interest
+  /// is (the report's jet), not wherever in the box the flow is fastest.
+  virtual double max_speed_in(const PointSet& region) const = 0;
   /// Writes the cell-centred velocity and the pressure (and what else the solver has) into `group` of
   /// a field snapshot and returns their XDMF grids; `file_reference` is the HDF5 file as the XDMF file
   /// names it. Collective.

@@ -362,6 +362,11 @@ double NavierStokes::max_velocity() const
   return max_velocity_magnitude(*this);
 }
 
+double NavierStokes::max_speed_in(const PointSet& region) const
+{
+  return max_velocity_magnitude(*this, region);
+}
+
 std::vector<io::XdmfGrid> NavierStokes::write_fields(io::Hdf5File& file, const std::string& group,
                                                      const std::string& file_reference) const
 {

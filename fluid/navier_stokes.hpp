@@ -78,6 +78,7 @@ class NavierStokes final : public FlowSolver {
   std::vector<Real3> velocity_at(const std::vector<Real3>& points) const override;
   double kinetic_energy() const override;
   double max_velocity() const override;
+  double max_speed_in(const PointSet& region) const override;
   std::vector<io::XdmfGrid> write_fields(io::Hdf5File& file, const std::string& group,
                                          const std::string& file_reference) const override;
   /// The FGMRES iterations and residual of the last step (0 for the direct FFT solve).

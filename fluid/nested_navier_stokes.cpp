@@ -814,6 +814,37 @@ double NestedNavierStokes::max_velocity() const
   return static_cast<double>(umax);
 }
 
+double NestedNavierStokes::max_speed_in(const PointSet& region) const
+{
+  // The vectors are owned, so they are freed also when a call throws.
+  std::array<petsc::OwnedVec, 3> owned;
+  std::array<Vec, 3> components{};
+  for (std::size_t d = 0; d < 3; ++d) {
+    owned[d] = operators_->create_cell_vector();
+    components[d] = owned[d];
+  }
+  cell_velocity(components);
+  PetscInt begin = 0, end = 0;
+  PETSC_CHECK(VecGetOwnershipRange(components[0], &begin, &end));
+  std::array<const PetscScalar*, 3> u{};
+  for (std::size_t d = 0; d < 3; ++d) PETSC_CHECK(VecGetArrayRead(components[d], &u[d]));
+  const GridHierarchy& h = *hierarchy_;
+  double largest = 0.0;
+  operators_->cells().for_each(begin, end, [&](PetscInt n, const CompositeCells::Cell& c) {
+    Real3 centre{};
+    for (int d = 0; d < 3; ++d)
+      centre[d] = h.domain().lower[d] + (static_cast<double>(c.index[d]) + 0.5) * h.h(c.level, d);
+    if (!region(centre)) return;
+    double m2 = 0.0;
+    for (std::size_t d = 0; d < 3; ++d) m2 += u[d][n - begin] * u[d][n - begin];
+    largest = std::max(largest, m2);
+  });
+  for (std::size_t d = 0; d < 3; ++d) PETSC_CHECK(VecRestoreArrayRead(components[d], &u[d]));
+  double global = 0.0;
+  MPI_Allreduce(&largest, &global, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  return std::sqrt(global);
+}
+
 std::string NestedNavierStokes::describe() const
 {
   const GridHierarchy& h = *hierarchy_;

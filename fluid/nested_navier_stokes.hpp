@@ -128,6 +128,9 @@ class NestedNavierStokes final : public FlowSolver {
   double kinetic_energy() const override;
   /// max |u_n| over the composite faces.
   double max_velocity() const override;
+  /// The largest |u| of the cell-centred velocity (cell_velocity) over the composite cells whose centre
+  /// `region` holds.
+  double max_speed_in(const PointSet& region) const override;
   std::string describe() const override;
   double finest_spacing() const override;
   /// The composite pressure and cell-centred velocity of every level box (fluid/composite_output.hpp;

@@ -196,12 +196,13 @@ double pressure_at(const NavierStokes& fluid, const Real3& x)
   return sum_all(grid, interpolate(grid, fluid.state(), grid.pressure_slot(), {0.5, 0.5, 0.5}, x));
 }
 
-double max_velocity_magnitude(const NavierStokes& fluid)
+double max_velocity_magnitude(const NavierStokes& fluid, const PointSet& region)
 {
   const StaggeredGrid& grid = fluid.grid();
   StagArray u(grid, fluid.state(), true);
   double largest = 0.0;
   for_owned_cells(grid, [&](PetscInt i, PetscInt j, PetscInt k) {
+    if (region && !region(grid.cell_center(i, j, k))) return;
     double m2 = 0.0;
     for (int d = 0; d < 3; ++d) {
       Index3 up{i, j, k};

@@ -18,10 +18,13 @@ Real3 velocity_at(const NavierStokes& fluid, const Real3& x);
 /// Pressure (at fluid.pressure_time()) at a point, trilinear from cell centres.
 double pressure_at(const NavierStokes& fluid, const Real3& x);
 
-double max_velocity_magnitude(const NavierStokes& fluid); // over cell centres (averaged faces)
-double kinetic_energy(const NavierStokes& fluid);         // 1/2 rho int |u|^2
-double enstrophy(const NavierStokes& fluid);              // 1/2 int |omega|^2 (cell-centred omega)
-double max_divergence(const NavierStokes& fluid);         // max over cells of |D u|
+/// The largest |u| over the cell centres (each component the mean of the cell's two faces), or over
+/// those `region` holds when it is given (0 when it holds none).
+double max_velocity_magnitude(const NavierStokes& fluid, const PointSet& region = nullptr);
+
+double kinetic_energy(const NavierStokes& fluid); // 1/2 rho int |u|^2
+double enstrophy(const NavierStokes& fluid);      // 1/2 int |omega|^2 (cell-centred omega)
+double max_divergence(const NavierStokes& fluid); // max over cells of |D u|
 
 /// Cell-centred velocity (3 values per cell) and vorticity (3 per cell) and pressure (1 per cell) of
 /// the owned cells, C order (z slowest, x fastest; components last), for output.

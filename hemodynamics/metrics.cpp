@@ -155,9 +155,10 @@ void add_leaflet_state_metrics(const ValveSeries& w, const Phases& ph, const std
            fmt::format("largest leaflet displacement |x - X|, {}", s.name), column::displacement_max, s);
   }
   for (const State& s : {open, closed})
-    metric(fmt::format("peak_velocity_{}", s.suffix), fmt::format("u_max,{}", s.symbol), "m/s",
-           fmt::format("largest fluid speed in the box, {}", s.name), column::peak_velocity, s,
-           1.0 / units::m_per_s);
+    metric(
+        fmt::format("peak_velocity_{}", s.suffix), fmt::format("u_max,{}", s.symbol), "m/s",
+        fmt::format("peak velocity in the jet (largest fluid speed between the pressure probes), {}", s.name),
+        column::peak_velocity, s, 1.0 / units::m_per_s);
   for (const State& s : {open, closed}) {
     metric(fmt::format("fiber_strain_belly_{}", s.suffix), fmt::format("E_ff,belly,{}", s.symbol), "1",
            fmt::format("fiber strain f0 . (E f0), belly spheres, {}", s.name), column::belly_fiber_strain, s);

@@ -127,6 +127,31 @@ MetricSettings metric_settings_from_run(const fs::path& run_directory)
 // ---------------------------------------------------------------------------------------------
 // Formatting helpers
 
+std::string metrics_summary(const fs::path& metrics_json)
+{
+  const Json doc = Json::parse(io::read_text_file(metrics_json));
+  const Json& m = doc.at("metrics");
+  std::string line;
+  auto add = [&](const char* key, const char* symbol, bool always) {
+    if (!m.contains(key) && !always) return;
+    std::string shown = "missing";
+    if (m.contains(key)) {
+      const Json& entry = m.at(key);
+      const Json& v = entry.at("value");
+      shown = (v.is_number() ? format_value(v.get<double>()) : std::string("missing")) + " " +
+              entry.at("unit").get<std::string>();
+    }
+    line += (line.empty() ? "" : ", ") + std::string(symbol) + " " + shown;
+  };
+  add("forward_volume", "V_F", true);
+  add("regurgitant_fraction", "RF", true);
+  add("transvalvular_pressure_gradient", "TPG", true);
+  add("effective_orifice_area", "EOA", true);
+  add("energy_loss", "E_L", true);
+  add("peak_velocity_open", "u_max,FO", false);
+  return line;
+}
+
 std::string format_value(double value)
 {
   if (!std::isfinite(value)) return "missing";

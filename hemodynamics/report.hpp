@@ -119,6 +119,11 @@ Json metrics_document(const ValveMetrics& metrics, const MetricSettings& setting
 /// Markdown and HTML (without plots) are written.
 ReportFiles write_report(const std::filesystem::path& run_directory, const ReportOptions& options);
 
+/// One line of a report's figures for a run's closing summary, from its metrics.json: "V_F ... mL, RF
+/// ... %, TPG ... mmHg, EOA ... cm^2, E_L ... mJ" (a figure without a value "missing"), then the peak
+/// velocity at full opening when the run measured one (a 3-D run: "u_max,FO ... m/s").
+std::string metrics_summary(const std::filesystem::path& metrics_json);
+
 /// A value for tables: 4 significant digits (or "missing").
 std::string format_value(double value);
 /// Every digit of a value: the shortest text that reads back as the same double (std::to_chars), or

@@ -110,6 +110,16 @@ void set_headline(const Json& doc, data& values)
     checks.push_back(row);
   }
   values.set("checks", checks);
+  // The run's warnings, as its run.json keeps them (app/run_command.cpp).
+  data warnings{data::type::list};
+  const Json run = doc.value("provenance", Json::object()).value("run", Json::object());
+  for (const Json& w : run.value("warnings", Json::array())) {
+    data row;
+    row.set("text", w.is_string() ? w.get<std::string>() : w.dump());
+    warnings.push_back(row);
+  }
+  values.set("has_warnings", !warnings.list_value().empty());
+  values.set("warnings", warnings);
   data references{data::type::list};
   for (const ReferenceSource& s : reference_sources()) {
     data row;

@@ -26,7 +26,7 @@ inline constexpr const char* orifice_area = "orifice_area";  // cm^2 (geometric,
 // instants, docs/hemodynamics.md, "Leaflet state").
 inline constexpr const char* displacement_mean = "d_mean";      // cm, mean |x - X| over the leaflet nodes
 inline constexpr const char* displacement_max = "d_max";        // cm, largest |x - X| over them
-inline constexpr const char* peak_velocity = "u_max";           // cm/s, largest fluid speed in the box
+inline constexpr const char* peak_velocity = "u_max";           // cm/s, largest fluid speed in the jet
 inline constexpr const char* belly_fiber_strain = "E_ff_belly"; // f0 . (E f0), mean over the belly spheres
 inline constexpr const char* top_fiber_strain = "E_ff_top";     // the same over the top-centre spheres
 inline constexpr const char* belly_fiber_stress = "S_ff_belly"; // kPa, f . (sigma f), belly spheres

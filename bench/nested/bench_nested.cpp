@@ -1,4 +1,4 @@
-// Nested-grid benchmark (issue 9): the study's box, 8 x 8 x 14 cm, level 0 with 20 x 20 x 32 cells and one
+// Nested-grid benchmark: the study's box, 8 x 8 x 14 cm, level 0 with 20 x 20 x 32 cells and one
 // level of ratio 4 placed around an aortic-valve-sized bounding box ([-1.4, 1.4]^2 x [-1, 1.2] cm, margin 4
 // fine cells), against one uniform grid of the finest spacing (80 x 80 x 128). For each it prints the
 // composite cells, operator assembly time, CG + BoomerAMG set-up and solve times and iterations for a

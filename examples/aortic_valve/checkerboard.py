@@ -15,7 +15,7 @@ For every snapshot (RUN_DIR/fields/step_*.h5, written by `ibvalve run`), indepen
   - the same after the output filter of fe/solid.hpp (SolidModel::filtered_centre_stress) written
     again here: node means of the element pressures weighted by reference volume, element means of
     the node means. Fields written before the filter (2026-12-06) hold the unfiltered s.
-Figures in MPa. Used for docs/checkerboard-2026-12-06.md.
+Figures in MPa. Used for docs/notebook/checkerboard-2026-12-06.md.
 """
 import argparse
 import pathlib

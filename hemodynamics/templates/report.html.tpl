@@ -2,7 +2,8 @@
     A name in double braces is HTML-escaped, one in triple braces inserted as it is. The names are
     those of report.md.tpl:
       run, cycle, cycles, cycle_start, cycle_end, headline (key, name, symbol, value, missing, unit,
-      range, source, assessment, outside), checks (check, text), references (name, citation),
+      range, source, assessment, outside), checks (check, text), has_warnings, warnings (text),
+      references (name, citation),
       has_cycle_table, cycle_rows (cycle, page, reported, vf, tpg, pwk_start, pwk_end, pwk_change),
       periodicity, groups (group, metrics), metrics (key, label, description, symbol, value, exact,
       missing, unit, note, uncertainty, uncertainty_sources), phases (name, time), ejection_windows
@@ -21,6 +22,7 @@ table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:
 td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 0}img{max-width:100%}
 .missing{color:#999}tr.outside td{background:#fff3cd}
 .implausible{border:2px solid #b00020;background:#fdecea;padding:0.5em 1em;margin:1em 0}
+.warnings{border:2px solid #b26a00;background:#fff8e1;padding:0.5em 1em;margin:1em 0}
 </style>
 </head>
 <body>
@@ -30,13 +32,21 @@ td.value{text-align:right;font-variant-numeric:tabular-nums}figure{margin:1.5em 
 {{#checks}}
 <p class="implausible" data-check="{{check}}"><strong>Implausible:</strong> {{text}}</p>
 {{/checks}}
+{{#has_warnings}}
+<div class="warnings" id="warnings"><strong>The run's warnings</strong> (log.txt, run.json; <code>ibvalve run --strict</code> makes them errors):
+<ul>
+{{#warnings}}
+<li>{{text}}</li>
+{{/warnings}}
+</ul></div>
+{{/has_warnings}}
 <table id="headline">
 <tr><th>figure</th><th>symbol</th><th>value</th><th>unit</th><th>healthy adult native valve</th><th>source</th><th></th></tr>
 {{#headline}}
 <tr data-headline="{{key}}"{{#outside}} class="outside"{{/outside}}><td>{{name}}</td><td>{{symbol}}</td><td class="value{{#missing}} missing{{/missing}}">{{value}}</td><td>{{unit}}</td><td>{{range}}</td><td>{{source}}</td><td>{{#outside}}outside{{/outside}}</td></tr>
 {{/headline}}
 </table>
-<p>The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve lies on their near side. A figure without a range has no published one here. The peak velocity is the largest fluid speed anywhere in the box: where it lies is not recorded, so a peak at the box's boundary cannot be flagged.</p>
+<p>The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve lies on their near side. A figure without a range has no published one here. The peak velocity is the jet's: the largest fluid speed in the tube between the pressure probes, off the box's sides (the run's log names the region; docs/hemodynamics.md, "Peak velocity").</p>
 {{#has_cycle_table}}
 <h2>Cycle to cycle</h2>
 <p>{{periodicity}}.</p>

@@ -11,6 +11,8 @@
                                 assessment ("within", "outside" or empty), outside (true when outside)
       checks                    list, the figures no valve can have: check (eoa_above_goa,
                                 not_periodic), text
+      has_warnings, warnings    whether the run gave warnings; list: text (each as log.txt has it,
+                                kept in its run.json)
       references                list: name (the short citation), citation (the full one)
       has_cycle_table           true when the series holds two cycles or more up to this one
       cycle_rows                list, cycles 1 to this one: cycle, page (that cycle's report.html),
@@ -45,6 +47,13 @@ Cycle {{cycle}} of {{cycles}}: [{{cycle_start}}, {{cycle_end}}] s of `timeseries
 > **Implausible:** {{text}}
 
 {{/checks}}
+{{#has_warnings}}
+> **The run's warnings** (log.txt, run.json; `ibvalve run --strict` makes them errors):
+{{#warnings}}
+> - {{text}}
+{{/warnings}}
+
+{{/has_warnings}}
 | figure | symbol | value | unit | healthy adult native valve | source | |
 |---|---|---|---|---|---|---|
 {{#headline}}
@@ -53,8 +62,8 @@ Cycle {{cycle}} of {{cycles}}: [{{cycle_start}}, {{cycle_end}}] s of `timeseries
 
 The ranges are the published bounds of the mildest grade of disease (sources below): a healthy valve
 lies on their near side. A figure without a range has no published one here. The peak velocity is the
-largest fluid speed anywhere in the box: where it lies is not recorded, so a peak at the box's boundary
-cannot be flagged.
+jet's: the largest fluid speed in the tube between the pressure probes, off the box's sides (the run's
+log names the region; docs/hemodynamics.md, "Peak velocity").
 
 {{#has_cycle_table}}
 ## Cycle to cycle

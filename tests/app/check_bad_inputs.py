@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Bad input across the models and commands (issue 20): each input of the table below must give
+"""Bad input across the models and commands: each input of the table below must give
 
   - exit code 2,
   - exactly one line on stderr (under mpiexec, its own "process returned a non-zero exit code" block of

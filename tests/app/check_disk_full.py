@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A run whose disk fills (issue 20, item 4): the run folder on a small tmpfs, sized so that it fills
+"""A run whose disk fills: the run folder on a small tmpfs, sized so that it fills
 at one chosen write.
 
   check_disk_full.py WHEN IBVALVE MPIEXEC RANKS CASE WORK_DIR --every E --at STEP [--set key=value ...]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Finding the keys and options of a case (issue 20, item 14): each scenario is one specification.
+"""Finding the keys and options of a case: each scenario is one specification.
 
   check_keys.py SCENARIO IBVALVE MPIEXEC SOURCE_DIR WORK_DIR [MODEL]
 
@@ -23,6 +23,10 @@ Scenarios:
   warning
       fluid.density 1060 (kg/m^3 written as g/mL): one warning line naming the key, the value and the
       typical range; the run goes on (exit 0).
+  warnings-kept
+      The same warning on 2 ranks is kept: once in log.txt, in run.json's "warnings" and in a warnings
+      box of report.md and report.html (none without a warning); with --strict it is an error: exit 2,
+      "error: " and the same message, no run folder; `ibvalve check --strict` the same.
   config-presets
       The lumped run's config.toml writes the Windkessel preset's values (not "(not set)"), numbers in
       their shortest form, file paths relative to the run folder (no path of the machine); run as a
@@ -33,6 +37,8 @@ Scenarios:
       lists the prefixes too.
 Prints what it checked; exits 1 on the first failure.
 """
+import html
+import json
 import pathlib
 import re
 import shutil
@@ -200,6 +206,45 @@ def warning(run, source, work):
     print("ok: no warning for the example's values")
 
 
+def warnings_kept(run, source, work):
+    case = lumped_case(source, work)
+    settings = ["--set", "time.cycles=1", "--set", "report.plots=false"]
+    out, err = expect_ok(run("run", case, "-o", work / "run", "--overwrite", "--set", "fluid.density=1060",
+                             *settings, ranks=2), "a run with fluid.density = 1060 on 2 ranks")
+    lines = [l[len("warning: "):] for l in err.splitlines() if l.startswith("warning:")]
+    if len(lines) != 1 or "fluid.density: 1060 g/mL is outside the typical" not in lines[0]:
+        fail("expected one warning line for fluid.density", err)
+    message = lines[0]
+    log = (work / "run/log.txt").read_text()
+    if log.count("warning: " + message) != 1:
+        fail("log.txt does not keep the warning once", log)
+    record = json.loads((work / "run/run.json").read_text())
+    if record.get("warnings") != [message]:
+        fail(f"run.json's warnings are {record.get('warnings')}, not [{message!r}]")
+    md = (work / "run/report/report.md").read_text()
+    page = (work / "run/report/report.html").read_text()
+    if "The run's warnings" not in md or f"> - {message}" not in md:
+        fail("report.md has no warnings box with the warning", md[:3000])
+    if 'id="warnings"' not in page or f"<li>{html.escape(message, quote=False)}</li>" not in page:
+        fail("report.html has no warnings box with the warning", page[:3000])
+    print(f"ok: the warning is in log.txt, run.json and both report pages: {message}")
+    expect_ok(run("run", case, "-o", work / "plain", "--overwrite", *settings), "the lumped case")
+    if 'id="warnings"' in (work / "plain/report/report.html").read_text():
+        fail("a warnings box in the report of a run without warnings")
+    if json.loads((work / "plain/run.json").read_text()).get("warnings", []) != []:
+        fail("run.json of a run without warnings lists some")
+    print("ok: no warnings box without a warning")
+    for command in (["run", case, "-o", work / "strict"], ["check", case]):
+        code, out, err = run(*command, "--strict", "--set", "fluid.density=1060", *settings, ranks=2)
+        said = [l for l in err.splitlines() if l.startswith(("error:", "warning:"))]  # not mpiexec's lines
+        if code != 2 or said != ["error: " + message]:
+            fail(f"{command[0]} --strict: expected exit 2 and the line 'error: {message}', got exit {code}",
+                 f"--- stdout:\n{out}--- stderr:\n{err}")
+    if (work / "strict").exists():
+        fail("run --strict left a run folder")
+    print("ok: with --strict the warning is an error: exit 2, the same message, nothing written")
+
+
 def config_presets(run, source, work):
     case = lumped_case(source, work)
     settings = ["--set", "time.cycles=1", "--set", "report.plots=false", "--set", "time.step=2e-5"]
@@ -263,6 +308,7 @@ def main():
         skeleton(run, source, work, sys.argv[6])
         return
     scenarios = {"markdown": markdown, "recommended": recommended, "bare-set": bare_set, "warning": warning,
+                 "warnings-kept": warnings_kept,
                  "config-presets": config_presets, "petsc-example": petsc_example}
     scenarios[scenario](run, source, work)
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Each key written once (issue 19, item 4): no key string appears twice in a model's source.
+"""Each key written once: no key string appears twice in a model's source.
 
   check_keys_once.py IBVALVE SOURCE_DIR
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""kill -9 at random moments of a checkpointed run (issue 20): a node failure must lose nothing that
+"""kill -9 at random moments of a checkpointed run: a node failure must lose nothing that
 was checkpointed.
 
   check_kill_restart.py IBVALVE MPIEXEC RANKS CASE WORK_DIR --every E [--kills N] [--seed S] [--set ...]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""PETSc options no solver read are named at the end of the run (issue 20, item 9).
+"""PETSc options no solver read are named at the end of the run.
 
   check_petsc_options_left.py IBVALVE MPIEXEC RANKS CASE WORK_DIR
 

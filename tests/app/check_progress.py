@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Progress lines, diagnostics.csv, the valve's end time and its time-step line (issue 20, item 13).
+"""Progress lines, diagnostics.csv, the valve's end time and its time-step line.
 
     check_progress.py SCENARIO IBVALVE MPIEXEC RANKS CASE RUN_DIR [--set KEY=VALUE ...]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Restart reproduces the uninterrupted run (issue 8, item 4) for a grid-based run model.
+"""Restart reproduces the uninterrupted run for a grid-based run model.
 
   check_restart.py IBVALVE MPIEXEC RANKS CASE WORK_DIR --every E --stop S [--steps N] [--set key=value ...]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs that survive faults and mistakes (issue 20): each scenario is one specification.
+"""Runs that survive faults and mistakes: each scenario is one specification.
 
   check_restart_faults.py SCENARIO IBVALVE MPIEXEC RANKS CASE WORK_DIR [--set key=value ...]
 
@@ -10,6 +10,11 @@ Scenarios (CASE is a case file of any model; the lumped one runs in a second):
       (130). The signal reaches one rank only (the last one): the ranks agree on it and stop together.
       `--restart` then continues it to a timeseries.csv identical byte for byte to the uninterrupted
       run's.
+  mpiexec-ctrl-c
+      SIGINT to mpiexec, as a Ctrl-C in its terminal gives it: Open MPI passes it on as SIGTERM and
+      exits with 1; the ranks stop as above, the line says "SIGTERM from mpiexec (a Ctrl-C or a SIGTERM
+      to mpiexec ...)" and gives the restart command with mpiexec and its options, which, run as
+      printed, continues to the uninterrupted series.
   overwrite
       `run -o DIR --overwrite` of case B into the folder of an earlier run of case A (checkpoints,
       report) removes A's outputs first: B's checkpoints are the only ones, B's own survive pruning,
@@ -43,6 +48,7 @@ Prints what it checked; exits 1 on the first failure.
 import argparse
 import os
 import pathlib
+import shlex
 import shutil
 import signal
 import subprocess
@@ -189,6 +195,42 @@ def signal_scenario(runner, work, which, ranks, after_rows):
     if f"restarting from {split / 'checkpoints' / f'step_{step:09d}.h5'}" not in result.stdout:
         fail("the restart did not continue from the signal's checkpoint", result.stdout)
     same_series(whole, split, "stopped by " + name + " and restarted")
+
+
+def mpiexec_ctrl_c_scenario(runner, work, ranks, after_rows):
+    """SIGINT to mpiexec, as a Ctrl-C in its terminal gives it: Open MPI passes it on to the ranks as
+    SIGTERM; the stopped line says so and gives the whole restart command, mpiexec and its options
+    included, which, run as printed, continues to the uninterrupted series."""
+    whole, split = work / "whole", work / "split"
+    runner.run(whole, "-q")
+    command = runner.command(split, "-q")
+    print("+", " ".join(command), flush=True)
+    launcher = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while data_rows(split) < after_rows:
+        if launcher.poll() is not None or time.time() > deadline:
+            out, err = launcher.communicate()
+            fail(f"the run ended or stalled before {after_rows} rows, before the signal", out + err)
+        time.sleep(0.01)
+    os.kill(launcher.pid, signal.SIGINT)
+    print(f"sent SIGINT to mpiexec (pid {launcher.pid}) after {data_rows(split)} rows")
+    out, err = launcher.communicate(timeout=120)
+    # Open MPI's mpiexec, aborting the job it was signalled to stop, exits with 1 whatever the ranks do.
+    if launcher.returncode != 1:
+        fail(f"mpiexec's exit code {launcher.returncode}, expected Open MPI's 1", out + err)
+    stopped = [line for line in out.splitlines() if line.startswith("stopped by SIGTERM from mpiexec (")]
+    if len(stopped) != 1:
+        fail("no one line saying mpiexec's SIGTERM (a Ctrl-C or a SIGTERM to it) stopped the run", out + err)
+    restart = stopped[0].split("; continue with: ")[1]
+    expected = shlex.join(runner.launch + ["--restart", str(split)])  # mpiexec OPTIONS IBVALVE run
+    if restart != expected:
+        fail(f"the restart command is\n  {restart}\nnot mpiexec's as it was given:\n  {expected}")
+    print(f"mpiexec exit 1; {stopped[0]}")
+    result = subprocess.run(shlex.split(restart), stdin=subprocess.DEVNULL, capture_output=True, text=True)
+    if result.returncode != 0:
+        fail(f"the printed restart command: exit {result.returncode}", result.stdout + result.stderr)
+    same_series(whole, split, "stopped by Ctrl-C to mpiexec and restarted with the printed command")
 
 
 def overwrite_scenario(runner, work, steps_b, every):
@@ -364,6 +406,8 @@ def main():
     if s in ("signal-term", "signal-int"):
         signal_scenario(runner, work, signal.SIGTERM if s == "signal-term" else signal.SIGINT, int(args.ranks),
                         args.after_rows)
+    elif s == "mpiexec-ctrl-c":
+        mpiexec_ctrl_c_scenario(runner, work, int(args.ranks), args.after_rows)
     elif s == "overwrite":
         overwrite_scenario(runner, work, args.stop, args.every)
     elif s in ("foreign-case", "foreign-model"):

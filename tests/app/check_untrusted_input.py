@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Files and case data a user may have been sent (issue 20): each scenario is one specification.
+"""Files and case data a user may have been sent: each scenario is one specification.
 
   check_untrusted_input.py SCENARIO IBVALVE MPIEXEC RANKS CASE WORK_DIR
 

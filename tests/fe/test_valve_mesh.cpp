@@ -58,7 +58,7 @@ TEST(AorticValveMesh, NoLeafletElementIsATaperedSliver)
   // elements are strip / leaflet_radial tall against about 0.2 cm across, and taper toward the
   // commissure. With the strip of 0.1 cm they were 0.01 cm tall (aspect 19-21, Gauss-point Jacobian
   // ratio 0.15-0.22 against a median 0.9), and in the valve's closures these are the corners that
-  // collapse and invert (docs/aortic-valve-study-2026-12-03.md). The default strip keeps every
+  // collapse and invert (docs/fe.md). The default strip keeps every
   // leaflet element's ratio above 0.45 at paper.toml's, the default (the valve case's) and a finer
   // resolution.
   for (const auto& [across, radial] : {std::pair{32, 12}, std::pair{24, 10}, std::pair{48, 20}}) {

@@ -12,7 +12,7 @@
 //  - the volume flux through a closed surface that crosses the coarse-fine interface: zero to solver
 //    tolerance for the two-point stencil (its divergence is the refluxed flux divergence), O(h^2) for the
 //    tangential one (its divergence moves O(h) of each coarse-fine flux to tangential neighbours).
-// docs/nested.md discusses what this means for the velocity-order target.
+// docs/nested.md discusses what this means for the velocity's order of accuracy.
 #include <cmath>
 #include <cstdio>
 #include <numbers>

@@ -334,6 +334,31 @@ TEST(NestedNavierStokes, JacobiPreconditionedViscousSolveAtASmallViscousNumber)
 // velocity on the box's faces (exact samples here) and, on ghost faces outside the box, the coarse-fine
 // interpolated values (quadratic: error O(h^3) against the exact field); a force spread on it lands on the
 // composite faces of the finest level, each face once.
+// The largest speed in a region (the valve run's peak velocity, app/jet_region.hpp) is taken over the
+// composite cells: a covered level-0 cell does not count, a level-1 cell does. u = (0, 0, 1 + x + 2y)
+// is linear, so each cell-centred value (the mean of the cell's two z faces) is exact.
+TEST(NestedNavierStokes, LargestSpeedInARegionOverTheCompositeCells)
+{
+  const GridHierarchy h = make_hierarchy(16, 2); // level 1 [4/16, 10/16) x [6/16, 12/16) x [4/16, 8/16)
+  const VelocityFunction u = [](const Real3& x, double) { return Real3{0.0, 0.0, 1.0 + x[0] + 2.0 * x[1]}; };
+  NestedNavierStokes fluid(PETSC_COMM_WORLD, h, u, FluidSettings{});
+  fluid.set_initial_condition(u, nullptr, 0.0);
+  const auto inside = [](Real3 lower, Real3 upper) {
+    return [=](const Real3& x) {
+      for (int d = 0; d < 3; ++d)
+        if (x[d] < lower[d] || x[d] > upper[d]) return false;
+      return true;
+    };
+  };
+  // The whole box: level 0's cell nearest the corner x = y = 1, centre (31/32, 31/32).
+  EXPECT_NEAR(fluid.max_speed_in(inside({0, 0, 0}, {1, 1, 1})), 1.0 + 31.0 / 32 + 2.0 * 31.0 / 32, 1e-12);
+  // Inside level 1: its cell centres (15.5/32, 18.5/32), not the covered level-0 centre (7.5/16, 9.5/16)
+  // that would read 2.65625.
+  EXPECT_NEAR(fluid.max_speed_in(inside({0.3, 0.4, 0.3}, {0.5, 0.6, 0.45})),
+              1.0 + 15.5 / 32 + 2.0 * 18.5 / 32, 1e-12);
+  EXPECT_DOUBLE_EQ(fluid.max_speed_in(inside({2, 2, 2}, {3, 3, 3})), 0.0); // no cell
+}
+
 TEST(NestedNavierStokes, FinestLevelGridForTheImmersedBoundary)
 {
   const GridHierarchy h = make_hierarchy(16, 2);

@@ -1,6 +1,6 @@
 // A flexible plate clamped to the bottom wall of a channel flow bends under the fluid load; at the
 // coupled steady state its tip deflection must be what a quasi-static FE solve of the same plate
-// (same law, same clamp) predicts under the fluid load MEASURED FROM THE FLUID, within 10 % (issue 7).
+// (same law, same clamp) predicts under the fluid load MEASURED FROM THE FLUID, within 10 %.
 //
 // 2-D-like: the plate spans the periodic z extent, so flow and plate are uniform in z and the plate
 // is in plane strain (the periodic fluid keeps u_z = 0). The load on each horizontal strip of the

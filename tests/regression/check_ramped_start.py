@@ -5,7 +5,7 @@
 
 Applied at once, the Windkessel's 85 mmHg on the outlet slams the nearly closed valve shut: the
 backflow reaches about -350 mL/s at 5 ms and the water hammer of its stop about 730 mmHg beside the
-leaflets at 7 ms, where a step of 4e-5 s or more blows up (docs/speed-2026-12-01.md). Ramped over
+leaflets at 7 ms, where a step of 4e-5 s or more blows up (measured 2026-12-01). Ramped over
 50 ms the valve closes quasi-statically. Specification: over the first 12 ms at dt = 6e-5 s the run
 finishes its steps (exit 0), every row is finite, and the valve flow stays within 150 mL/s of zero
 (ramped: 44 mL/s; the sudden start: 350).

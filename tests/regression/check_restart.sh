@@ -1,5 +1,5 @@
 #!/bin/sh
-# Restart reproduces an uninterrupted run (issue 8, item 4), on the lumped default case:
+# Restart reproduces an uninterrupted run, on the lumped default case:
 #   1. the whole run (2 cycles, 16000 steps, checkpoints every 2000 steps);
 #   2. the same run stopped after 7300 steps (a stop checkpoint between the periodic ones), restarted
 #      and stopped again after 5000 more, then a torn checkpoint file is planted as the newest (a crash

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The valve timing an LV pressure table gives in the lumped model (issue 18, item 1).
+"""The valve timing an LV pressure table gives in the lumped model.
 
   check_lv_timing.py IBVALVE MPIEXEC CASE WAVEFORM RUN_DIR [CYCLES]
 

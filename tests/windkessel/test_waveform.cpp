@@ -185,7 +185,7 @@ TEST(Waveform, TheDefaultLvPressureTableIsPhysiological)
   EXPECT_LT(low, 12.0);
 }
 
-// The default of examples/lumped (issue 18): an elastance beat, end-diastolic about 8 mmHg at t = 0,
+// The default of examples/lumped: an elastance beat, end-diastolic about 8 mmHg at t = 0,
 // a systolic peak of about 125 mmHg in early-to-mid systole (docs/windkessel.md), a few mmHg in diastole.
 TEST(Waveform, TheTypeALvPressureTableIsPhysiological)
 {
