@@ -166,18 +166,34 @@ KeyBuilder Schema::add_table_list(std::string key, Schema element, std::string d
   return builder;
 }
 
+void Schema::retire(std::string key, std::string why)
+{
+  if (find(key) || retired(key)) throw std::logic_error("schema key defined twice: " + key);
+  retired_.emplace_back(std::move(key), std::move(why));
+}
+
+const std::string* Schema::retired(std::string_view key) const
+{
+  for (const auto& [name, why] : retired_)
+    if (name == key) return &why;
+  return nullptr;
+}
+
 void Schema::merge(const Schema& other)
 {
   for (const auto& spec : other.keys_) {
-    if (find(spec->key)) throw std::logic_error("schema key defined twice: " + spec->key);
+    if (find(spec->key) || retired(spec->key))
+      throw std::logic_error("schema key defined twice: " + spec->key);
     keys_.push_back(std::make_unique<KeySpec>(*spec));
   }
+  for (const auto& [key, why] : other.retired_) retire(key, why);
 }
 
 Schema& Schema::operator=(const Schema& other)
 {
   if (this != &other) {
     keys_.clear();
+    retired_.clear();
     merge(other);
   }
   return *this;
@@ -658,6 +674,8 @@ struct Validator {
         std::string where = region.begin.line > 0
                                 ? fmt::format("{}:{}", source_name(region, file), region.begin.line)
                                 : node_location(&node, file);
+        if (const std::string* why = schema.retired(key))
+          throw InputError(where + ": " + display_key + ": " + *why);
         // A table ([fluuid] or fluuid.viscosity = ...) is compared with the table names.
         if (node.is_table())
           throw InputError(where + ": " + display_key + ": unknown table" +
