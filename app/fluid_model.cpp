@@ -61,6 +61,7 @@ struct FluidKeys {
   std::vector<double> mean_velocity;
   double end = 0, step = 0;
   std::int64_t fields_every = 0, series_every = 1;
+  io::CheckpointSettings checkpoints;
 };
 
 void bind_side(io::KeyBinder& keys, int side, SideKeys& b)
@@ -160,7 +161,7 @@ void bind(io::KeyBinder& keys, FluidKeys& k)
   keys.integer("output.timeseries_every", "write a timeseries.csv row every this many steps", k.series_every)
       .defaults(std::int64_t{1})
       .at_least(1);
-  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+  io::bind(keys, k.checkpoints);
 }
 
 class FluidRun : public PreparedRun {
@@ -208,7 +209,7 @@ class FluidRun : public PreparedRun {
         keys_.fail(k.mean_velocity, "must have no z part between z walls");
     }
     if (const std::string why = step_count_problem(k.end, k.step); !why.empty()) keys_.fail(k.step, why);
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
     memory_line_ = check_memory(
         config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, keys_.key_of(k.cells))}},
         PETSC_COMM_WORLD);
@@ -258,7 +259,7 @@ class FluidRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
     loop.end_time = static_cast<double>(loop.steps) * k_.step;
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.columns = columns;
     loop.units = column_units;
     loop.record_every = k_.series_every;
@@ -396,7 +397,6 @@ class FluidRun : public PreparedRun {
   fluid::BoundaryConditions bc_;
   fluid::FluidSettings settings_;
   std::optional<fluid::ExactVortex> exact_; // the initial condition's exact solution, if it has one
-  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace

@@ -68,6 +68,7 @@ struct IbfeKeys {
   std::vector<double> fiber_direction;
   std::vector<io::Config> parts, tethers;
   ib::IbfeSettings ib;
+  io::CheckpointSettings checkpoints;
 };
 
 /// The material of the whole mesh (without [[structure.part]]).
@@ -206,8 +207,8 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
       .defaults(std::string("consistent"));
   keys.tables("ib.tether", tether_schema(),
               "tethers pulling groups of nodes back to their reference positions", k.tethers);
+  io::bind(keys, k.checkpoints);
   keys.section([](io::Schema& s) {
-    io::add_checkpoint_schema(s);
     // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
     s.merge(fluid::nested_schema());
   });
@@ -284,7 +285,7 @@ class IbfeRun : public PreparedRun {
                       "the structure must lie inside the walled box");
       }
     if (has_nested_levels(config)) read_levels(config);
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -320,7 +321,7 @@ class IbfeRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
     loop.end_time = static_cast<double>(loop.steps) * k_.step;
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
     loop.fields_every = k_.every;
@@ -454,7 +455,6 @@ class IbfeRun : public PreparedRun {
   std::vector<double> initial_;
   fe::Vec3 center_ = fe::Vec3::Zero();
   double inner_radius_ = 0.0, inflated_ = 0.0;
-  io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
   MemoryPart structure_memory_;
 };
