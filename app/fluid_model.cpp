@@ -18,6 +18,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
 #include "app/step_schedule.hpp"
@@ -49,7 +50,8 @@ struct SideKeys {
 
 enum class SolverChoice { automatic, fft, krylov };
 
-/// The model's own keys and where they go (io/key_binder.hpp); checkpoints are io/'s section.
+/// The model's own keys and where they go (io/key_binder.hpp); checkpoints are io/'s section, the output
+/// keys the time loop's (app/output_keys.hpp).
 struct FluidKeys {
   fluid::FluidSettings fluid;
   std::vector<std::int64_t> cells;
@@ -60,7 +62,8 @@ struct FluidKeys {
   double amplitude = 1.0;
   std::vector<double> mean_velocity;
   double end = 0, step = 0;
-  std::int64_t fields_every = 0, series_every = 1;
+  std::optional<double> fields_interval;
+  std::int64_t every = 1;
   io::CheckpointSettings checkpoints;
 };
 
@@ -154,13 +157,8 @@ void bind(io::KeyBinder& keys, FluidKeys& k)
       .size(3);
   keys.real("time.end", "simulated time", k.end).unit("s").required().positive().example(0.01);
   keys.real("time.step", "time step", k.step).unit("s").required().positive().example(0.001);
-  keys.integer("output.fields_every",
-               "write fields every this many steps (and the first and last; 0: those only)", k.fields_every)
-      .defaults(std::int64_t{0})
-      .at_least(0);
-  keys.integer("output.timeseries_every", "write a timeseries.csv row every this many steps", k.series_every)
-      .defaults(std::int64_t{1})
-      .at_least(1);
+  bind_fields_interval(keys, k.fields_interval, std::nullopt, "fields_fluid.xdmf");
+  bind_row_every(keys, k.every, 1);
   io::bind(keys, k.checkpoints);
 }
 
@@ -262,8 +260,8 @@ class FluidRun : public PreparedRun {
     loop.checkpoints = k_.checkpoints;
     loop.columns = columns;
     loop.units = column_units;
-    loop.record_every = k_.series_every;
-    loop.fields_every = k_.fields_every;
+    loop.record_every = k_.every;
+    loop.fields_every = fields_every_steps(k_.fields_interval, k_.step);
     loop.time = [&](std::int64_t) { return fluid->time(); };
     loop.advance = [&](std::int64_t) {
       try {

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <memory>
+#include <optional>
 
 #include <mpi.h>
 
@@ -19,6 +20,7 @@
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_schedule.hpp"
 #include "app/structure_levels.hpp"
@@ -50,7 +52,7 @@ enum class Shape { file, box, spherical_shell };
 /// checkpoints and nested levels are their folders' sections.
 struct IbfeKeys {
   double end = 0, step = 0;
-  std::int64_t every = 10;
+  std::optional<double> fields_interval;
   fluid::FluidSettings fluid;
   std::vector<std::int64_t> cells;
   std::vector<double> lower, upper;
@@ -108,9 +110,8 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
       .unit("s")
       .defaults(1e-3)
       .positive();
-  keys.integer("output.every", "write fields every this many steps (and the first and last)", k.every)
-      .defaults(std::int64_t{10})
-      .at_least(1);
+  bind_fields_interval(keys, k.fields_interval, 0.01, "fields_fluid.xdmf and fields_structure.xdmf");
+  retire_every_as_fields(keys);
   bind_fluid_density(keys, k.fluid.rho, "fluid density");
   bind_fluid_viscosity(keys, k.fluid.mu, 4.0);
   keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
@@ -324,7 +325,7 @@ class IbfeRun : public PreparedRun {
     loop.checkpoints = k_.checkpoints;
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
-    loop.fields_every = k_.every;
+    loop.fields_every = fields_every_steps(k_.fields_interval, k_.step);
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, k_.step);
     loop.advance = [&](std::int64_t) { ibfe.step(k_.step); };
     loop.row = [&](std::int64_t) {

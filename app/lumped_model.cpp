@@ -21,6 +21,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/step_schedule.hpp"
 #include "app/stop_signal.hpp"
 #include "app/time_loop.hpp"
@@ -81,9 +82,7 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
       .defaults(1.0e-4)
       .positive()
       .at_most(0.01);
-  keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{1})
-      .at_least(1);
+  bind_row_every(keys, k.every, 1);
   windkessel::bind(keys, k.lv_pressure, table_section,
                    "LV pressure driving the valve, in mmHg (with the pressure table)", false);
   windkessel::bind(keys, k.windkessel, "windkessel");
