@@ -103,7 +103,8 @@ io::Schema tether_schema()
   return tether;
 }
 
-void bind(io::KeyBinder& keys, IbfeKeys& k)
+/// The run's length and outputs, and the fluid's box: time.*, output.*, fluid.*.
+void bind_time_and_fluid(io::KeyBinder& keys, IbfeKeys& k)
 {
   keys.real("time.end", "simulated time", k.end).unit("s").defaults(0.05).positive();
   keys.real("time.step", "time step of the coupled scheme (see the stability estimate in the log)", k.step)
@@ -129,7 +130,11 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
   keys.choice("fluid.boundary", "periodic box (FFT solver) or no-slip walls on every side (Krylov solver)",
               k.periodic, {{"periodic", true}, {"walls", false}})
       .defaults(std::string("periodic"));
+}
 
+/// The structure: where its mesh comes from, its starting configuration, its materials: structure.*.
+void bind_structure(io::KeyBinder& keys, IbfeKeys& k)
+{
   keys.choice("structure.shape", "where the mesh comes from: a Gmsh file, a generated box or spherical shell",
               k.shape,
               {{"file", Shape::file}, {"box", Shape::box}, {"spherical-shell", Shape::spherical_shell}})
@@ -196,7 +201,12 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
               "body parts, each a volume group with its own material and fibers (instead of "
               "[structure.material] for the whole mesh); every element in exactly one part",
               k.parts);
+}
 
+void bind(io::KeyBinder& keys, IbfeKeys& k)
+{
+  bind_time_and_fluid(keys, k);
+  bind_structure(keys, k);
   bind_coupling_keys(keys, k.ib, 0.5);
   const std::vector<std::pair<std::string, fe::MassKind>> projections{
       {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
