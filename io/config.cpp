@@ -14,12 +14,7 @@
 
 namespace ibvalve::io {
 
-using detail::format_number;
-using detail::join;
-using detail::join_key;
-using detail::kind_name;
-using detail::range_text;
-using detail::typical_text;
+using namespace detail; // the text helpers the schema, validation and writing share
 
 // ---------------------------------------------------------------------------------------------
 // Parsing and validation

@@ -293,12 +293,7 @@ std::string typical_text(const KeySpec& s)
 
 } // namespace detail
 
-using detail::format_number;
-using detail::join;
-using detail::join_key;
-using detail::kind_name;
-using detail::range_text;
-using detail::typical_text;
+using namespace detail; // the text helpers the schema, validation and writing share
 
 std::string format_real(double x)
 {
