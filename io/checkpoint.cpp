@@ -212,14 +212,14 @@ void add_checkpoint_schema(Schema& schema, const std::string& prefix)
 {
   KeyBinder keys(schema);
   CheckpointSettings unused;
-  bind(keys, unused, prefix);
+  io::bind(keys, unused, prefix);
 }
 
 CheckpointSettings checkpoint_settings_from_config(const Config& config, const std::string& prefix)
 {
   KeyBinder keys(config);
   CheckpointSettings settings;
-  bind(keys, settings, prefix);
+  io::bind(keys, settings, prefix);
   settings.case_record = case_record(config);
   return settings;
 }

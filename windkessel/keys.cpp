@@ -86,14 +86,14 @@ void add_schema(io::Schema& schema, const std::string& prefix)
 {
   io::KeyBinder keys(schema);
   WindkesselKeys unused;
-  bind(keys, unused, prefix);
+  windkessel::bind(keys, unused, prefix);
 }
 
 WindkesselParameters parameters_from_config(const io::Config& config, const std::string& prefix)
 {
   io::KeyBinder keys(config);
   WindkesselKeys k;
-  bind(keys, k, prefix);
+  windkessel::bind(keys, k, prefix);
   check(keys, k);
   return k.parameters;
 }
@@ -103,7 +103,7 @@ void add_waveform_schema(io::Schema& schema, const std::string& prefix, const st
 {
   io::KeyBinder keys(schema);
   WaveformKeys unused;
-  bind(keys, unused, prefix, doc, file_required);
+  windkessel::bind(keys, unused, prefix, doc, file_required);
 }
 
 PeriodicWaveform waveform_from_config(const io::Config& config, const std::string& prefix,
@@ -111,7 +111,7 @@ PeriodicWaveform waveform_from_config(const io::Config& config, const std::strin
 {
   io::KeyBinder keys(config);
   WaveformKeys k;
-  bind(keys, k, prefix, "", true);
+  windkessel::bind(keys, k, prefix, std::string(), true);
   return load_waveform(k, value_factor);
 }
 
