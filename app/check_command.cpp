@@ -12,6 +12,7 @@
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "base/errors.hpp"
+#include "io/collective.hpp"
 
 namespace ibvalve::app {
 
@@ -23,9 +24,7 @@ int check_case(const RunOptions& options, const PetscArguments& petsc)
   std::string line = fmt::format("{}: a valid {} case", options.case_file.string(), prepared.model->name);
   if (const std::string summary = prepared.run->summary(); !summary.empty()) line += "; " + summary;
   if (!prepared.run->memory_line().empty()) line += "; " + prepared.run->memory_line();
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) std::cout << line << "\n" << std::flush;
+  io::on_root(MPI_COMM_WORLD, [&] { std::cout << line << "\n" << std::flush; });
   return 0;
 }
 

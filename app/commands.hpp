@@ -84,7 +84,5 @@ int compare_runs(const std::vector<std::filesystem::path>& runs, const std::file
                  const hemodynamics::ComparisonOptions& options);
 /// Registers `ibvalve convergence RUN_DIR... [-o DIR]` (hemodynamics/convergence_study.hpp).
 void add_convergence_command(CLI::App& app, CommandAction& action);
-/// Runs `work` on rank 0 of `comm` only and rethrows its InputError/RunError/other error on every rank.
-void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work);
 
 } // namespace ibvalve::app

@@ -12,6 +12,7 @@
 #include "base/logger.hpp"
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
+#include "io/collective.hpp"
 
 namespace ibvalve::app {
 
@@ -31,7 +32,7 @@ struct CompareOptions {
 int compare_runs(const std::vector<std::filesystem::path>& runs, const std::filesystem::path& output,
                  const hemodynamics::ComparisonOptions& options)
 {
-  run_on_root_rank(PETSC_COMM_WORLD, [&] {
+  io::on_root(PETSC_COMM_WORLD, [&] {
     std::vector<hemodynamics::CaseResult> cases;
     for (const auto& run : runs) cases.push_back(hemodynamics::load_case(run));
     hemodynamics::distinguish_case_names(cases);

@@ -11,6 +11,7 @@
 #include "base/logger.hpp"
 #include "hemodynamics/convergence_study.hpp"
 #include "hemodynamics/report.hpp"
+#include "io/collective.hpp"
 
 namespace ibvalve::app {
 
@@ -23,7 +24,7 @@ struct ConvergenceOptions {
 
 int study_convergence(const ConvergenceOptions& options)
 {
-  run_on_root_rank(PETSC_COMM_WORLD, [&] {
+  io::on_root(PETSC_COMM_WORLD, [&] {
     const hemodynamics::ConvergenceStudy study = hemodynamics::study_grid_convergence(options.runs);
     const auto files = hemodynamics::write_grid_convergence(study, options.output);
     auto& log = base::Logger::global();

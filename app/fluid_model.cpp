@@ -18,6 +18,7 @@
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_diagnostics.hpp"
 #include "app/step_schedule.hpp"
@@ -49,7 +50,8 @@ struct SideKeys {
 
 enum class SolverChoice { automatic, fft, krylov };
 
-/// The model's own keys and where they go (io/key_binder.hpp); checkpoints are io/'s section.
+/// The model's own keys and where they go (io/key_binder.hpp); checkpoints are io/'s section, the output
+/// keys the time loop's (app/output_keys.hpp).
 struct FluidKeys {
   fluid::FluidSettings fluid;
   std::vector<std::int64_t> cells;
@@ -60,7 +62,9 @@ struct FluidKeys {
   double amplitude = 1.0;
   std::vector<double> mean_velocity;
   double end = 0, step = 0;
-  std::int64_t fields_every = 0, series_every = 1;
+  std::optional<double> fields_interval;
+  std::int64_t every = 1;
+  io::CheckpointSettings checkpoints;
 };
 
 void bind_side(io::KeyBinder& keys, int side, SideKeys& b)
@@ -153,14 +157,9 @@ void bind(io::KeyBinder& keys, FluidKeys& k)
       .size(3);
   keys.real("time.end", "simulated time", k.end).unit("s").required().positive().example(0.01);
   keys.real("time.step", "time step", k.step).unit("s").required().positive().example(0.001);
-  keys.integer("output.fields_every",
-               "write fields every this many steps (and the first and last; 0: those only)", k.fields_every)
-      .defaults(std::int64_t{0})
-      .at_least(0);
-  keys.integer("output.timeseries_every", "write a timeseries.csv row every this many steps", k.series_every)
-      .defaults(std::int64_t{1})
-      .at_least(1);
-  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+  bind_fields_interval(keys, k.fields_interval, std::nullopt, "fields_fluid.xdmf");
+  bind_row_every(keys, k.every, 1);
+  io::bind(keys, k.checkpoints);
 }
 
 class FluidRun : public PreparedRun {
@@ -208,7 +207,7 @@ class FluidRun : public PreparedRun {
         keys_.fail(k.mean_velocity, "must have no z part between z walls");
     }
     if (const std::string why = step_count_problem(k.end, k.step); !why.empty()) keys_.fail(k.step, why);
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
     memory_line_ = check_memory(
         config, {{fluid_memory(grid_cells(box_), memory_kind(settings_), false, keys_.key_of(k.cells))}},
         PETSC_COMM_WORLD);
@@ -232,24 +231,7 @@ class FluidRun : public PreparedRun {
     log.info(fmt::format("fluid: {} x {} x {} cells, solver {}, dt {:g} s", box_.cells[0], box_.cells[1],
                          box_.cells[2], fluid->solver().name(), k_.step));
 
-    std::vector<std::string> columns{"t",         "step",           "max_velocity",     "kinetic_energy",
-                                     "enstrophy", "max_divergence", "solver_iterations"};
-    // Kinetic energy 1/2 rho int |u|^2, enstrophy 1/2 int |omega|^2 (fluid/queries.hpp).
-    std::vector<std::string> column_units{"s", "1", "cm/s", "erg", "cm^3/s^2", "1/s", "1"};
     std::vector<int> flux_sides;
-    for (int side = 0; side < 6; ++side)
-      if (!box_.periodic[side / 2]) {
-        flux_sides.push_back(side);
-        columns.push_back("outflow_" + fluid::side_name(side));
-        column_units.push_back("mL/s");
-      }
-    columns.push_back("p_center");
-    column_units.push_back("dyn/cm^2");
-    if (exact_) {
-      columns.push_back("u_error_max");
-      columns.push_back("p_error_max");
-      column_units.insert(column_units.end(), {"cm/s", "dyn/cm^2"});
-    }
     const Real3 center{0.5 * (box_.lower[0] + box_.upper[0]), 0.5 * (box_.lower[1] + box_.upper[1]),
                        0.5 * (box_.lower[2] + box_.upper[2])};
     double last_divergence = 0.0;
@@ -258,35 +240,12 @@ class FluidRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
     loop.end_time = static_cast<double>(loop.steps) * k_.step;
-    loop.checkpoints = checkpoint_settings_;
-    loop.columns = columns;
-    loop.units = column_units;
-    loop.record_every = k_.series_every;
-    loop.fields_every = k_.fields_every;
+    loop.checkpoints = k_.checkpoints;
+    set_columns(loop, flux_sides);
+    loop.record_every = k_.every;
+    loop.fields_every = fields_every_steps(k_.fields_interval, k_.step);
     loop.time = [&](std::int64_t) { return fluid->time(); };
-    loop.advance = [&](std::int64_t) {
-      try {
-        fluid->step(k_.step);
-      } catch (const InputError&) {
-        throw; // a warning --strict made an error (base/logger.hpp)
-      } catch (const std::runtime_error& e) {
-        throw RunError(e.what());
-      }
-      const double umax = fluid->max_velocity();
-      if (!std::isfinite(umax))
-        throw RunError(fmt::format("fluid: the velocity is not finite at t = {:g} s (time step too large?)",
-                                   fluid->time()));
-      // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
-      // above, the run is diverging: stop with the figure rather than run on to overflow.
-      const double courant = umax * k_.step / fluid->finest_spacing();
-      if (courant > 2.0) {
-        const std::string text = fmt::format(
-            "fluid: Courant number {:.2f} at t = {:.4g} s (max |u| {:.3g} cm/s): the run is unstable; "
-            "use a {} below {:.3g} s",
-            courant, fluid->time(), umax, keys_.key_of(k_.step), 0.5 * fluid->finest_spacing() / umax);
-        throw RunError(text);
-      }
-    };
+    loop.advance = [&](std::int64_t) { advance(*fluid); };
     loop.row = [&](std::int64_t step) {
       last_divergence = fluid::max_divergence(*fluid);
       std::vector<double> row{fluid->time(),
@@ -327,23 +286,78 @@ class FluidRun : public PreparedRun {
     loop.before_save = [&] { save_fftw_plans(context); };
     loop.figures = [&] { return fluid_step_figures(*fluid, k_.step); };
     loop.finish = [&](RunSummary& summary, bool finished, std::size_t snapshots) {
-      if (!finished) return;
-      const fluid::StepStatistics& timing = fluid->statistics();
-      const long taken = std::max<long>(1, static_cast<long>(timing.steps));
-      const double n = static_cast<double>(taken);
-      summary.lines.push_back(
-          fmt::format("fluid: {} steps, {:.4f} s per step (convection {:.4f}, viscous {:.4f}, "
-                      "pressure {:.4f}, halo {:.4f}), {:.1f} solver iterations per step",
-                      taken, timing.total / n, timing.convection / n, timing.viscous / n, timing.pressure / n,
-                      timing.halo / n, static_cast<double>(timing.solver_iterations) / n));
-      summary.lines.push_back(
-          fmt::format("fluid: max |div u| {:.2e} at the end; {} field files, timeseries.csv", last_divergence,
-                      snapshots));
+      if (finished) summarize(summary, *fluid, last_divergence, snapshots);
     };
     return run_time_loop(context, loop);
   }
 
  private:
+  /// A step of `fluid`; RunError when it fails, its velocity is not finite or its Courant number shows
+  /// it diverging.
+  void advance(fluid::NavierStokes& fluid) const
+  {
+    try {
+      fluid.step(k_.step);
+    } catch (const InputError&) {
+      throw; // a warning --strict made an error (base/logger.hpp)
+    } catch (const std::runtime_error& e) {
+      throw RunError(e.what());
+    }
+    const double umax = fluid.max_velocity();
+    if (!std::isfinite(umax))
+      throw RunError(fmt::format("fluid: the velocity is not finite at t = {:g} s (time step too large?)",
+                                 fluid.time()));
+    // Explicit convection (AB2, upwind-biased) is stable for Courant numbers below about 1; far
+    // above, the run is diverging: stop with the figure rather than run on to overflow.
+    const double courant = umax * k_.step / fluid.finest_spacing();
+    if (courant > 2.0) {
+      const std::string text = fmt::format(
+          "fluid: Courant number {:.2f} at t = {:.4g} s (max |u| {:.3g} cm/s): the run is unstable; "
+          "use a {} below {:.3g} s",
+          courant, fluid.time(), umax, keys_.key_of(k_.step), 0.5 * fluid.finest_spacing() / umax);
+      throw RunError(text);
+    }
+  }
+
+  /// The finished run's closing lines: its steps' timing and solver iterations, its last divergence.
+  static void summarize(RunSummary& summary, const fluid::NavierStokes& fluid, double last_divergence,
+                        std::size_t snapshots)
+  {
+    const fluid::StepStatistics& timing = fluid.statistics();
+    const long taken = std::max<long>(1, static_cast<long>(timing.steps));
+    const double n = static_cast<double>(taken);
+    summary.lines.push_back(
+        fmt::format("fluid: {} steps, {:.4f} s per step (convection {:.4f}, viscous {:.4f}, "
+                    "pressure {:.4f}, halo {:.4f}), {:.1f} solver iterations per step",
+                    taken, timing.total / n, timing.convection / n, timing.viscous / n, timing.pressure / n,
+                    timing.halo / n, static_cast<double>(timing.solver_iterations) / n));
+    summary.lines.push_back(fmt::format(
+        "fluid: max |div u| {:.2e} at the end; {} field files, timeseries.csv", last_divergence, snapshots));
+  }
+
+  /// timeseries.csv's columns: the norms, the outflow through each side that is not periodic (those
+  /// sides into `flux_sides`), the centre pressure and, for an exact vortex, the errors.
+  void set_columns(TimeLoop& loop, std::vector<int>& flux_sides) const
+  {
+    loop.columns = {"t",         "step",           "max_velocity",     "kinetic_energy",
+                    "enstrophy", "max_divergence", "solver_iterations"};
+    // Kinetic energy 1/2 rho int |u|^2, enstrophy 1/2 int |omega|^2 (fluid/queries.hpp).
+    loop.units = {"s", "1", "cm/s", "erg", "cm^3/s^2", "1/s", "1"};
+    for (int side = 0; side < 6; ++side)
+      if (!box_.periodic[side / 2]) {
+        flux_sides.push_back(side);
+        loop.columns.push_back("outflow_" + fluid::side_name(side));
+        loop.units.push_back("mL/s");
+      }
+    loop.columns.push_back("p_center");
+    loop.units.push_back("dyn/cm^2");
+    if (exact_) {
+      loop.columns.push_back("u_error_max");
+      loop.columns.push_back("p_error_max");
+      loop.units.insert(loop.units.end(), {"cm/s", "dyn/cm^2"});
+    }
+  }
+
   void read_side(int side)
   {
     const SideKeys& k = k_.sides[side];
@@ -398,7 +412,6 @@ class FluidRun : public PreparedRun {
   fluid::BoundaryConditions bc_;
   fluid::FluidSettings settings_;
   std::optional<fluid::ExactVortex> exact_; // the initial condition's exact solution, if it has one
-  io::CheckpointSettings checkpoint_settings_;
 };
 
 } // namespace

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <memory>
+#include <optional>
 
 #include <mpi.h>
 
@@ -19,6 +20,7 @@
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 #include "app/step_schedule.hpp"
 #include "app/structure_levels.hpp"
@@ -50,7 +52,7 @@ enum class Shape { file, box, spherical_shell };
 /// checkpoints and nested levels are their folders' sections.
 struct IbfeKeys {
   double end = 0, step = 0;
-  std::int64_t every = 10;
+  std::optional<double> fields_interval;
   fluid::FluidSettings fluid;
   std::vector<std::int64_t> cells;
   std::vector<double> lower, upper;
@@ -68,6 +70,7 @@ struct IbfeKeys {
   std::vector<double> fiber_direction;
   std::vector<io::Config> parts, tethers;
   ib::IbfeSettings ib;
+  io::CheckpointSettings checkpoints;
 };
 
 /// The material of the whole mesh (without [[structure.part]]).
@@ -100,16 +103,16 @@ io::Schema tether_schema()
   return tether;
 }
 
-void bind(io::KeyBinder& keys, IbfeKeys& k)
+/// The run's length and outputs, and the fluid's box: time.*, output.*, fluid.*.
+void bind_time_and_fluid(io::KeyBinder& keys, IbfeKeys& k)
 {
   keys.real("time.end", "simulated time", k.end).unit("s").defaults(0.05).positive();
   keys.real("time.step", "time step of the coupled scheme (see the stability estimate in the log)", k.step)
       .unit("s")
       .defaults(1e-3)
       .positive();
-  keys.integer("output.every", "write fields every this many steps (and the first and last)", k.every)
-      .defaults(std::int64_t{10})
-      .at_least(1);
+  bind_fields_interval(keys, k.fields_interval, 0.01, "fields_fluid.xdmf and fields_structure.xdmf");
+  retire_every_as_fields(keys);
   bind_fluid_density(keys, k.fluid.rho, "fluid density");
   bind_fluid_viscosity(keys, k.fluid.mu, 4.0);
   keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
@@ -127,7 +130,11 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
   keys.choice("fluid.boundary", "periodic box (FFT solver) or no-slip walls on every side (Krylov solver)",
               k.periodic, {{"periodic", true}, {"walls", false}})
       .defaults(std::string("periodic"));
+}
 
+/// The structure: where its mesh comes from, its starting configuration, its materials: structure.*.
+void bind_structure(io::KeyBinder& keys, IbfeKeys& k)
+{
   keys.choice("structure.shape", "where the mesh comes from: a Gmsh file, a generated box or spherical shell",
               k.shape,
               {{"file", Shape::file}, {"box", Shape::box}, {"spherical-shell", Shape::spherical_shell}})
@@ -194,7 +201,12 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
               "body parts, each a volume group with its own material and fibers (instead of "
               "[structure.material] for the whole mesh); every element in exactly one part",
               k.parts);
+}
 
+void bind(io::KeyBinder& keys, IbfeKeys& k)
+{
+  bind_time_and_fluid(keys, k);
+  bind_structure(keys, k);
   bind_coupling_keys(keys, k.ib, 0.5);
   const std::vector<std::pair<std::string, fe::MassKind>> projections{
       {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
@@ -206,8 +218,8 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
       .defaults(std::string("consistent"));
   keys.tables("ib.tether", tether_schema(),
               "tethers pulling groups of nodes back to their reference positions", k.tethers);
+  io::bind(keys, k.checkpoints);
   keys.section([](io::Schema& s) {
-    io::add_checkpoint_schema(s);
     // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
     s.merge(fluid::nested_schema());
   });
@@ -284,7 +296,7 @@ class IbfeRun : public PreparedRun {
                       "the structure must lie inside the walled box");
       }
     if (has_nested_levels(config)) read_levels(config);
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
   }
 
   RunSummary run(const RunContext& context) override
@@ -320,10 +332,10 @@ class IbfeRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = std::max(1L, std::lround(k_.end / k_.step));
     loop.end_time = static_cast<double>(loop.steps) * k_.step;
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.columns = {"t", "volume", "volume_change", "max_node_speed", "max_displacement", "kinetic_energy"};
     loop.units = {"s", "cm^3", "1", "cm/s", "cm", "erg"};
-    loop.fields_every = k_.every;
+    loop.fields_every = fields_every_steps(k_.fields_interval, k_.step);
     set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, k_.step);
     loop.advance = [&](std::int64_t) { ibfe.step(k_.step); };
     loop.row = [&](std::int64_t) {
@@ -454,7 +466,6 @@ class IbfeRun : public PreparedRun {
   std::vector<double> initial_;
   fe::Vec3 center_ = fe::Vec3::Zero();
   double inner_radius_ = 0.0, inflated_ = 0.0;
-  io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
   MemoryPart structure_memory_;
 };

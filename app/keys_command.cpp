@@ -11,6 +11,7 @@
 #include "app/commands.hpp"
 #include "app/model.hpp"
 #include "base/errors.hpp"
+#include "io/collective.hpp"
 
 namespace ibvalve::app {
 
@@ -75,9 +76,7 @@ int print_keys(const KeysOptions& options)
   } else {
     text = markdown(model);
   }
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) std::cout << text << std::flush;
+  io::on_root(MPI_COMM_WORLD, [&] { std::cout << text << std::flush; });
   return 0;
 }
 

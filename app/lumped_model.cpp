@@ -21,6 +21,7 @@
 
 #include "app/commands.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/step_schedule.hpp"
 #include "app/stop_signal.hpp"
 #include "app/time_loop.hpp"
@@ -34,9 +35,8 @@
 #include "io/checkpoint.hpp"
 #include "io/collective.hpp"
 #include "io/files.hpp"
+#include "windkessel/keys.hpp"
 #include "windkessel/lumped_valve.hpp"
-#include "windkessel/waveform.hpp"
-#include "windkessel/windkessel.hpp"
 
 namespace ibvalve::app {
 
@@ -47,12 +47,8 @@ using windkessel::ValveParameters;
 
 enum class Heart { table, circulation };
 
-/// The LV pressure table's section (windkessel/waveform.hpp), and its file key, which heart = "table" needs.
+/// The LV pressure table's section (windkessel/keys.hpp), which heart = "table" needs.
 constexpr const char* table_section = "lv_pressure";
-std::string table_file_key()
-{
-  return std::string(table_section) + ".file";
-}
 
 /// The model's own keys and where they go (io/key_binder.hpp); the LV pressure table, the Windkessel and
 /// checkpoints are their folders' sections, [circulation] is bound by circulation/, [report] by
@@ -65,6 +61,9 @@ struct LumpedKeys {
   double opening_rate = 0, closing_rate = 0; // 1/(mmHg s) as written
   ValveParameters valve;                     // the rest of the valve, and the blood's density
   hemodynamics::ReportSettings report;
+  windkessel::WaveformKeys lv_pressure;
+  windkessel::WindkesselKeys windkessel;
+  io::CheckpointSettings checkpoints;
 };
 
 void bind(io::KeyBinder& keys, LumpedKeys& k)
@@ -83,14 +82,10 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
       .defaults(1.0e-4)
       .positive()
       .at_most(0.01);
-  keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{1})
-      .at_least(1);
-  keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(
-        s, table_section, "LV pressure driving the valve, in mmHg (with the pressure table)", false);
-    windkessel::add_schema(s, "windkessel");
-  });
+  bind_row_every(keys, k.every, 1);
+  windkessel::bind(keys, k.lv_pressure, table_section,
+                   "LV pressure driving the valve, in mmHg (with the pressure table)", false);
+  windkessel::bind(keys, k.windkessel, "windkessel");
   circulation::bind(keys, k.circulation);
   ValveParameters& v = k.valve;
   // The valve: the table's, and the closed loop's aortic valve when circulation.aortic_valve.model =
@@ -130,7 +125,7 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
       .defaults(0.0);
   bind_fluid_density(keys, v.density, "blood density");
   hemodynamics::bind_report(keys, k.report);
-  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+  io::bind(keys, k.checkpoints);
 }
 
 /// The case's heart, read as every key is (the runs read all the keys again).
@@ -185,7 +180,7 @@ class LumpedRun : public PreparedRun {
     valve_.closing_rate = k.closing_rate / units::mmHg;
     if (valve_.closing_pressure > valve_.opening_pressure)
       keys_.fail(k.valve.closing_pressure, "must not exceed " + keys_.key_of(k.valve.opening_pressure));
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
   }
 
   /// The cycle is `period` s (`source` says whose): report.period must match it, and a cycle holds a
@@ -214,7 +209,7 @@ class LumpedRun : public PreparedRun {
     loop.comm = MPI_COMM_SELF; // rank 0 alone holds the state: its checkpoints, config.toml and series
     loop.steps = k_.cycles * steps_per_cycle_;
     loop.end_time = static_cast<double>(loop.steps) * dt;
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.record_every = k_.every;
     loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
     // A step is a microsecond: the progress line and the ranks' agreement on a stop signal (a
@@ -247,7 +242,6 @@ class LumpedRun : public PreparedRun {
   ValveParameters valve_; // in CGS
   double period_ = 0.8;
   long steps_per_cycle_ = 1;
-  io::CheckpointSettings checkpoint_settings_;
 
  private:
   struct Agreement {
@@ -280,19 +274,23 @@ class LumpedRun : public PreparedRun {
 /// heart = "table": the LV pressure table drives the valve into the three-element Windkessel.
 class TableRun : public LumpedRun {
  public:
-  explicit TableRun(const io::Config& config)
-      : LumpedRun(config), lv_pressure_(table(config)),
-        outlet_(windkessel::parameters_from_config(config, "windkessel"))
+  explicit TableRun(const io::Config& config) : LumpedRun(config), lv_pressure_(table()), outlet_(outlet())
   {
     set_period(lv_pressure_.period(), "the LV pressure table's period");
   }
 
  private:
-  static windkessel::PeriodicWaveform table(const io::Config& config)
+  windkessel::PeriodicWaveform table() const
   {
-    if (!config.has(table_file_key()))
-      config.fail(table_file_key(), "missing: the pressure table drives the valve");
-    return windkessel::waveform_from_config(config, table_section, units::mmHg);
+    if (k_.lv_pressure.file.empty())
+      keys_.fail(k_.lv_pressure.file, "missing: the pressure table drives the valve");
+    return windkessel::load_waveform(k_.lv_pressure, units::mmHg);
+  }
+
+  windkessel::WindkesselParameters outlet() const
+  {
+    windkessel::check(keys_, k_.windkessel);
+    return k_.windkessel.parameters;
   }
 
   RunSummary simulate(const RunContext& context) override
@@ -345,18 +343,18 @@ class TableRun : public LumpedRun {
 /// "aortic" pressure its systemic arteries'.
 class CirculationRun : public LumpedRun {
  public:
-  explicit CirculationRun(const io::Config& config) : LumpedRun(config), loop_(parameters(config))
+  explicit CirculationRun(const io::Config& config) : LumpedRun(config), loop_(parameters())
   {
     set_period(loop_.period(), "the circulation's heartbeat (60 s / " +
                                    keys_.key_of(k_.circulation.parameters.heart_rate) + ")");
   }
 
  private:
-  circulation::CirculationParameters parameters(const io::Config& config) const
+  circulation::CirculationParameters parameters() const
   {
-    if (config.has(table_file_key()))
-      config.fail(table_file_key(), "not used with " + keys_.key_of(k_.heart) +
-                                        " = \"circulation\" (the loop computes the LV pressure)");
+    if (!k_.lv_pressure.file.empty())
+      keys_.fail(k_.lv_pressure.file, "not used with " + keys_.key_of(k_.heart) +
+                                          " = \"circulation\" (the loop computes the LV pressure)");
     circulation::check(keys_, k_.circulation);
     circulation::CirculationParameters p = k_.circulation.parameters;
     p.aortic_orifice = valve_;

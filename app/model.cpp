@@ -1,5 +1,6 @@
 #include "app/model.hpp"
 
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 
 #include <vector>
@@ -68,6 +69,7 @@ io::Schema common_schema()
                                 "the rule: docs/design.md); command-line options win")
       .defaults(std::string{});
   add_memory_schema(s);
+  retire_output_spellings(s);
   return s;
 }
 

@@ -15,38 +15,9 @@
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "hemodynamics/report.hpp"
+#include "io/collective.hpp"
 
 namespace ibvalve::app {
-
-void run_on_root_rank(MPI_Comm comm, const std::function<void()>& work)
-{
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  int kind = 0; // 0 ok, 1 run error, 2 input error, 3 other
-  std::string error;
-  if (rank == 0) {
-    try {
-      work();
-    } catch (const InputError& e) {
-      kind = 2;
-      error = e.what();
-    } catch (const RunError& e) {
-      kind = 1;
-      error = e.what();
-    } catch (const std::exception& e) {
-      kind = 3;
-      error = e.what();
-    }
-  }
-  MPI_Bcast(&kind, 1, MPI_INT, 0, comm);
-  int length = static_cast<int>(error.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
-  error.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
-  if (kind == 2) throw InputError(error);
-  if (kind == 1) throw RunError(error);
-  if (kind == 3) throw std::runtime_error(error);
-}
 
 namespace {
 
@@ -64,7 +35,7 @@ struct ReportCommandOptions {
 
 int report(const ReportCommandOptions& options)
 {
-  run_on_root_rank(PETSC_COMM_WORLD, [&] {
+  io::on_root(PETSC_COMM_WORLD, [&] {
     if (options.write_templates) {
       for (const auto& file : hemodynamics::write_builtin_templates(*options.write_templates))
         base::Logger::global().info("template: " + file.string());

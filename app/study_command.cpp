@@ -35,6 +35,7 @@
 #include "base/logger.hpp"
 #include "hemodynamics/compare.hpp"
 #include "hemodynamics/report.hpp"
+#include "io/collective.hpp"
 #include "io/config.hpp"
 #include "io/files.hpp"
 
@@ -278,7 +279,7 @@ int run_study(const StudyOptions& options, const PetscArguments& petsc)
             code != 0)
           return code;
       }
-  if (!study.sources.empty()) run_on_root_rank(PETSC_COMM_WORLD, [&] { combine_uncertainties(study); });
+  if (!study.sources.empty()) io::on_root(PETSC_COMM_WORLD, [&] { combine_uncertainties(study); });
   log.info(fmt::format("study: comparing {} cases", folders.size()));
   hemodynamics::ComparisonOptions compare;
   compare.leave_out = study.leave_out;

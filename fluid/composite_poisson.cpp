@@ -28,6 +28,65 @@ struct FaceRow {
   }
 };
 
+/// The row of a coarse-fine face of cell `n` (level l, direction d, side -1 or 1) whose neighbour `next`
+/// lies in the coarse cell of level l-1 that holds it: G along +d is side * (U* - u_f) / distance, U*
+/// the coarse value, corrected along the face's tangents by the coarse cells beside it with the
+/// tangential_linear stencil.
+void coarse_fine_row(FaceRow& row, const GridHierarchy& hierarchy, const CompositeCells& cells,
+                     CoarseFineStencil stencil, int l, int d, int side, const Index3& next, PetscInt n)
+{
+  const PetscInt r = hierarchy.ratio(l);
+  Index3 coarse;
+  for (int e = 0; e < 3; ++e) coarse[e] = next[e] >= 0 ? next[e] / r : -((-next[e] + r - 1) / r);
+  const PetscInt c = cells.index(l - 1, coarse);
+  if (c < 0) throw std::logic_error("composite grid: a coarse-fine face without an uncovered coarse cell");
+  const double h = hierarchy.h(l, d), H = hierarchy.h(l - 1, d);
+  const double distance = 0.5 * (h + H);
+  row.face.coarse_fine = true;
+  row.face.outward = side;
+  row.add(n, -side / distance);
+  row.add(c, side / distance);
+  if (stencil == CoarseFineStencil::tangential_linear) {
+    const Real3 X = hierarchy.cell_center(l - 1, coarse);
+    for (const int t : {(d + 1) % 3, (d + 2) % 3}) {
+      const double delta = row.face.center[t] - X[t];
+      const double Ht = hierarchy.h(l - 1, t);
+      Index3 up = coarse, down = coarse;
+      ++up[t];
+      --down[t];
+      const PetscInt cu = cells.index(l - 1, up), cd = cells.index(l - 1, down);
+      const double s = side / distance * delta;
+      if (cu >= 0 && cd >= 0) {
+        row.add(cu, s / (2.0 * Ht));
+        row.add(cd, -s / (2.0 * Ht));
+      } else if (cu >= 0) {
+        row.add(cu, s / Ht);
+        row.add(c, -s / Ht);
+      } else if (cd >= 0) {
+        row.add(c, s / Ht);
+        row.add(cd, -s / Ht);
+      }
+    }
+  }
+  row.weight = hierarchy.h(l, (d + 1) % 3) * hierarchy.h(l, (d + 2) % 3) * distance;
+}
+
+/// std::invalid_argument for what the operators cannot do: periodic sides, Dirichlet sides without
+/// values, mixed sides without the predicate of their Dirichlet faces.
+void check_arguments(const GridHierarchy& hierarchy, CompositeBoundary boundary, bool has_dirichlet_value,
+                     bool has_dirichlet_faces)
+{
+  for (int d = 0; d < 3; ++d)
+    if (hierarchy.domain().periodic[d])
+      throw std::invalid_argument("composite operators: periodic sides are not supported yet (direction " +
+                                  std::string(1, "xyz"[d]) + ")");
+  if (boundary == CompositeBoundary::dirichlet && !has_dirichlet_value)
+    throw std::invalid_argument("composite operators: Dirichlet sides need boundary values");
+  if (boundary == CompositeBoundary::mixed && !has_dirichlet_faces)
+    throw std::invalid_argument(
+        "composite operators: mixed sides need the predicate of their Dirichlet faces");
+}
+
 } // namespace
 
 CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hierarchy,
@@ -37,15 +96,8 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
     : comm_(comm), hierarchy_(&hierarchy), cells_(hierarchy), boundary_(boundary),
       dirichlet_faces_(std::move(dirichlet_faces))
 {
-  for (int d = 0; d < 3; ++d)
-    if (hierarchy.domain().periodic[d])
-      throw std::invalid_argument("composite operators: periodic sides are not supported yet (direction " +
-                                  std::string(1, "xyz"[d]) + ")");
-  if (boundary == CompositeBoundary::dirichlet && !dirichlet_value)
-    throw std::invalid_argument("composite operators: Dirichlet sides need boundary values");
-  if (boundary == CompositeBoundary::mixed && !dirichlet_faces_)
-    throw std::invalid_argument(
-        "composite operators: mixed sides need the predicate of their Dirichlet faces");
+  check_arguments(hierarchy, boundary, static_cast<bool>(dirichlet_value),
+                  static_cast<bool>(dirichlet_faces_));
   const PetscInt total = cells_.size();
   PetscInt owned = PETSC_DECIDE, global = total;
   PETSC_CHECK(PetscSplitOwnership(comm, &owned, &global));
@@ -86,43 +138,7 @@ CompositeOperators::CompositeOperators(MPI_Comm comm, const GridHierarchy& hiera
           row.add(cells_.index(l, next), -1.0 / h);
           row.weight = area * h;
         } else {
-          // A coarse-fine face: the coarse cell holding `next` on level l-1.
-          const PetscInt r = hierarchy.ratio(l);
-          Index3 coarse;
-          for (int e = 0; e < 3; ++e) coarse[e] = next[e] >= 0 ? next[e] / r : -((-next[e] + r - 1) / r);
-          const PetscInt c = cells_.index(l - 1, coarse);
-          if (c < 0)
-            throw std::logic_error("composite grid: a coarse-fine face without an uncovered coarse cell");
-          const double H = hierarchy.h(l - 1, d);
-          const double distance = 0.5 * (h + H);
-          row.face.coarse_fine = true;
-          row.face.outward = side;
-          // G along +d: side * (U* - u_f) / distance.
-          row.add(n, -side / distance);
-          row.add(c, side / distance);
-          if (stencil == CoarseFineStencil::tangential_linear) {
-            const Real3 X = hierarchy.cell_center(l - 1, coarse);
-            for (const int t : {t1, t2}) {
-              const double delta = row.face.center[t] - X[t];
-              const double Ht = hierarchy.h(l - 1, t);
-              Index3 up = coarse, down = coarse;
-              ++up[t];
-              --down[t];
-              const PetscInt cu = cells_.index(l - 1, up), cd = cells_.index(l - 1, down);
-              const double s = side / distance * delta;
-              if (cu >= 0 && cd >= 0) {
-                row.add(cu, s / (2.0 * Ht));
-                row.add(cd, -s / (2.0 * Ht));
-              } else if (cu >= 0) {
-                row.add(cu, s / Ht);
-                row.add(c, -s / Ht);
-              } else if (cd >= 0) {
-                row.add(c, s / Ht);
-                row.add(cd, -s / Ht);
-              }
-            }
-          }
-          row.weight = area * distance;
+          coarse_fine_row(row, hierarchy, cells_, stencil, l, d, side, next, n);
         }
         rows.push_back(std::move(row));
       }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <functional>
 #include <sstream>
 
 #include "base/errors.hpp"
@@ -233,38 +234,36 @@ io::Schema nested_schema()
   return s;
 }
 
-GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain,
-                             const std::optional<PhysicalBox>& structure, const std::string& structure_key,
-                             PetscInt support_cells)
-{
-  const auto ratios = config.integers("nested.ratios");
-  for (const auto r : ratios)
-    if (r != 2 && r != 4) config.fail("nested.ratios", fmt::format("each ratio must be 2 or 4, got {}", r));
-  const int finer = static_cast<int>(ratios.size());
-  const auto margins = config.integers("nested.margins");
-  if (margins.size() != 1 && static_cast<int>(margins.size()) != finer)
-    config.fail("nested.margins",
-                fmt::format("give one margin or one per finer level ({}), got {}", finer, margins.size()));
-  const auto margin = [&](int level) {
-    return static_cast<PetscInt>(margins.size() == 1 ? margins[0] : margins[level - 1]);
-  };
+namespace {
 
-  // Spacing and whole-domain cells of every level, for converting corners.
-  std::vector<Real3> h(finer + 1);
-  std::vector<Index3> whole(finer + 1);
+/// Spacing and whole-domain cells of every level, for converting corners.
+struct LevelGrids {
+  std::vector<Real3> h;
+  std::vector<Index3> whole;
+};
+
+LevelGrids level_grids(const BoxGeometry& domain, const std::vector<std::int64_t>& ratios)
+{
+  const int finer = static_cast<int>(ratios.size());
+  LevelGrids g{std::vector<Real3>(finer + 1), std::vector<Index3>(finer + 1)};
   for (int d = 0; d < 3; ++d) {
-    h[0][d] = domain.spacing(d);
-    whole[0][d] = domain.cells[d];
+    g.h[0][d] = domain.spacing(d);
+    g.whole[0][d] = domain.cells[d];
   }
   for (int l = 1; l <= finer; ++l)
     for (int d = 0; d < 3; ++d) {
-      h[l][d] = h[l - 1][d] / static_cast<double>(ratios[l - 1]);
-      whole[l][d] = whole[l - 1][d] * ratios[l - 1];
+      g.h[l][d] = g.h[l - 1][d] / static_cast<double>(ratios[l - 1]);
+      g.whole[l][d] = g.whole[l - 1][d] * ratios[l - 1];
     }
+  return g;
+}
 
-  std::vector<FinerLevel> levels(finer);
-  std::vector<std::vector<std::size_t>> entry_of(finer); // the [[nested.box]] index of each box
-  const auto entries = config.tables("nested.box");
+/// The [[nested.box]] entries as index boxes of their levels; `entry_of` the entry of each box.
+void read_explicit_boxes(const std::vector<io::Config>& entries, const BoxGeometry& domain,
+                         const std::vector<std::int64_t>& ratios, const LevelGrids& g,
+                         std::vector<FinerLevel>& levels, std::vector<std::vector<std::size_t>>& entry_of)
+{
+  const int finer = static_cast<int>(ratios.size());
   for (std::size_t e = 0; e < entries.size(); ++e) {
     const io::Config& entry = entries[e];
     const auto level = entry.integer("level");
@@ -276,13 +275,13 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
       const auto x = entry.reals(corner);
       for (int d = 0; d < 3; ++d) {
         // Corners lie on the coarser level's cell corners: (x - x0) / h_{l-1} is a whole number.
-        const double q = (x[d] - domain.lower[d]) / h[l - 1][d];
+        const double q = (x[d] - domain.lower[d]) / g.h[l - 1][d];
         const double n = std::round(q);
         if (std::abs(q - n) > 1e-8 * std::max(1.0, std::abs(q)))
           entry.fail(corner,
                      fmt::format("not on a corner of the level-{} cells (spacing {:g} cm in direction {})",
-                                 l - 1, h[l - 1][d], "xyz"[d]));
-        if (n < 0 || n > static_cast<double>(whole[l - 1][d]))
+                                 l - 1, g.h[l - 1][d], "xyz"[d]));
+        if (n < 0 || n > static_cast<double>(g.whole[l - 1][d]))
           entry.fail(corner, std::string("outside the domain in direction ") + "xyz"[d]);
         (std::string(corner) == "lower" ? box.lower : box.upper)[d] =
             static_cast<PetscInt>(n) * ratios[l - 1];
@@ -294,9 +293,17 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
     levels[l - 1].boxes.push_back(box);
     entry_of[l - 1].push_back(e);
   }
+}
 
-  // Automatic placement, finest first: around the structure and the next finer level's boxes.
-  std::vector<bool> automatic(finer, false);
+/// Automatic placement, finest first: each level without explicit boxes around the structure and the
+/// next finer level's boxes, `margin(l)` cells to spare. The levels so placed are marked in `automatic`.
+void place_automatic_levels(const io::Config& config, const BoxGeometry& domain,
+                            const std::vector<std::int64_t>& ratios, const LevelGrids& g,
+                            const std::optional<PhysicalBox>& structure,
+                            const std::function<PetscInt(int)>& margin, std::vector<FinerLevel>& levels,
+                            std::vector<bool>& automatic)
+{
+  const int finer = static_cast<int>(ratios.size());
   for (int l = finer; l >= 1; --l) {
     FinerLevel& level = levels[l - 1];
     level.ratio = ratios[l - 1];
@@ -316,8 +323,8 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
     if (structure) {
       IndexBox s;
       for (int d = 0; d < 3; ++d) {
-        s.lower[d] = static_cast<PetscInt>(std::floor((structure->lower[d] - domain.lower[d]) / h[l][d]));
-        s.upper[d] = static_cast<PetscInt>(std::ceil((structure->upper[d] - domain.lower[d]) / h[l][d]));
+        s.lower[d] = static_cast<PetscInt>(std::floor((structure->lower[d] - domain.lower[d]) / g.h[l][d]));
+        s.upper[d] = static_cast<PetscInt>(std::ceil((structure->upper[d] - domain.lower[d]) / g.h[l][d]));
       }
       add(s.grown(margin(l)));
     }
@@ -327,8 +334,34 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
       config.fail(
           "nested.box",
           fmt::format("level {} has no [[nested.box]] and there is no structure to place it around", l));
-    level.boxes = {hull->aligned_outward(level.ratio).intersection(IndexBox{{0, 0, 0}, whole[l]})};
+    level.boxes = {hull->aligned_outward(level.ratio).intersection(IndexBox{{0, 0, 0}, g.whole[l]})};
   }
+}
+
+} // namespace
+
+GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain,
+                             const std::optional<PhysicalBox>& structure, const std::string& structure_key,
+                             PetscInt support_cells)
+{
+  const auto ratios = config.integers("nested.ratios");
+  for (const auto r : ratios)
+    if (r != 2 && r != 4) config.fail("nested.ratios", fmt::format("each ratio must be 2 or 4, got {}", r));
+  const int finer = static_cast<int>(ratios.size());
+  const auto margins = config.integers("nested.margins");
+  if (margins.size() != 1 && static_cast<int>(margins.size()) != finer)
+    config.fail("nested.margins",
+                fmt::format("give one margin or one per finer level ({}), got {}", finer, margins.size()));
+  const auto margin = [&](int level) {
+    return static_cast<PetscInt>(margins.size() == 1 ? margins[0] : margins[level - 1]);
+  };
+  const LevelGrids g = level_grids(domain, ratios);
+  std::vector<FinerLevel> levels(finer);
+  std::vector<std::vector<std::size_t>> entry_of(finer); // the [[nested.box]] index of each box
+  const auto entries = config.tables("nested.box");
+  read_explicit_boxes(entries, domain, ratios, g, levels, entry_of);
+  std::vector<bool> automatic(finer, false);
+  place_automatic_levels(config, domain, ratios, g, structure, margin, levels, automatic);
 
   const auto key_of = [&](int level, int box) -> std::pair<const io::Config*, std::string> {
     if (level < 1 || automatic[level - 1] || box < 0) return {&config, "nested.margins"};

@@ -169,6 +169,31 @@ void KrylovStokesSolver::assemble(Mat matrix) const
   PETSC_CHECK(MatAssemblyEnd(matrix, MAT_FINAL_ASSEMBLY));
 }
 
+namespace {
+
+/// Constant pressure is in the kernel of the coupled operator `A` (a vector shaped as `x`, the pressure
+/// unknowns `is_p`) and of the pressure Poisson operator `K`: their null spaces say so.
+void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat K)
+{
+  petsc::OwnedVec constant;
+  PETSC_CHECK(VecDuplicate(x, constant.out()));
+  PETSC_CHECK(VecZeroEntries(constant));
+  Vec constant_p;
+  PETSC_CHECK(VecGetSubVector(constant, is_p, &constant_p));
+  PETSC_CHECK(VecSet(constant_p, 1.0));
+  PETSC_CHECK(VecRestoreSubVector(constant, is_p, &constant_p));
+  PETSC_CHECK(VecNormalize(constant, nullptr));
+  const Vec basis = constant.get();
+  petsc::OwnedMatNullSpace space;
+  PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &basis, space.out()));
+  PETSC_CHECK(MatSetNullSpace(A, space));
+  petsc::OwnedMatNullSpace k_space;
+  PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, k_space.out()));
+  PETSC_CHECK(MatSetNullSpace(K, k_space));
+}
+
+} // namespace
+
 void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
 {
   destroy();
@@ -211,24 +236,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   PETSC_CHECK(MatCreateVecs(H_, x_u_.out(), y_u_.out()));
   PETSC_CHECK(MatCreateVecs(K_, x_p_.out(), y_p_.out()));
 
-  if (pressure_has_constant_) {
-    // Constant pressure is in the kernel of the coupled operator and of K.
-    petsc::OwnedVec constant;
-    PETSC_CHECK(VecDuplicate(x_, constant.out()));
-    PETSC_CHECK(VecZeroEntries(constant));
-    Vec constant_p;
-    PETSC_CHECK(VecGetSubVector(constant, is_p_, &constant_p));
-    PETSC_CHECK(VecSet(constant_p, 1.0));
-    PETSC_CHECK(VecRestoreSubVector(constant, is_p_, &constant_p));
-    PETSC_CHECK(VecNormalize(constant, nullptr));
-    const Vec basis = constant.get();
-    petsc::OwnedMatNullSpace space;
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &basis, space.out()));
-    PETSC_CHECK(MatSetNullSpace(A_, space));
-    petsc::OwnedMatNullSpace k_space;
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, k_space.out()));
-    PETSC_CHECK(MatSetNullSpace(K_, k_space));
-  }
+  if (pressure_has_constant_) set_constant_pressure_null_space(comm, x_, is_p_, A_, K_);
 
   const bool transforms = settings_.subsolver == SubsolverKind::fft;
   if (transforms && !transforms_)

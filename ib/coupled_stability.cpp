@@ -36,11 +36,12 @@ std::vector<double> IbfeIntegrator::coupled_operator(const std::vector<double>& 
   }
   solid_.forces(plus, f_plus, false);
   solid_.forces(minus, f_minus, false);
+  // The tethers' springs are linear: their part of K mode is -F_tether(mode).
+  std::vector<double> springs(dofs, 0.0);
+  add_tether_forces(springs, mode, {});
   std::vector<double> stiffness(dofs);
-  for (std::size_t i = 0; i < dofs; ++i) stiffness[i] = (f_minus[i] - f_plus[i]) / (2.0 * epsilon);
-  for (const auto& [w, t] : tethers_)
-    for (std::size_t n = 0; n < w.size(); ++n)
-      for (int c = 0; c < 3; ++c) stiffness[3 * n + c] += w[n] * t.stiffness * mode[3 * n + c];
+  for (std::size_t i = 0; i < dofs; ++i)
+    stiffness[i] = (f_minus[i] - f_plus[i]) / (2.0 * epsilon) - springs[i];
   // S M^{-1}: the force density's L2 projection, spread from the points as the step spreads it.
   const NodalMass& mass = force_mass_ ? *force_mass_ : velocity_mass_;
   const std::vector<double> density = mass.solve(stiffness, 4);

@@ -207,12 +207,19 @@ std::vector<double> IbfeIntegrator::structure_forces(std::span<const double> dis
   Stopwatch watch(timings_.force);
   std::vector<double> F(solid_.num_dofs(), 0.0);
   solid_.forces(displacement, F);
+  add_tether_forces(F, displacement, velocity);
+  return F;
+}
+
+void IbfeIntegrator::add_tether_forces(std::span<double> F, std::span<const double> displacement,
+                                       std::span<const double> velocity) const
+{
   for (const auto& [w, t] : tethers_)
     for (std::size_t n = 0; n < w.size(); ++n)
       if (w[n] != 0.0)
         for (int c = 0; c < 3; ++c)
-          F[3 * n + c] -= w[n] * (t.stiffness * displacement[3 * n + c] + t.damping * velocity[3 * n + c]);
-  return F;
+          F[3 * n + c] -= w[n] * (t.stiffness * displacement[3 * n + c] +
+                                  (velocity.empty() ? 0.0 : t.damping * velocity[3 * n + c]));
 }
 
 void IbfeIntegrator::spread_force_density(std::span<const double> nodal_forces)

@@ -190,6 +190,10 @@ class IbfeIntegrator {
   std::vector<double> project_velocity(Vec velocity, int guess_slot);
   std::vector<double> structure_forces(std::span<const double> displacement,
                                        std::span<const double> velocity);
+  /// Adds the tethers' forces -w_a (k u_a + c v_a) to `F` (3 per node); an empty `velocity` adds the
+  /// springs' alone (the stiffness the stability estimate differentiates).
+  void add_tether_forces(std::span<double> F, std::span<const double> displacement,
+                         std::span<const double> velocity) const;
   void spread_force_density(std::span<const double> nodal_forces);
   /// The prepared points' forces of a nodal force density (3 per node): its value there times the
   /// point's weight.

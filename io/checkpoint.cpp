@@ -197,22 +197,31 @@ std::string case_record(const Config& config)
   return record;
 }
 
-void add_checkpoint_schema(Schema& schema, const std::string& prefix)
+void bind(KeyBinder& keys, CheckpointSettings& settings, const std::string& prefix)
 {
-  schema
-      .add_integer(prefix + ".every",
-                   "write a checkpoint every this many steps (0 = only when stopped early)")
+  keys.integer(prefix + ".every", "write a checkpoint every this many steps (0 = only when stopped early)",
+               settings.every)
       .defaults(std::int64_t{0})
       .at_least(0);
-  schema.add_integer(prefix + ".keep", "newest checkpoints kept (older ones are deleted)")
+  keys.integer(prefix + ".keep", "newest checkpoints kept (older ones are deleted)", settings.keep)
       .defaults(std::int64_t{2})
       .at_least(1);
 }
 
+void add_checkpoint_schema(Schema& schema, const std::string& prefix)
+{
+  KeyBinder keys(schema);
+  CheckpointSettings unused;
+  io::bind(keys, unused, prefix);
+}
+
 CheckpointSettings checkpoint_settings_from_config(const Config& config, const std::string& prefix)
 {
-  return CheckpointSettings{config.integer(prefix + ".every"), config.integer(prefix + ".keep"),
-                            case_record(config)};
+  KeyBinder keys(config);
+  CheckpointSettings settings;
+  io::bind(keys, settings, prefix);
+  settings.case_record = case_record(config);
+  return settings;
 }
 
 Checkpoints::Checkpoints(MPI_Comm comm, std::filesystem::path run_directory, CheckpointSettings settings)

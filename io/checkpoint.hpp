@@ -18,6 +18,7 @@
 
 #include "io/config.hpp"
 #include "io/hdf5.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::io {
 
@@ -42,7 +43,11 @@ inline constexpr const char* restart_may_change[] = {"name", "time.end", "time.c
 /// checkpoint does not record at all (its build did not have it) that is at its default here.
 std::string case_record(const Config& config);
 
-/// Adds `<prefix>.every` and `<prefix>.keep` to a model's schema.
+/// Declares or reads `<prefix>.every` and `<prefix>.keep` into `settings` (io/key_binder.hpp); its
+/// case_record is the reader's to fill in, case_record(config), once every key is read.
+void bind(KeyBinder& keys, CheckpointSettings& settings, const std::string& prefix = "checkpoint");
+/// The same keys as a schema, and read from a whole Config with its case_record: for a caller without
+/// a binder of its own (`ibvalve run --restart` finding the checkpoint to continue from).
 void add_checkpoint_schema(Schema& schema, const std::string& prefix = "checkpoint");
 CheckpointSettings checkpoint_settings_from_config(const Config& config,
                                                    const std::string& prefix = "checkpoint");

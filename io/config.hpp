@@ -119,7 +119,13 @@ class Schema {
   /// An array of tables ([[key]] in TOML), each element checked against `element`.
   KeyBuilder add_table_list(std::string key, Schema element, std::string doc);
 
-  /// Adds every key of `other`; a key defined twice is a programming error.
+  /// A key no longer read (a spelling of an older version): a case that gives it is refused with
+  /// "file:line: key: <why>", where `why` names the key to write instead. Not listed with the keys.
+  void retire(std::string key, std::string why);
+  /// Why `key` is retired, or nullptr for a key never retired.
+  const std::string* retired(std::string_view key) const;
+
+  /// Adds every key (and retired key) of `other`; a key defined twice is a programming error.
   void merge(const Schema& other);
   const KeySpec* find(std::string_view key) const;
   /// True when some key starts with "prefix.".
@@ -143,6 +149,7 @@ class Schema {
  private:
   KeyBuilder add(std::string key, ValueKind kind, std::string doc);
   std::vector<std::unique_ptr<KeySpec>> keys_;
+  std::vector<std::pair<std::string, std::string>> retired_; // key, why
 };
 
 /// The Levenshtein distance of a and b (insertions, deletions, substitutions): how "did you mean"

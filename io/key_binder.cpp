@@ -26,6 +26,11 @@ void KeyBinder::merge(const Schema& other)
   if (!reading()) schema_->merge(other);
 }
 
+void KeyBinder::retired(std::string_view key, std::string why)
+{
+  if (!reading()) schema_->retire(full(key), std::move(why));
+}
+
 void KeyBinder::bound(std::string_view key, const void* target)
 {
   bound_.emplace_back(target, full(key));

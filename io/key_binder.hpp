@@ -49,6 +49,9 @@ class KeyBinder {
     if (!reading()) add(*schema_);
   }
 
+  /// Declaring: refuses `key` with "file:line: key: <why>" (Schema::retire); reading: nothing.
+  void retired(std::string_view key, std::string why);
+
   KeyBuilder boolean(std::string_view key, std::string doc, bool& target);
   KeyBuilder real(std::string_view key, std::string doc, double& target);
   /// An optional key without a default: the target is set only when the case gives it.

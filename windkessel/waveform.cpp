@@ -137,26 +137,4 @@ PeriodicWaveform PeriodicWaveform::from_csv(const std::filesystem::path& file, s
   }
 }
 
-void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc,
-                         bool file_required)
-{
-  io::KeyBuilder file = schema.add_string(
-      prefix + ".file", doc + ": CSV table with a header, one period, last row = first row one period later");
-  if (file_required) file.required();
-  file.example(std::string("lv_pressure_typeA.csv")).file();
-  schema.add_string(prefix + ".time_column", "the table's time column (s)").defaults(std::string("time"));
-  schema.add_string(prefix + ".value_column", "the table's value column").defaults(std::string("pressure"));
-  schema.add_string(prefix + ".interpolation", "between table points")
-      .defaults(std::string("monotone-cubic"))
-      .choices({"linear", "monotone-cubic"});
-}
-
-PeriodicWaveform waveform_from_config(const io::Config& config, const std::string& prefix,
-                                      double value_factor)
-{
-  return PeriodicWaveform::from_csv(config.path(prefix + ".file"), config.string(prefix + ".time_column"),
-                                    config.string(prefix + ".value_column"), value_factor,
-                                    interpolation_from_name(config.string(prefix + ".interpolation")));
-}
-
 } // namespace ibvalve::windkessel

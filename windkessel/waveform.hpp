@@ -54,11 +54,11 @@ class PeriodicWaveform {
   Interpolation interpolation_;
 };
 
-/// Keys under `prefix`: file (CSV; required unless `file_required` is false, for a model that needs the
-/// table only in some of its modes and checks the key itself), time_column, value_column, interpolation.
+/// The keys of windkessel/keys.hpp's bind(KeyBinder&, WaveformKeys&, ...) as a schema, and the waveform
+/// they name in a whole Config (values in the table's unit times `value_factor`): for a caller without a
+/// binder of its own. Defined in windkessel/keys.cpp.
 void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc,
                          bool file_required = true);
-/// The waveform named by the keys of add_waveform_schema, values in the table's unit times `value_factor`.
 PeriodicWaveform waveform_from_config(const io::Config& config, const std::string& prefix,
                                       double value_factor);
 

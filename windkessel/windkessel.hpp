@@ -85,11 +85,10 @@ class ThreeElementWindkessel {
   WindkesselState state_;
 };
 
-/// The case-file keys of a Windkessel under `prefix` (e.g. "windkessel"): `preset` plus optional
-/// `proximal_resistance` [mmHg s/mL], `distal_resistance` [mmHg s/mL], `compliance` [mL/mmHg],
-/// `distal_pressure` [mmHg], `initial_pressure` [mmHg], each overriding the preset's value.
+/// The keys of windkessel/keys.hpp's bind(KeyBinder&, WindkesselKeys&, prefix) as a schema, and read
+/// from a whole Config (CGS; InputError when a value is missing without a preset): for a caller that
+/// binds its keys without a binder of its own. Defined in windkessel/keys.cpp.
 void add_schema(io::Schema& schema, const std::string& prefix);
-/// Reads the keys added by add_schema (CGS); InputError when a value is missing without a preset.
 WindkesselParameters parameters_from_config(const io::Config& config, const std::string& prefix);
 
 } // namespace ibvalve::windkessel

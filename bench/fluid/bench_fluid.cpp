@@ -28,6 +28,36 @@
 
 using namespace ibvalve::fluid;
 
+namespace {
+
+/// The box's sides: periodic (ABC), the lid-driven cavity's velocity sides, or the valve case's kind.
+void set_sides(bool cavity, bool valve, BoxGeometry& box, BoundaryConditions& bc)
+{
+  if (cavity) {
+    box.periodic = {false, false, false};
+    for (int side = 0; side < 6; ++side) bc.side(side).kind = SideKind::velocity;
+    bc.side(2, 1).velocity = [](const Real3& x, double) {
+      return Real3{16.0 * x[0] * (1.0 - x[0]) * x[1] * (1.0 - x[1]), 0.0, 0.0};
+    };
+  }
+  if (valve) {
+    const double length = 3.5, radius = 1.3, inlet = 10.0 * 1333.22;
+    box.lower = {-0.5 * length, -0.5 * length, 0.0};
+    box.upper = {0.5 * length, 0.5 * length, length};
+    box.periodic = {false, false, false};
+    for (int side = 0; side < 4; ++side) bc.side(side).kind = SideKind::velocity;
+    for (int upper = 0; upper < 2; ++upper) {
+      BoundarySide& side = bc.side(2, upper);
+      side.kind = SideKind::traction;
+      side.wall = [radius](const Real3& x) { return x[0] * x[0] + x[1] * x[1] > radius * radius; };
+      side.backflow = 1.0;
+      if (upper == 0) side.pressure = [inlet](const Real3&, double) { return inlet; };
+    }
+  }
+}
+
+} // namespace
+
 int main(int argc, char** argv)
 {
   if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 1;
@@ -45,27 +75,7 @@ int main(int argc, char** argv)
     BoxGeometry box;
     box.cells = {n, n, n};
     BoundaryConditions bc;
-    if (cavity) {
-      box.periodic = {false, false, false};
-      for (int side = 0; side < 6; ++side) bc.side(side).kind = SideKind::velocity;
-      bc.side(2, 1).velocity = [](const Real3& x, double) {
-        return Real3{16.0 * x[0] * (1.0 - x[0]) * x[1] * (1.0 - x[1]), 0.0, 0.0};
-      };
-    }
-    if (valve) {
-      const double length = 3.5, radius = 1.3, inlet = 10.0 * 1333.22;
-      box.lower = {-0.5 * length, -0.5 * length, 0.0};
-      box.upper = {0.5 * length, 0.5 * length, length};
-      box.periodic = {false, false, false};
-      for (int side = 0; side < 4; ++side) bc.side(side).kind = SideKind::velocity;
-      for (int upper = 0; upper < 2; ++upper) {
-        BoundarySide& side = bc.side(2, upper);
-        side.kind = SideKind::traction;
-        side.wall = [radius](const Real3& x) { return x[0] * x[0] + x[1] * x[1] > radius * radius; };
-        side.backflow = 1.0;
-        if (upper == 0) side.pressure = [inlet](const Real3&, double) { return inlet; };
-      }
-    }
+    set_sides(cavity, valve, box, bc);
     FluidSettings settings;
     settings.mu = valve ? 0.04 : 0.01;
     settings.solver = solver_name == "fft" ? SolverKind::fft : SolverKind::krylov;

@@ -8,7 +8,7 @@ WHEN is the write that fills the disk:
   rows        the rows of timeseries.csv, around step STEP (the lumped case: 8000 steps a second, a row
               a step);
   checkpoint  the checkpoint of step STEP (a multiple of E);
-  fields      the field file of step STEP (a multiple of output.fields_every).
+  fields      the field file of step STEP (at a multiple of the steps in output.fields_interval).
 The tmpfs holds what the uninterrupted run (on the real disk, first) has written before that write,
 page by page, and half of the file that write makes (rows: nothing more, the series fills it). Asserts:
 the run stops in time (no rank left waiting: a timeout is a failure) with exit 3 and one error line

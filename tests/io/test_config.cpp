@@ -46,6 +46,7 @@ Schema example_schema()
   s.add_real("time.dt", "time step").unit("s").required().positive().example(1e-3);
   s.add_integer("time.steps", "number of steps").defaults(std::int64_t{10}).at_least(1);
   s.add_boolean("output.fields", "write fields").defaults(true);
+  s.retire("output.fields_every", "replaced by output.fields (whether to write fields)");
   s.add_string("mesh.file", "a mesh file").file(true);
   s.add_real("windkessel.compliance", "C").unit("mL/mmHg").defaults(1.75).positive();
   s.add_table_list("fluid.boundary", boundary, "boundary conditions");
@@ -224,6 +225,8 @@ const BadCase bad_cases[] = {
      ":4: fluid.boundary[0].face: missing required key (box face)"},
     {"TOML syntax error", "model = \"fluid\"\n[time]\ndt = = 1\n", ":3: TOML syntax error: "},
     {"infinite value", "model = \"fluid\"\n[time]\ndt = inf\n", ":3: time.dt: must be a finite number"},
+    {"a retired key names its replacement", "model = \"fluid\"\n[time]\ndt = 1\n[output]\nfields_every = 5\n",
+     ":5: output.fields_every: replaced by output.fields (whether to write fields)"},
 };
 
 TEST(Config, EachBadInputGivesItsOwnOneLineMessage)
@@ -234,6 +237,18 @@ TEST(Config, EachBadInputGivesItsOwnOneLineMessage)
     EXPECT_EQ(message.rfind(bad.expected, 0), 0u)
         << "got:      " << message << "\nexpected: " << bad.expected;
   }
+}
+
+TEST(Config, ARetiredKeyIsNoKeyOfTheListAndStaysRetiredInACopy)
+{
+  const Schema schema = example_schema();
+  const Schema copy(schema);
+  ASSERT_NE(copy.retired("output.fields_every"), nullptr);
+  EXPECT_EQ(*copy.retired("output.fields_every"), "replaced by output.fields (whether to write fields)");
+  EXPECT_EQ(copy.retired("output.fields"), nullptr);
+  EXPECT_EQ(schema.markdown().find("fields_every"), std::string::npos);
+  Schema twice = schema;
+  EXPECT_THROW(twice.retire("output.fields", "a key still read"), std::logic_error);
 }
 
 TEST(Config, ATableOfNamedNumbersKeepsTheNamesAndReadsBack)

@@ -12,6 +12,7 @@
 
 #include "base/errors.hpp"
 #include "base/units.hpp"
+#include "windkessel/keys.hpp"
 #include "windkessel/windkessel.hpp"
 
 namespace wk = ibvalve::windkessel;
@@ -183,5 +184,40 @@ TEST(Windkessel, CaseKeysInUserUnitsOverrideThePreset)
     out << "[windkessel]\ncompliance = -1.0\n";
   }
   EXPECT_THROW(ibvalve::io::Config::load(file, schema), ibvalve::InputError);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Windkessel, ABoundTableReadsWhatIsGivenAndCheckNamesTheFirstParameterMissing)
+{
+  ibvalve::io::Schema schema;
+  {
+    ibvalve::io::KeyBinder declaring(schema);
+    wk::WindkesselKeys unused;
+    wk::bind(declaring, unused, "outlet");
+  }
+  const auto dir = std::filesystem::temp_directory_path() / "ibvalve_test_windkessel_bind";
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "case.toml";
+  std::ofstream(file) << "[outlet]\npreset = \"none\"\ncompliance = 2.0\n";
+  const ibvalve::io::Config config = ibvalve::io::Config::load(file, schema);
+  ibvalve::io::KeyBinder keys(config);
+  wk::WindkesselKeys k;
+  wk::bind(keys, k, "outlet"); // binding alone asks for nothing: a model may use the table in one mode only
+  EXPECT_NEAR(k.parameters.compliance, 2.0 / units::mmHg, 1e-15);
+  try {
+    wk::check(keys, k);
+    ADD_FAILURE() << "no parameter reported missing";
+  } catch (const ibvalve::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), file.string() +
+                                         ": outlet.proximal_resistance: missing (no preset given: set "
+                                         "outlet.preset or this key)");
+  }
+  std::ofstream(file) << "[outlet]\ncompliance = 2.0\n";
+  const ibvalve::io::Config with_preset = ibvalve::io::Config::load(file, schema);
+  ibvalve::io::KeyBinder preset_keys(with_preset);
+  wk::WindkesselKeys p;
+  wk::bind(preset_keys, p, "outlet");
+  EXPECT_NO_THROW(wk::check(preset_keys, p));
+  EXPECT_NEAR(p.parameters.distal_resistance, 0.79 * units::mmHg, 1e-9);
   std::filesystem::remove_all(dir);
 }
