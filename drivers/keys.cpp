@@ -42,7 +42,7 @@ void bind(io::KeyBinder& keys, DriverKeys& k)
 {
   keys.choice("inlet.driver",
               "what drives the inlet: the LV pressure table of lv_pressure.* (the study), or the closed-loop "
-              "circulation's left ventricle (circulation.*, with outlet.driver = \"circulation\")",
+              "circulation's left ventricle (circulation.*; the outlet's driver must then be the loop too)",
               k.inlet, {{"table", InletKind::table}, {"circulation", InletKind::circulation}})
       .defaults(std::string("table"));
   keys.choice("outlet.driver",
