@@ -184,12 +184,13 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
       .non_negative();
 }
 
-/// The drive and what is measured: lv_pressure.*, inlet.*, windkessel.*, outlet.*, probes.*.
+/// The drive and what is measured: lv_pressure.*, inlet.*, windkessel.*, outlet.*, circulation.*, probes.*.
 void bind_boundary(io::KeyBinder& keys, AorticValveKeys& k)
 {
   keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg");
+    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg", false);
   });
+  drivers::bind(keys, k.drivers); // which drivers: the table and the Windkessel, or the closed loop
   keys.real("inlet.radius", "radius of the inlet pressure disk (0 = the middle of the tube wall)",
             k.inlet_radius)
       .unit("cm")

@@ -1,7 +1,7 @@
 #pragma once
 // The aortic-valve model's keys (app/aortic_valve_model.cpp) and where they go (io/key_binder.hpp), bound
-// section by section; the sections of other folders (the LV pressure table, the Windkessel, the
-// materials, the report, checkpoints, nested levels) are theirs.
+// section by section; the sections of other folders (the boundary drivers, the LV pressure table, the
+// Windkessel, the materials, the report, checkpoints, nested levels) are theirs.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -10,6 +10,7 @@
 
 #include "app/adaptive_step.hpp"
 #include "app/valve_mesh.hpp"
+#include "drivers/keys.hpp"
 #include "fibers/rules.hpp"
 #include "fluid/settings.hpp"
 #include "hemodynamics/report.hpp"
@@ -34,6 +35,7 @@ struct AorticValveKeys {
   fibers::FiberRule rule = fibers::FiberRule::FD1;
   std::vector<std::string> tube_surfaces;
   double tube_stiffness = 0, tube_damping = 0, attachment_stiffness = 0, attachment_damping = 0;
+  drivers::DriverKeys drivers; // inlet.driver, outlet.driver, circulation.*
   double inlet_radius = 0, outlet_radius = 0;
   bool inlet_walled = false, outlet_walled = false;
   double probe_offset = 0, flow_plane_offset = 0;

@@ -2,17 +2,19 @@
 // (ib/ibfe.hpp): the tri-leaflet valve in its tube (fe/valve_mesh.hpp, generated at start-up or read
 // from a Gmsh file), fibers from the mesh groups (fibers/rules.hpp, FD1 or FD2), one material per body
 // (leaflets, tube), the tube's outer surface and the leaflets' attachments tethered; the box's inlet
-// side (z lower) carries the LV pressure in a disk of the tube's radius, the outlet side (z upper) the
-// pressure of a three-element Windkessel fed with the outlet flux each step, zero pressure elsewhere.
+// side (z lower) carries the upstream driver's pressure in a disk of the tube's radius, the outlet side
+// (z upper) the downstream driver's, zero pressure elsewhere. The drivers (drivers/, docs/drivers.md)
+// are the LV pressure table and the three-element Windkessel, or the closed-loop circulation's left
+// ventricle and systemic arteries; each is given the flux through its disk after every step.
 // Probes come from the geometry; the orifice area from the deformed leaflets; the report is written at
 // the end of every cycle. With `nested.ratios` the fluid is fluid::NestedNavierStokes on nested levels
 // placed around the valve and tube, with the same sides, and the structure lives on the finest level
 // (docs/nested.md, "The aortic-valve case on nested levels").
 //
-// Windkessel coupling: explicit, lagged by one step. Step n uses P_Ao^n as the outlet pressure; after
-// it the flux Q^{n+1} through the outlet disk advances the Windkessel (linear flow over the step,
-// windkessel/windkessel.hpp) to give P_Ao^{n+1}. The lag is O(dt) in P_Ao; with dt = 1e-4 s and
-// R_c = 0.033 mmHg s/mL it changes P_Ao by R_c dQ, well below 0.1 mmHg.
+// The drivers' coupling: explicit, lagged by one step. Step n uses the sides' pressures P^n; after it the
+// fluxes Q^{n+1} through the inlet and outlet disks advance the drivers (linear flow over the step) to
+// give P^{n+1}. For the Windkessel the lag is O(dt) in P_Ao; with dt = 1e-4 s and R_c = 0.033 mmHg s/mL
+// it changes P_Ao by R_c dQ, well below 0.1 mmHg. docs/drivers.md gives the closed loop's margin.
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -41,6 +43,7 @@
 #include "base/errors.hpp"
 #include "base/logger.hpp"
 #include "base/units.hpp"
+#include "drivers/boundary_drivers.hpp"
 #include "fe/gmsh_io.hpp"
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
@@ -59,8 +62,6 @@
 #include "io/key_binder.hpp"
 #include "materials/fitting.hpp"
 #include "materials/settings.hpp"
-#include "windkessel/waveform.hpp"
-#include "windkessel/windkessel.hpp"
 
 namespace ibvalve::app {
 
@@ -70,13 +71,11 @@ constexpr int leaflet_count = 3;
 
 class AorticValveRun : public PreparedRun {
  public:
-  explicit AorticValveRun(const io::Config& config)
-      : config_(config), keys_(config_),
-        lv_(windkessel::waveform_from_config(config, "lv_pressure", units::mmHg)),
-        outlet_parameters_(windkessel::parameters_from_config(config, "windkessel"))
+  explicit AorticValveRun(const io::Config& config) : config_(config), keys_(config_)
   {
     bind(keys_, k_);
     const AorticValveKeys& k = k_;
+    drivers_ = std::make_unique<drivers::BoundaryDrivers>(drivers::make_drivers(keys_, k.drivers, config_));
     hemodynamics::check_report_templates(keys_, k.report);
     box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
     box_.periodic = {false, false, false};
@@ -106,9 +105,14 @@ class AorticValveRun : public PreparedRun {
     const double mid_wall = g.tube_radius + 0.5 * g.tube_wall;
     inlet_radius_ = k.inlet_radius > 0 ? k.inlet_radius : mid_wall;
     outlet_radius_ = k.outlet_radius > 0 ? k.outlet_radius : mid_wall;
-    period_ = lv_.period();
+    period_ = drivers_->period().value(); // the table's and the loop's drivers have one
     if (std::abs(k.report.metrics.period - period_) > 1e-9 * period_)
-      keys_.fail(k.report.metrics.period, "differs from the LV pressure table's period");
+      keys_.fail(
+          k.report.metrics.period,
+          fmt::format("differs from the drivers' beat, {} s (the LV pressure table's period, or 60 s / "
+                      "{})",
+                      hemodynamics::format_value(period_),
+                      keys_.key_of(k.drivers.circulation.parameters.heart_rate)));
     const double length = k.end ? *k.end : static_cast<double>(k.cycles) * period_;
     if (const std::string why = step_count_problem(length, k.step); !why.empty()) keys_.fail(k.step, why);
     if (k.adaptive) {
@@ -162,10 +166,65 @@ class AorticValveRun : public PreparedRun {
     auto& log = base::Logger::global();
     // The mean step: whole cycles end at steps x dt; with a coaptation step the steps differ.
     const double dt = schedule_.mean_step();
+    std::vector<int> leaflet_elements;
+    fe::SolidModel solid(mesh_, body_parts(leaflet_elements), k_.quadrature_degree, context.comm);
+    solid.set_fibers(frames_);
+    // The fluid: one grid (fluid::NavierStokes) or nested levels around the valve and tube
+    // (fluid::NestedNavierStokes, the structure on the finest level); both take the same sides and
+    // answer the same probes.
+    if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
+    const std::unique_ptr<fluid::FlowSolver> fluid =
+        fluid::make_flow_solver(context.comm, box_, hierarchy_.get(), boundary_conditions(), fluid_);
+    fluid->set_initial_condition(
+        [](const fluid::Real3&, double) {
+          return fluid::Real3{0.0, 0.0, 0.0};
+        },
+        nullptr, 0.0);
+    ib::IbfeIntegrator ibfe(*fluid, solid, ib_);
+    log_start(*fluid, ibfe, leaflet_elements.size());
+    const Probes probes = make_probes(leaflet_elements);
+    const LeafletState leaflet_state(solid, leaflet_count, k_.mesh.geometry.leaflet_thickness);
+    log.info(leaflet_state.describe());
+    const JetRegion jet = jet_region(near_lv_z_, near_ao_z_, k_.mesh.geometry.tube_radius, box_);
+    log.info(jet.describe());
+    write_extra_metrics(context);
 
+    Record record;
+    TimeLoop loop = time_loop_settings(context);
+    set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
+    set_steps(loop, *fluid, ibfe, solid, probes, record);
+    loop.row = [&](std::int64_t) { return row(*fluid, ibfe, probes, leaflet_state, jet, record); };
+    set_checkpoint(loop, record);
+    loop.after_step = [&](std::int64_t n, RunSummary& summary) { report_after_step(context, n, summary); };
+    loop.finish = [&](RunSummary& summary, bool, std::size_t) {
+      summary.lines.push_back(timing_line(ibfe, *fluid, record));
+    };
+    return run_time_loop(context, loop);
+  }
+
+ private:
+  /// What a run carries from step to step besides the fluid, the structure and the drivers: the sides'
+  /// last fluxes, the orifice-area range of the summary, the adaptive step's last choice.
+  struct Record {
+    double inlet_flow = 0.0, outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
+    std::int64_t substeps = 0;
+    double structure_dt = 0.0; // the structure's estimate for the interval under way
+  };
+
+  /// Where the run measures: the valve's section, the inlet and outlet disks (half a level-0 cell inside
+  /// their sides), the pressure probes, the leaflets' faces for the orifice area.
+  struct Probes {
+    fluid::PlaneRegion valve_plane, inlet_plane, outlet_plane;
+    std::vector<fluid::Real3> points; // P_LV, P_Ao, P_nlv, P_nao
+    std::vector<hemodynamics::Quad> leaflet_faces;
+    hemodynamics::CrossSection section;
+  };
+
+  /// The structure's parts: the three leaflets (their elements gathered in `leaflet_elements`), the tube.
+  std::vector<fe::BodyPart> body_parts(std::vector<int>& leaflet_elements) const
+  {
     std::vector<fe::BodyPart> parts;
     const VolumetricIntegration volumetric_integration = read_volumetric_integration(config_);
-    std::vector<int> leaflet_elements;
     for (int k = 1; k <= leaflet_count; ++k) {
       const auto& elements = mesh_.group(leaflet(k)).elements;
       leaflet_elements.insert(leaflet_elements.end(), elements.begin(), elements.end());
@@ -173,87 +232,88 @@ class AorticValveRun : public PreparedRun {
     }
     parts.push_back(
         material_part("tube", mesh_.group("tube").elements, tube_material_.build(), volumetric_integration));
-    fe::SolidModel solid(mesh_, parts, k_.quadrature_degree, context.comm);
-    solid.set_fibers(frames_);
+    return parts;
+  }
 
-    // Boundary: every side a traction side; zero pressure except the inlet and outlet disks, and the
-    // inlet/outlet sides outside their disks walled when asked (fluid/boundary.hpp).
-    double outlet_pressure = outlet_parameters_.initial_pressure;
+  /// Every side a traction side; zero pressure except the inlet disk (the upstream driver's pressure)
+  /// and the outlet disk (the downstream driver's), both under the start-up ramp; the inlet/outlet sides
+  /// outside their disks walled when asked (fluid/boundary.hpp).
+  fluid::BoundaryConditions boundary_conditions() const
+  {
     fluid::BoundaryConditions bc;
     for (int side = 0; side < 6; ++side) {
       bc.side(side).kind = fluid::SideKind::traction;
       bc.side(side).backflow = k_.backflow;
     }
     const double rin = inlet_radius_, rout = outlet_radius_;
-    bc.side(2, 0).pressure = [this, rin](const fluid::Real3& x, double t) {
-      return std::hypot(x[0], x[1]) < rin ? pressure_ramp(t) * lv_(t) : 0.0;
+    const drivers::BoundaryDriver* upstream = &drivers_->upstream();
+    const drivers::BoundaryDriver* downstream = &drivers_->downstream();
+    bc.side(2, 0).pressure = [this, upstream, rin](const fluid::Real3& x, double t) {
+      return std::hypot(x[0], x[1]) < rin ? pressure_ramp(t) * upstream->pressure(t) : 0.0;
     };
-    bc.side(2, 1).pressure = [this, &outlet_pressure, rout](const fluid::Real3& x, double t) {
-      return std::hypot(x[0], x[1]) < rout ? pressure_ramp(t) * outlet_pressure : 0.0;
+    bc.side(2, 1).pressure = [this, downstream, rout](const fluid::Real3& x, double t) {
+      return std::hypot(x[0], x[1]) < rout ? pressure_ramp(t) * downstream->pressure(t) : 0.0;
     };
     if (k_.inlet_walled)
       bc.side(2, 0).wall = [rin](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rin; };
     if (k_.outlet_walled)
       bc.side(2, 1).wall = [rout](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rout; };
-    // The fluid: one grid (fluid::NavierStokes) or nested levels around the valve and tube
-    // (fluid::NestedNavierStokes, the structure on the finest level); both take the same sides and
-    // answer the same probes.
-    if (context.restart) load_fftw_plans(context); // the interrupted run's FFTW plans: the same bits
-    const std::unique_ptr<fluid::FlowSolver> fluid =
-        fluid::make_flow_solver(context.comm, box_, hierarchy_.get(), bc, fluid_);
-    fluid->set_initial_condition(
-        [](const fluid::Real3&, double) {
-          return fluid::Real3{0.0, 0.0, 0.0};
-        },
-        nullptr, 0.0);
-    ib::IbfeIntegrator ibfe(*fluid, solid, ib_);
-    windkessel::ThreeElementWindkessel outlet(outlet_parameters_);
+    return bc;
+  }
+
+  void log_start(const fluid::FlowSolver& fluid, ib::IbfeIntegrator& ibfe, std::size_t leaflet_elements) const
+  {
+    auto& log = base::Logger::global();
     const ib::StabilityEstimate stability = ibfe.stability_estimate();
     log.info(describe_valve_mesh(k_.mesh, mesh_, leaflet_count));
     log.info(fmt::format("aortic valve: {} elements ({} in the leaflets), {} nodes; {}; dt {} (the "
                          "stability estimate {} s), {} steps to t = {} s; leaflets {}; fibers {}",
-                         mesh_.num_elements(), leaflet_elements.size(), mesh_.num_nodes(), fluid->describe(),
+                         mesh_.num_elements(), leaflet_elements, mesh_.num_nodes(), fluid.describe(),
                          describe_steps(), hemodynamics::format_value(stability.dt), steps_,
                          hemodynamics::format_value(schedule_.time_of(steps_)), leaflet_material_.describe(),
                          std::string(k_.rule == fibers::FiberRule::FD1 ? "FD1" : "FD2")));
+    for (const std::string& line : drivers_->describe()) log.info("boundary driver: " + line);
+  }
 
-    // Probes from the geometry: the pressures half a level-0 cell inside the inlet and outlet sides,
-    // the outlet flux half a cell inside the outlet side.
+  Probes make_probes(const std::vector<int>& leaflet_elements) const
+  {
     const fluid::Real3 axis{0.0, 0.0, 0.0};
     const double h_z = box_.spacing(2);
-    const auto valve_plane = fluid::PlaneRegion::disk(2, flow_plane_z_, axis, k_.mesh.geometry.tube_radius);
-    const auto outlet_plane = fluid::PlaneRegion::disk(2, box_.upper[2] - 0.5 * h_z, axis, outlet_radius_);
-    const std::vector<fluid::Real3> probes{{0.0, 0.0, box_.lower[2] + 0.5 * h_z},
-                                           {0.0, 0.0, box_.upper[2] - 0.5 * h_z},
-                                           {0.0, 0.0, near_lv_z_},
-                                           {0.0, 0.0, near_ao_z_}};
-    std::vector<hemodynamics::Quad> leaflet_faces;
+    Probes p{fluid::PlaneRegion::disk(2, flow_plane_z_, axis, k_.mesh.geometry.tube_radius),
+             fluid::PlaneRegion::disk(2, box_.lower[2] + 0.5 * h_z, axis, inlet_radius_),
+             fluid::PlaneRegion::disk(2, box_.upper[2] - 0.5 * h_z, axis, outlet_radius_),
+             {{0.0, 0.0, box_.lower[2] + 0.5 * h_z},
+              {0.0, 0.0, box_.upper[2] - 0.5 * h_z},
+              {0.0, 0.0, near_lv_z_},
+              {0.0, 0.0, near_ao_z_}},
+             {},
+             {}};
     for (int e : leaflet_elements) {
       const auto n = mesh_.element(static_cast<std::size_t>(e));
-      leaflet_faces.push_back({static_cast<std::size_t>(n[0]), static_cast<std::size_t>(n[1]),
-                               static_cast<std::size_t>(n[2]), static_cast<std::size_t>(n[3])});
-      leaflet_faces.push_back({static_cast<std::size_t>(n[4]), static_cast<std::size_t>(n[5]),
-                               static_cast<std::size_t>(n[6]), static_cast<std::size_t>(n[7])});
+      p.leaflet_faces.push_back({static_cast<std::size_t>(n[0]), static_cast<std::size_t>(n[1]),
+                                 static_cast<std::size_t>(n[2]), static_cast<std::size_t>(n[3])});
+      p.leaflet_faces.push_back({static_cast<std::size_t>(n[4]), static_cast<std::size_t>(n[5]),
+                                 static_cast<std::size_t>(n[6]), static_cast<std::size_t>(n[7])});
     }
-    hemodynamics::CrossSection section;
-    section.radius = k_.mesh.geometry.tube_radius;
-    section.centre = {0.0, 0.0, k_.mesh.geometry.valve_base};
-    auto orifice_area = [&] {
-      const auto positions = ibfe.positions();
-      std::vector<hemodynamics::Point> points(positions.size());
-      for (std::size_t i = 0; i < points.size(); ++i)
-        points[i] = {positions[i][0], positions[i][1], positions[i][2]};
-      return hemodynamics::geometric_orifice_area(points, {}, leaflet_faces, section,
-                                                  hemodynamics::OrificeOptions{k_.orifice_resolution});
-    };
+    p.section.radius = k_.mesh.geometry.tube_radius;
+    p.section.centre = {0.0, 0.0, k_.mesh.geometry.valve_base};
+    return p;
+  }
 
-    const LeafletState leaflet_state(solid, leaflet_count, k_.mesh.geometry.leaflet_thickness);
-    log.info(leaflet_state.describe());
-    const JetRegion jet = jet_region(near_lv_z_, near_ao_z_, k_.mesh.geometry.tube_radius, box_);
-    log.info(jet.describe());
-    write_extra_metrics(context);
+  double orifice_area(const ib::IbfeIntegrator& ibfe, const Probes& probes) const
+  {
+    const auto positions = ibfe.positions();
+    std::vector<hemodynamics::Point> points(positions.size());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      points[i] = {positions[i][0], positions[i][1], positions[i][2]};
+    return hemodynamics::geometric_orifice_area(points, {}, probes.leaflet_faces, probes.section,
+                                                hemodynamics::OrificeOptions{k_.orifice_resolution});
+  }
 
-    double outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
+  /// The loop's settings: its length, checkpoints and outputs; the report's columns, the leaflet
+  /// state's, then the drivers' own.
+  TimeLoop time_loop_settings(const RunContext& context) const
+  {
     TimeLoop loop;
     loop.comm = context.comm;
     loop.steps = steps_;
@@ -263,14 +323,24 @@ class AorticValveRun : public PreparedRun {
     loop.units = hemodynamics::standard_units();
     for (const std::string& c : hemodynamics::leaflet_state_columns()) loop.columns.push_back(c);
     for (const std::string& u : hemodynamics::leaflet_state_units()) loop.units.push_back(u);
+    for (const drivers::Column& c : drivers_->columns()) {
+      loop.columns.push_back(c.name);
+      loop.units.push_back(c.unit);
+    }
     loop.record_every = k_.every;
     loop.record_also_every = steps_per_cycle_; // each cycle's report ends on its last step's row
     loop.fields_every = fields_every_ > 0 ? fields_every_ : -1;
-    set_ibfe_hooks(loop, context, mesh_, *fluid, ibfe, dt);
-    // The adaptive step's choice for the interval under way: its sub-steps and the structure's estimate.
-    std::int64_t substeps = 0;
-    double structure_dt = 0.0;
-    auto coupled_step = [&](std::int64_t n, double step) {
+    return loop;
+  }
+
+  /// Each step: the coupled step, then the fluxes through the inlet and outlet disks advance the
+  /// drivers (lagged by one (sub-)step). With the adaptive step, each interval's sub-steps and its
+  /// diagnostics.
+  void set_steps(TimeLoop& loop, fluid::FlowSolver& fluid, ib::IbfeIntegrator& ibfe, fe::SolidModel& solid,
+                 const Probes& probes, Record& record)
+  {
+    auto coupled_step = [&, this](std::int64_t n, double step) {
+      const double t = ibfe.time();
       try {
         ibfe.step(step);
       } catch (const InputError&) {
@@ -281,110 +351,121 @@ class AorticValveRun : public PreparedRun {
             "aortic-valve: step {} (t = {:g} s): {} (try a smaller {} or a finer grid)", n, ibfe.time(),
             e.what(), keys_.key_of(adaptive_step_ ? k_.adaptive_step.safety : k_.step)));
       }
-      outlet_flow = fluid->flux(outlet_plane); // the Windkessel's, lagged by one (sub-)step
-      outlet_pressure = outlet.advance(step, outlet_flow);
+      record.inlet_flow = fluid.flux(probes.inlet_plane);
+      record.outlet_flow = fluid.flux(probes.outlet_plane);
+      drivers_->advance(t, step, record.inlet_flow, record.outlet_flow);
     };
-    loop.advance = [&](std::int64_t n) {
+    loop.advance = [&, this, coupled_step](std::int64_t n) {
       const double interval = schedule_.step(n);
       if (!adaptive_step_) return coupled_step(n, interval);
-      structure_dt = ibfe.coupled_stability_estimate().dt;
+      record.structure_dt = ibfe.coupled_stability_estimate().dt;
       const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
-      substeps = adaptive_step_->substeps(interval, structure_dt, fluid->max_velocity() / h, substeps);
-      for (std::int64_t m = 0; m < substeps; ++m) coupled_step(n, interval / static_cast<double>(substeps));
+      record.substeps =
+          adaptive_step_->substeps(interval, record.structure_dt, fluid.max_velocity() / h, record.substeps);
+      for (std::int64_t m = 0; m < record.substeps; ++m)
+        coupled_step(n, interval / static_cast<double>(record.substeps));
     };
-    if (adaptive_step_) {
-      // diagnostics.csv: each interval's sub-steps, their length and the structure's estimate, beside the
-      // last sub-step's solver figures and its CFL number.
-      loop.figures = [&, watch = std::make_shared<InversionWatch>(solid)] {
-        const double step = schedule_.step(1) / static_cast<double>(std::max<std::int64_t>(substeps, 1));
-        StepFigures figures = ibfe_step_figures(*fluid, ibfe, step, watch.get());
-        figures.solver.push_back({"substeps", static_cast<double>(substeps), "sub"});
-        figures.solver.push_back({"dt", step, "dt", "s"});
-        figures.solver.push_back({"dt_structure", structure_dt, "", "s"});
-        return figures;
-      };
-    }
-    loop.row = [&](std::int64_t) {
-      const double t = ibfe.time();
-      const double q_valve = fluid->flux(valve_plane);
-      const std::vector<double> p = fluid->pressure_at(probes); // P_LV, P_Ao, P_nlv, P_nao
-      const double area = orifice_area();
-      largest_area = std::max(largest_area, area);
-      smallest_area = std::min(smallest_area, area);
-      if (!std::isfinite(q_valve) || !std::isfinite(p[2]))
-        throw RunError(fmt::format("aortic-valve: the flow is not finite at t = {:g} s (try a smaller {})", t,
-                                   keys_.key_of(k_.step)));
-      std::vector<double> row{t,
-                              q_valve / units::mL,
-                              outlet_flow / units::mL,
-                              p[0] / units::mmHg,
-                              p[1] / units::mmHg,
-                              outlet.reservoir_pressure() / units::mmHg,
-                              p[2] / units::mmHg,
-                              p[3] / units::mmHg,
-                              area};
-      for (double v : leaflet_state.row(ibfe.displacement(), fluid->max_speed_in(jet.points())))
-        row.push_back(v);
-      return row;
+    if (!adaptive_step_) return;
+    // diagnostics.csv: each interval's sub-steps, their length and the structure's estimate, beside the
+    // last sub-step's solver figures and its CFL number.
+    loop.figures = [&, this, watch = std::make_shared<InversionWatch>(solid)] {
+      const double step = schedule_.step(1) / static_cast<double>(std::max<std::int64_t>(record.substeps, 1));
+      StepFigures figures = ibfe_step_figures(fluid, ibfe, step, watch.get());
+      figures.solver.push_back({"substeps", static_cast<double>(record.substeps), "sub"});
+      figures.solver.push_back({"dt", step, "dt", "s"});
+      figures.solver.push_back({"dt_structure", record.structure_dt, "", "s"});
+      return figures;
     };
-    // Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the Windkessel and the
-    // lagged outlet pressure and flow, and the orifice-area range of the summary.
-    loop.save = [&, save_coupled = loop.save](io::Hdf5File& h5) {
-      save_coupled(h5);
-      const windkessel::WindkesselState& w = outlet.state();
-      const std::vector<double> saved{w.time,      w.reservoir_pressure, w.flow,       outlet_pressure,
-                                      outlet_flow, largest_area,         smallest_area};
-      h5.write_root("aortic_valve/outlet", saved, std::vector<hsize_t>{saved.size()});
-      // The adaptive step's last choice: the next interval's depends on it.
-      if (adaptive_step_)
-        h5.write_root("aortic_valve/substeps", std::vector<double>{static_cast<double>(substeps)},
-                      std::vector<hsize_t>{1});
-    };
-    loop.restore = [&, restore_coupled = loop.restore](const io::Hdf5File& h5) {
-      const std::vector<double> saved = h5.read("aortic_valve/outlet");
-      if (saved.size() != 7)
-        throw InputError(h5.path().string() + ": aortic_valve/outlet has the wrong size");
-      outlet.restore({saved[0], saved[1], saved[2]});
-      outlet_pressure = saved[3]; // before the fluid: its boundary ghosts are refilled with it
-      outlet_flow = saved[4];
-      largest_area = saved[5];
-      smallest_area = saved[6];
-      if (h5.has("aortic_valve/substeps"))
-        substeps = static_cast<std::int64_t>(h5.read("aortic_valve/substeps").at(0));
-      restore_coupled(h5);
-    };
-    loop.after_step = [&](std::int64_t n, RunSummary& summary) {
-      if (n % steps_per_cycle_ == 0) {
-        log.finish_progress();
-        write_report(context, summary, static_cast<long>(n / steps_per_cycle_));
-      } else if (n == steps_ && steps_ < steps_per_cycle_) {
-        log.finish_progress();
-        write_report(context, summary, 0, schedule_.time_of(steps_));
-      } else if (n == steps_) {
-        summary.lines.push_back(fmt::format(
-            "the last {} s after cycle {} are not a whole cycle: no report of them",
-            hemodynamics::format_value(schedule_.time_of(n % steps_per_cycle_)), n / steps_per_cycle_));
-      }
-    };
-    loop.finish = [&](RunSummary& summary, bool, std::size_t) {
-      const ib::IbfeTimings& t = ibfe.timings();
-      std::ostringstream timing;
-      timing.precision(3);
-      timing << "per step: " << t.total / static_cast<double>(t.steps) << " s (fluid " << t.fluid / t.steps
-             << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
-             << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ", points "
-             << t.points / t.steps << ") over " << t.steps << " steps"
-             << (adaptive_step_
-                     ? fmt::format(", adaptive step's stability estimates {:.3g} s in all", t.stability)
-                     : std::string())
-             << "; orifice area " << smallest_area << " to " << largest_area << " cm^2; "
-             << fluid_summary(*fluid);
-      summary.lines.push_back(timing.str());
-    };
-    return run_time_loop(context, loop);
   }
 
- private:
+  std::vector<double> row(fluid::FlowSolver& fluid, const ib::IbfeIntegrator& ibfe, const Probes& probes,
+                          const LeafletState& leaflet_state, const JetRegion& jet, Record& record) const
+  {
+    const double t = ibfe.time();
+    const double q_valve = fluid.flux(probes.valve_plane);
+    const std::vector<double> p = fluid.pressure_at(probes.points); // P_LV, P_Ao, P_nlv, P_nao
+    const double area = orifice_area(ibfe, probes);
+    record.largest_area = std::max(record.largest_area, area);
+    record.smallest_area = std::min(record.smallest_area, area);
+    if (!std::isfinite(q_valve) || !std::isfinite(p[2]))
+      throw RunError(fmt::format("aortic-valve: the flow is not finite at t = {:g} s (try a smaller {})", t,
+                                 keys_.key_of(k_.step)));
+    std::vector<double> r{t,
+                          q_valve / units::mL,
+                          record.outlet_flow / units::mL,
+                          p[0] / units::mmHg,
+                          p[1] / units::mmHg,
+                          drivers_->downstream().reservoir_pressure(t) / units::mmHg,
+                          p[2] / units::mmHg,
+                          p[3] / units::mmHg,
+                          area};
+    for (double v : leaflet_state.row(ibfe.displacement(), fluid.max_speed_in(jet.points()))) r.push_back(v);
+    for (double v : drivers_->row(t)) r.push_back(v);
+    return r;
+  }
+
+  /// Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the drivers' states by
+  /// name (drivers/...), and the run's record by name (aortic_valve/...).
+  void set_checkpoint(TimeLoop& loop, Record& record)
+  {
+    loop.save = [this, &record, save_coupled = loop.save](io::Hdf5File& h5) {
+      save_coupled(h5);
+      drivers_->save(h5);
+      drivers::save_number(h5, "aortic_valve", "Q_inlet", record.inlet_flow);
+      drivers::save_number(h5, "aortic_valve", "Q_outlet", record.outlet_flow);
+      drivers::save_number(h5, "aortic_valve", "largest_area", record.largest_area);
+      drivers::save_number(h5, "aortic_valve", "smallest_area", record.smallest_area);
+      // The adaptive step's last choice: the next interval's depends on it.
+      if (adaptive_step_)
+        drivers::save_number(h5, "aortic_valve", "substeps", static_cast<double>(record.substeps));
+    };
+    loop.restore = [this, &record, restore_coupled = loop.restore](const io::Hdf5File& h5) {
+      drivers_->restore(h5); // before the fluid: its boundary ghosts are refilled with their pressures
+      record.inlet_flow = drivers::read_number(h5, "aortic_valve", "Q_inlet");
+      record.outlet_flow = drivers::read_number(h5, "aortic_valve", "Q_outlet");
+      record.largest_area = drivers::read_number(h5, "aortic_valve", "largest_area");
+      record.smallest_area = drivers::read_number(h5, "aortic_valve", "smallest_area");
+      if (h5.has("aortic_valve/substeps"))
+        record.substeps = static_cast<std::int64_t>(drivers::read_number(h5, "aortic_valve", "substeps"));
+      restore_coupled(h5);
+    };
+  }
+
+  /// After step n: the report of each cycle as it ends (or of a run shorter than a cycle).
+  void report_after_step(const RunContext& context, std::int64_t n, RunSummary& summary) const
+  {
+    auto& log = base::Logger::global();
+    if (n % steps_per_cycle_ == 0) {
+      log.finish_progress();
+      write_report(context, summary, static_cast<long>(n / steps_per_cycle_));
+    } else if (n == steps_ && steps_ < steps_per_cycle_) {
+      log.finish_progress();
+      write_report(context, summary, 0, schedule_.time_of(steps_));
+    } else if (n == steps_) {
+      summary.lines.push_back(fmt::format(
+          "the last {} s after cycle {} are not a whole cycle: no report of them",
+          hemodynamics::format_value(schedule_.time_of(n % steps_per_cycle_)), n / steps_per_cycle_));
+    }
+  }
+
+  std::string timing_line(const ib::IbfeIntegrator& ibfe, const fluid::FlowSolver& fluid,
+                          const Record& record) const
+  {
+    const ib::IbfeTimings& t = ibfe.timings();
+    std::ostringstream timing;
+    timing.precision(3);
+    timing << "per step: " << t.total / static_cast<double>(t.steps) << " s (fluid " << t.fluid / t.steps
+           << ", interpolation " << t.interpolation / t.steps << ", projection " << t.projection / t.steps
+           << ", force " << t.force / t.steps << ", spreading " << t.spreading / t.steps << ", points "
+           << t.points / t.steps << ") over " << t.steps << " steps"
+           << (adaptive_step_
+                   ? fmt::format(", adaptive step's stability estimates {:.3g} s in all", t.stability)
+                   : std::string())
+           << "; orifice area " << record.smallest_area << " to " << record.largest_area << " cm^2; "
+           << fluid_summary(fluid);
+    return timing.str();
+  }
+
   static std::string leaflet(int k) { return fmt::format("leaflet{}", k); }
 
   /// "3e-05 s", or "3e-05 s, 2e-05 s over [0.37, 0.47] s of each cycle" with a coaptation step.
@@ -551,8 +632,7 @@ class AorticValveRun : public PreparedRun {
   io::Config config_;
   io::KeyBinder keys_; // reads config_ into k_, and names a key in a message
   AorticValveKeys k_;
-  windkessel::PeriodicWaveform lv_;
-  windkessel::WindkesselParameters outlet_parameters_;
+  std::unique_ptr<drivers::BoundaryDrivers> drivers_; // what the inlet and outlet sides get
   fluid::BoxGeometry box_;
   fluid::FluidSettings fluid_;
   fe::Mesh mesh_;
@@ -581,13 +661,13 @@ class AorticValveRun : public PreparedRun {
 
 Model aortic_valve_model()
 {
-  return Model{"aortic-valve",
-               "the tri-leaflet valve in its tube (IB/FE): LV pressure in, Windkessel out, fibers FD1/FD2, "
-               "report each cycle",
-               add_bound_schema<AorticValveKeys>,
-               [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
-                 return std::make_unique<AorticValveRun>(config);
-               }};
+  return Model{
+      "aortic-valve",
+      "the tri-leaflet valve in its tube (IB/FE): the LV pressure table in and a Windkessel out, or the "
+      "closed-loop circulation around it; fibers FD1/FD2, report each cycle",
+      add_bound_schema<AorticValveKeys>, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
+        return std::make_unique<AorticValveRun>(config);
+      }};
 }
 
 } // namespace ibvalve::app

@@ -36,7 +36,7 @@ const std::vector<Model>& models()
 #if IBVALVE_HAVE_FLUID
     list.push_back(fluid_model());
 #endif
-#if IBVALVE_HAVE_IB && IBVALVE_HAVE_FIBERS && IBVALVE_HAVE_WINDKESSEL && IBVALVE_HAVE_HEMODYNAMICS
+#if IBVALVE_HAVE_IB && IBVALVE_HAVE_FIBERS && IBVALVE_HAVE_DRIVERS && IBVALVE_HAVE_HEMODYNAMICS
     list.push_back(aortic_valve_model());
 #endif
     return list;

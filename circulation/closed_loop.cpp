@@ -115,15 +115,18 @@ Derived ClosedLoop::derived(double t, std::span<const double> y) const
   return d;
 }
 
-void ClosedLoop::rate(double t, std::span<const double> y, std::span<double> dydt) const
+void ClosedLoop::rate(double t, std::span<const double> y, std::span<double> dydt,
+                      const ExternalAorticFlow* external) const
 {
   const CirculationParameters& p = parameters_;
   const Derived d = derived(t, y);
+  const double leaving_ventricle = external ? external->ventricle(t) : d.Q_AV;
+  const double entering_arteries = external ? external->arteries(t) : d.Q_AV;
   dydt[V_LA] = y[Q_VEN_PUL] - d.Q_MV;
-  dydt[V_LV] = d.Q_MV - d.Q_AV;
+  dydt[V_LV] = d.Q_MV - leaving_ventricle;
   dydt[V_RA] = y[Q_VEN_SYS] - d.Q_TV;
   dydt[V_RV] = d.Q_TV - d.Q_PV;
-  dydt[p_AR_SYS] = (d.Q_AV - y[Q_AR_SYS]) / p.systemic_arterial.compliance;
+  dydt[p_AR_SYS] = (entering_arteries - y[Q_AR_SYS]) / p.systemic_arterial.compliance;
   dydt[p_VEN_SYS] = (y[Q_AR_SYS] - y[Q_VEN_SYS]) / p.systemic_venous.compliance;
   dydt[p_AR_PUL] = (d.Q_PV - y[Q_AR_PUL]) / p.pulmonary_arterial.compliance;
   dydt[p_VEN_PUL] = (y[Q_AR_PUL] - y[Q_VEN_PUL]) / p.pulmonary_venous.compliance;
@@ -135,13 +138,16 @@ void ClosedLoop::rate(double t, std::span<const double> y, std::span<double> dyd
   dydt[Q_AR_PUL] = line(p.pulmonary_arterial, y[p_AR_PUL], y[p_VEN_PUL], y[Q_AR_PUL]);
   dydt[Q_VEN_PUL] = line(p.pulmonary_venous, y[p_VEN_PUL], d.p_LA, y[Q_VEN_PUL]);
   if (p.aortic_kind == AorticValveKind::orifice) {
-    const auto [dq, dzeta] = p.aortic_orifice.rates(d.p_LV - y[p_AR_SYS], y[Q_AV_state], y[zeta_AV]);
+    // An outside aortic valve leaves the orifice's own state where it is.
+    const auto [dq, dzeta] = external
+                                 ? std::array<double, 2>{0.0, 0.0}
+                                 : p.aortic_orifice.rates(d.p_LV - y[p_AR_SYS], y[Q_AV_state], y[zeta_AV]);
     dydt[Q_AV_state] = dq;
     dydt[zeta_AV] = dzeta;
   }
 }
 
-void ClosedLoop::step(double t, State& y, double dt) const
+void ClosedLoop::step(double t, State& y, double dt, const ExternalAorticFlow* external) const
 {
   auto& [k1, k2, k3, k4, stage] = stages_;
   const std::size_t n = y.size();
@@ -149,10 +155,10 @@ void ClosedLoop::step(double t, State& y, double dt) const
     for (std::size_t i = 0; i < n; ++i) stage[i] = y[i] + h * k[i];
     return std::span<const double>(stage);
   };
-  rate(t, y, k1);
-  rate(t + 0.5 * dt, at(k1, 0.5 * dt), k2);
-  rate(t + 0.5 * dt, at(k2, 0.5 * dt), k3);
-  rate(t + dt, at(k3, dt), k4);
+  rate(t, y, k1, external);
+  rate(t + 0.5 * dt, at(k1, 0.5 * dt), k2, external);
+  rate(t + 0.5 * dt, at(k2, 0.5 * dt), k3, external);
+  rate(t + dt, at(k3, dt), k4, external);
   for (std::size_t i = 0; i < n; ++i) y[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
   if (parameters_.aortic_kind == AorticValveKind::orifice) y[zeta_AV] = std::clamp(y[zeta_AV], 0.0, 1.0);
 }

@@ -97,6 +97,22 @@ struct Derived {
   double Q_MV = 0, Q_AV = 0, Q_TV = 0, Q_PV = 0;
 };
 
+/// The aortic valve replaced by a model outside the loop (a 3-D valve in its tube): over one step
+/// [t, t + dt] the flow leaving the left ventricle and the flow entering the systemic arteries, each
+/// linear in time from its start to its end value (cm^3/s). The two differ by what the outside model
+/// stores or loses (a compliant tube, a leak), so V_tot changes by the integral of their difference.
+struct ExternalAorticFlow {
+  double t = 0.0, dt = 0.0;
+  double ventricle_start = 0.0, ventricle_end = 0.0; // leaving the LV
+  double arteries_start = 0.0, arteries_end = 0.0;   // entering the systemic arteries
+  double ventricle(double s) const
+  {
+    return ventricle_start + (ventricle_end - ventricle_start) * fraction(s);
+  }
+  double arteries(double s) const { return arteries_start + (arteries_end - arteries_start) * fraction(s); }
+  double fraction(double s) const { return dt > 0.0 ? (s - t) / dt : 0.0; }
+};
+
 class ClosedLoop {
  public:
   using State = std::vector<double>;
@@ -117,11 +133,13 @@ class ClosedLoop {
   State initial_state() const;
   /// The chambers' pressures and the valves' flows at time t.
   Derived derived(double t, std::span<const double> y) const;
-  /// dy/dt at time t.
-  void rate(double t, std::span<const double> y, std::span<double> dydt) const;
-  /// One classical Runge–Kutta 4 step from (t, y) to t + dt, in place. Uses this object's scratch
-  /// stages: one caller at a time.
-  void step(double t, State& y, double dt) const;
+  /// dy/dt at time t; with `external` the aortic valve's flows are its (the diode's are not used).
+  void rate(double t, std::span<const double> y, std::span<double> dydt,
+            const ExternalAorticFlow* external = nullptr) const;
+  /// One classical Runge–Kutta 4 step from (t, y) to t + dt, in place; with `external` (its t and dt
+  /// those of the step) the aortic valve is the outside model's. Uses this object's scratch stages: one
+  /// caller at a time.
+  void step(double t, State& y, double dt, const ExternalAorticFlow* external = nullptr) const;
   /// V_tot, cm^3 (the invariant above).
   double total_volume(std::span<const double> y) const;
 

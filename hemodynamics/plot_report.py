@@ -6,7 +6,8 @@ usage: plot_report.py TIMESERIES.csv METRICS.json OUTPUT_DIR
 
 Report: reads the run's time series and the metrics.json written beside the report (for the analysed
 cycle and its phases) and writes flow.png, pressures.png, pressure_difference.png and, when the series
-has an orifice_area column, orifice_area.png. Only the analysed cycle is drawn.
+has an orifice_area column, orifice_area.png; with a V_LV column (a run inside the closed-loop
+circulation) pv_loop.png, the LV pressure-volume loop. Only the analysed cycle is drawn.
 
 Comparison: CURVES.json (written by `ibvalve compare`) lists the cases: {"cases": [{"name", "series",
 "cycle_start", "cycle_end"}]}, the series being a run's timeseries.csv and the cycle the one its metrics
@@ -128,6 +129,19 @@ def main():
         ax.set_xlim(t0, t1)
         ax.legend(loc="upper right", fontsize=8)
         save(fig, "orifice_area.png")
+
+    # The LV pressure-volume loop (runs with the closed-loop circulation: a V_LV column).
+    if col("V_LV") is not None:
+        pressure = col("p_LV") if col("p_LV") is not None else col("P_LV")
+        fig, ax = plt.subplots(figsize=(6, 5))
+        ax.plot(col("V_LV"), pressure, color="tab:red", lw=1.5)
+        ax.plot(col("V_LV")[:1], pressure[:1], "o", color="k", ms=4, label="cycle start")
+        ax.set_xlabel("V_LV (mL)")
+        ax.set_ylabel(("p_LV" if col("p_LV") is not None else "P_LV") + " (mmHg)")
+        ax.set_title(f"SV {val('stroke_volume')} mL, EF {val('ejection_fraction')} %, "
+                     f"SW {val('stroke_work')} mJ, E_L/SW {val('valve_share_of_stroke_work')} %", fontsize=9)
+        ax.legend(loc="upper right", fontsize=8)
+        save(fig, "pv_loop.png")
 
     for path in written:
         print(path)

@@ -19,6 +19,7 @@
 #include "hemodynamics/report_layout.hpp"
 #include "hemodynamics/report_values.hpp"
 #include "hemodynamics/text_template.hpp"
+#include "hemodynamics/ventricle.hpp"
 #include "io/files.hpp"
 #include "io/recorded_config.hpp"
 
@@ -462,6 +463,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
     try {
       metrics = compute_metrics(series, settings);
       doc = metrics_document(metrics, settings, run_name, run_directory);
+      add_ventricle_metrics(doc, series_file, metrics); // runs with the closed loop: V_LV and its loop
       doc["cycles"] = cycle_table(series, settings, metrics.cycle);
     } catch (const std::invalid_argument& error) {
       throw InputError(series_file.string() + ": " + error.what());

@@ -1,4 +1,5 @@
 #include "hemodynamics/report_layout.hpp"
+#include "hemodynamics/ventricle.hpp"
 
 #include <cmath>
 
@@ -124,7 +125,8 @@ Json plausibility_checks(const Json& metrics)
 
 std::span<const char* const> metric_groups()
 {
-  static const char* const groups[] = {"flow and pressure", "valve motion", "leaflet mechanics", "other"};
+  static const char* const groups[] = {"flow and pressure", "valve motion", "leaflet mechanics",
+                                       "ventricle and loop", "other"};
   return groups;
 }
 
@@ -145,6 +147,7 @@ std::string metric_group(const std::string& key)
         "diastolic_leak_area", "windkessel_pressure_start", "windkessel_pressure_end", "outlet_volume"})
     if (key == k) return "flow and pressure";
   if (starts("peak_velocity_")) return "flow and pressure";
+  if (is_ventricle_metric(key)) return "ventricle and loop";
   return "other";
 }
 

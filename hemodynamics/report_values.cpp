@@ -22,6 +22,9 @@ constexpr PlotCaption report_plot_captions[] = {
     {"pressures.png", "P_LV (driving), P_Ao (outlet) and P_Wk (Windkessel reservoir)"},
     {"pressure_difference.png", "P_nlv - P_nao across the leaflets; its mean over ejection is the TPG"},
     {"orifice_area.png", "Orifice area, opening / fully open / closing shaded"},
+    {"pv_loop.png",
+     "The LV pressure-volume loop of a run inside the closed-loop circulation: its area is the "
+     "stroke work"},
 };
 
 double number(const Json& v)

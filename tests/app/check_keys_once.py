@@ -3,7 +3,7 @@
 
   check_keys_once.py IBVALVE SOURCE_DIR
 
-For each model's source (app/<model>_model.cpp, and the files its keys are bound in), the keys `ibvalve
+For each model's source (app/<model>_model.cpp, and the files its keys are bound in, drivers/keys.cpp among them), the keys `ibvalve
 keys <model>` lists are looked for in the files' string literals (comments left out): a literal that is the key, or names it in a message ("must be below
 valve.max_area_fraction"). A key the model binds once is found once; one written again (read by its
 name, or named in a message instead of through keys_.key_of) is found twice. Prints each model's count
@@ -18,7 +18,7 @@ MODELS = {
     "lumped": ["lumped_model.cpp"],
     "ibfe": ["ibfe_model.cpp"],
     "fluid": ["fluid_model.cpp"],
-    "aortic-valve": ["aortic_valve_model.cpp", "aortic_valve_keys.cpp", "valve_mesh.cpp"],
+    "aortic-valve": ["aortic_valve_model.cpp", "aortic_valve_keys.cpp", "valve_mesh.cpp", "../drivers/keys.cpp"],
 }
 
 KEY_ROW = re.compile(r"^\| `([^`]+)` \|", re.MULTILINE)

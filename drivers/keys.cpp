@@ -1,0 +1,84 @@
+#include "drivers/keys.hpp"
+
+#include <memory>
+
+#include "base/units.hpp"
+#include "drivers/table_driver.hpp"
+#include "drivers/windkessel_driver.hpp"
+#include "windkessel/waveform.hpp"
+#include "windkessel/windkessel.hpp"
+
+namespace ibvalve::drivers {
+
+namespace {
+
+constexpr const char* table_file_key = "lv_pressure.file";
+// The loop settles on its own at T/8000 a step, as examples/lumped/closed_loop.toml runs it.
+constexpr long settle_steps_per_beat = 8000;
+
+std::shared_ptr<ClosedLoopCoupling> make_loop(const io::KeyBinder& keys, const DriverKeys& k,
+                                              const io::Config& config)
+{
+  if (config.has(table_file_key))
+    config.fail(table_file_key, "not used with " + keys.key_of(k.inlet) +
+                                    " = \"circulation\" (the loop's ventricle gives the inlet pressure)");
+  if (k.outlet != OutletKind::circulation)
+    keys.fail(k.outlet,
+              "must be \"circulation\" with " + keys.key_of(k.inlet) +
+                  " = \"circulation\": the loop's systemic arteries take what its ventricle ejects");
+  circulation::check(keys, k.circulation);
+  if (k.circulation.parameters.aortic_kind != circulation::AorticValveKind::diode)
+    keys.fail(k.circulation.parameters.aortic_kind,
+              "must be \"diode\" here: the 3-D valve is the loop's aortic valve (the diode serves only the "
+              "beats before t = 0, " +
+                  keys.key_of(k.start_beats) + ")");
+  return std::make_shared<ClosedLoopCoupling>(k.circulation.parameters, static_cast<int>(k.start_beats),
+                                              settle_steps_per_beat);
+}
+
+} // namespace
+
+void bind(io::KeyBinder& keys, DriverKeys& k)
+{
+  keys.choice("inlet.driver",
+              "what drives the inlet: the LV pressure table of lv_pressure.* (the study), or the closed-loop "
+              "circulation's left ventricle (circulation.*; the outlet's driver must then be the loop too)",
+              k.inlet, {{"table", InletKind::table}, {"circulation", InletKind::circulation}})
+      .defaults(std::string("table"));
+  keys.choice("outlet.driver",
+              "what loads the outlet: the three-element Windkessel of windkessel.* (the study), or the "
+              "closed-loop circulation's systemic arteries",
+              k.outlet, {{"windkessel", OutletKind::windkessel}, {"circulation", OutletKind::circulation}})
+      .defaults(std::string("windkessel"));
+  keys.integer("circulation.start_beats",
+               "beats the closed loop runs on its own (its diode aortic valve) before the 3-D valve joins "
+               "it at t = 0, from the preset's initial state",
+               k.start_beats)
+      .defaults(std::int64_t{60})
+      .at_least(0)
+      .at_most(1000);
+  circulation::bind(keys, k.circulation);
+}
+
+BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k, const io::Config& config)
+{
+  if (k.inlet == InletKind::circulation) {
+    std::shared_ptr<ClosedLoopCoupling> loop = make_loop(keys, k, config);
+    return BoundaryDrivers(std::make_unique<ClosedLoopSide>(Side::upstream, loop),
+                           std::make_unique<ClosedLoopSide>(Side::downstream, loop), loop);
+  }
+  if (k.outlet == OutletKind::circulation)
+    keys.fail(k.inlet, "must be \"circulation\" with " + keys.key_of(k.outlet) +
+                           " = \"circulation\": the loop's ventricle feeds its systemic arteries");
+  if (!config.has(table_file_key))
+    config.fail(table_file_key,
+                "missing: " + keys.key_of(k.inlet) + " = \"table\" needs the LV pressure table (a CSV file)");
+  auto table = std::make_unique<TableDriver>(
+      Side::upstream, windkessel::waveform_from_config(config, "lv_pressure", units::mmHg),
+      "LV pressure table");
+  auto outlet = std::make_unique<WindkesselDriver>(Side::downstream,
+                                                   windkessel::parameters_from_config(config, "windkessel"));
+  return BoundaryDrivers(std::move(table), std::move(outlet));
+}
+
+} // namespace ibvalve::drivers

@@ -1,0 +1,39 @@
+#pragma once
+// The valve case's choice of drivers (io/key_binder.hpp) and the drivers it builds (docs/drivers.md):
+//
+//   inlet.driver  = "table" (lv_pressure.* : the prescribed LV pressure) | "circulation"
+//   outlet.driver = "windkessel" (windkessel.* : the three-element Windkessel) | "circulation"
+//   circulation.* (circulation/keys.hpp: the loop's parameters), circulation.start_beats
+//
+// "circulation" is the closed loop of circulation/, which drives both sides at once: its left
+// ventricle upstream, its systemic arteries downstream.
+#include <cstdint>
+
+#include "circulation/keys.hpp"
+#include "drivers/boundary_drivers.hpp"
+#include "io/config.hpp"
+#include "io/key_binder.hpp"
+
+namespace ibvalve::drivers {
+
+enum class InletKind { table, circulation };
+enum class OutletKind { windkessel, circulation };
+
+struct DriverKeys {
+  InletKind inlet = InletKind::table;
+  OutletKind outlet = OutletKind::windkessel;
+  std::int64_t start_beats = 0;
+  circulation::CirculationKeys circulation;
+};
+
+/// Declares or reads inlet.driver, outlet.driver, circulation.start_beats and the loop's circulation.*.
+/// The table's lv_pressure.* and the Windkessel's windkessel.* are their folder's sections, which the
+/// case declares (lv_pressure.file not required: the table driver asks for it).
+void bind(io::KeyBinder& keys, DriverKeys& k);
+
+/// The drivers the keys choose, built from `config` (the table and the Windkessel read their own
+/// sections). Bad input (a loop on one side only, the table's file missing or given beside the loop,
+/// the loop's own parameters) is an InputError naming the key.
+BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k, const io::Config& config);
+
+} // namespace ibvalve::drivers
