@@ -19,7 +19,7 @@ over the rows inside it
   after the lobe over V_F_lobe; the largest orifice_area.
 
 A run without V_LV (a prescribed-pressure run) gets the same but the volume figures. Written for
-docs/closed-loop-2026-12-06.md as a second, independent computation beside the report's metrics.json:
+docs/notebook/closed-loop-2026-12-06.md as a second, independent computation beside the report's metrics.json:
 it shares no code with hemodynamics/ (numpy only), and its energy loss and V_F are simpler definitions
 (whole cycle, all forward flow) than the report's phases, so they agree with the report to the
 sampling and the phase choice, not bit for bit.
