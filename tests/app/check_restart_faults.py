@@ -154,9 +154,9 @@ def processes_of(launcher):
     return ranks
 
 
-def signal_scenario(runner, work, which, ranks, after_rows):
-    code = 128 + which
-    name = signal.Signals(which).name
+def run_until_rows(runner, work, after_rows):
+    """Runs the case whole, then starts it again in `split` and waits for `after_rows` rows there: the
+    moment a signal scenario sends its signal. Returns the two folders and the running launcher."""
     whole, split = work / "whole", work / "split"
     runner.run(whole, "-q")
     command = runner.command(split, "-q")
@@ -169,6 +169,13 @@ def signal_scenario(runner, work, which, ranks, after_rows):
             out, err = launcher.communicate()
             fail(f"the run ended or stalled before {after_rows} rows, before the signal", out + err)
         time.sleep(0.01)
+    return whole, split, launcher
+
+
+def signal_scenario(runner, work, which, ranks, after_rows):
+    code = 128 + which
+    name = signal.Signals(which).name
+    whole, split, launcher = run_until_rows(runner, work, after_rows)
     processes = processes_of(launcher.pid)
     if len(processes) != ranks:
         launcher.kill()
@@ -201,18 +208,7 @@ def mpiexec_ctrl_c_scenario(runner, work, ranks, after_rows):
     """SIGINT to mpiexec, as a Ctrl-C in its terminal gives it: Open MPI passes it on to the ranks as
     SIGTERM; the stopped line says so and gives the whole restart command, mpiexec and its options
     included, which, run as printed, continues to the uninterrupted series."""
-    whole, split = work / "whole", work / "split"
-    runner.run(whole, "-q")
-    command = runner.command(split, "-q")
-    print("+", " ".join(command), flush=True)
-    launcher = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
-    deadline = time.time() + 120
-    while data_rows(split) < after_rows:
-        if launcher.poll() is not None or time.time() > deadline:
-            out, err = launcher.communicate()
-            fail(f"the run ended or stalled before {after_rows} rows, before the signal", out + err)
-        time.sleep(0.01)
+    whole, split, launcher = run_until_rows(runner, work, after_rows)
     os.kill(launcher.pid, signal.SIGINT)
     print(f"sent SIGINT to mpiexec (pid {launcher.pid}) after {data_rows(split)} rows")
     out, err = launcher.communicate(timeout=120)
