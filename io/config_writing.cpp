@@ -51,8 +51,10 @@ std::optional<std::string> format_preset_value(const Value& value, const KeySpec
     for (int i = 0; i < 3; ++i) x = std::nextafter(x, -HUGE_VAL);
     std::optional<std::string> best;
     for (int i = 0; i < 7; ++i, x = std::nextafter(x, HUGE_VAL)) {
-      const std::string text = format_real(x);
-      if (x * factor == cgs && (!best || text.size() < best->size())) best = text;
+      // The walk steps over +0 (from -0 to the smallest positive double): zero is written unsigned.
+      const double candidate = x == 0 ? 0.0 : x;
+      const std::string text = format_real(candidate);
+      if (candidate * factor == cgs && (!best || text.size() < best->size())) best = text;
     }
     return best;
   };

@@ -60,6 +60,9 @@ Schema example_schema()
       .preset("wk.preset", [](const std::string& name) {
         return name == "typeA" ? std::optional<Value>(1.75 * *units::to_cgs("mL/mmHg")) : std::nullopt;
       });
+  s.add_real("wk.distal_pressure", "P_d").unit("mmHg").preset("wk.preset", [](const std::string& name) {
+    return name == "typeA" ? std::optional<Value>(0.0) : std::nullopt;
+  });
   return s;
 }
 
@@ -408,6 +411,8 @@ TEST(Config, ResolvedFileWritesShortestNumbersAndPresetValues)
   EXPECT_EQ(text.find("0000000"), std::string::npos) << text;
   EXPECT_NE(text.find("\ncompliance = 1.75  # from wk.preset = \"typeA\"; [mL/mmHg] C"), std::string::npos)
       << text;
+  EXPECT_NE(text.find("\ndistal_pressure = 0.0  # from wk.preset"), std::string::npos)
+      << "zero, not -0.0: " << text;
   CaseFile resolved(text);
   const Config again = Config::load(resolved.path(), example_schema());
   EXPECT_EQ(again.real("time.dt"), c.real("time.dt"));
