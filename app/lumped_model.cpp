@@ -1,6 +1,7 @@
-// `model = "lumped"`: the 0-D valve and the hemodynamic report, in about a second. Two hearts drive it
-// (`heart`): "table", the LV pressure waveform pushing the Mynard-type valve into the three-element
-// Windkessel (open loop); "circulation", the closed-loop lumped circulation of circulation/ (elastance
+// `model = "lumped"`: the 0-D valve and the hemodynamic report, in about a second. The drivers are chosen
+// as in the 3-D valve's case (drivers/keys.hpp): inlet.driver = "table" with outlet.driver = "windkessel",
+// the LV pressure waveform pushing the Mynard-type valve into the three-element Windkessel (open loop);
+// both "circulation", the closed-loop lumped circulation of circulation/ (elastance
 // chambers, four valves, systemic and pulmonary compartments), its aortic valve the published diode or
 // the same Mynard-type valve. Either explores parameters in seconds and exercises the metrics/report
 // pipeline end to end before a 3-D run exists.
@@ -30,6 +31,7 @@
 #include "base/units.hpp"
 #include "circulation/cycle.hpp"
 #include "circulation/keys.hpp"
+#include "drivers/keys.hpp"
 #include "hemodynamics/report.hpp"
 #include "hemodynamics/timeseries.hpp"
 #include "io/checkpoint.hpp"
@@ -45,16 +47,14 @@ namespace {
 using windkessel::LumpedSystem;
 using windkessel::ValveParameters;
 
-enum class Heart { table, circulation };
-
-/// The LV pressure table's section (windkessel/keys.hpp), which heart = "table" needs.
+/// The LV pressure table's section (windkessel/keys.hpp), which inlet.driver = "table" needs.
 constexpr const char* table_section = "lv_pressure";
 
 /// The model's own keys and where they go (io/key_binder.hpp); the LV pressure table, the Windkessel and
 /// checkpoints are their folders' sections, [circulation] is bound by circulation/, [report] by
 /// hemodynamics/.
 struct LumpedKeys {
-  Heart heart = Heart::table;
+  drivers::DriverSides sides; // the table and the Windkessel, or the closed loop on both sides
   circulation::CirculationKeys circulation;
   std::int64_t cycles = 4, every = 1;
   double step = 0, annulus_radius = 0;
@@ -68,11 +68,10 @@ struct LumpedKeys {
 
 void bind(io::KeyBinder& keys, LumpedKeys& k)
 {
-  keys.choice("heart",
-              "what drives the valve: the LV pressure table into the Windkessel (open loop), or the "
-              "closed-loop circulation of [circulation] (docs/circulation.md)",
-              k.heart, {{"table", Heart::table}, {"circulation", Heart::circulation}})
-      .defaults(std::string("table"));
+  drivers::bind(keys, k.sides);
+  keys.retired("heart",
+               "replaced by inlet.driver and outlet.driver, as in the 3-D valve's case: \"table\" and "
+               "\"windkessel\" (the default), or both \"circulation\"");
   keys.integer("time.cycles", "cardiac cycles to run (the report analyses the last)", k.cycles)
       .defaults(std::int64_t{4})
       .at_least(1)
@@ -128,16 +127,16 @@ void bind(io::KeyBinder& keys, LumpedKeys& k)
   io::bind(keys, k.checkpoints);
 }
 
-/// The case's heart, read as every key is (the runs read all the keys again).
-Heart heart_of(const io::Config& config)
+/// Whether the case's drivers are the closed loop, read as every key is (the runs read all the keys again).
+bool closed_loop(const io::Config& config)
 {
   LumpedKeys k;
   io::KeyBinder keys(config);
   bind(keys, k);
-  return k.heart;
+  return drivers::closed_loop(keys, k.sides);
 }
 
-/// What both hearts share: the keys read (the valve in CGS), the cycle's steps, checkpoints, the report,
+/// What both runs share: the keys read (the valve in CGS), the cycle's steps, checkpoints, the report,
 /// and the 0-D run itself on rank 0, the other ranks joining its agreements on a stop signal.
 class LumpedRun : public PreparedRun {
  public:
@@ -201,7 +200,7 @@ class LumpedRun : public PreparedRun {
 
   virtual RunSummary simulate(const RunContext& context) = 0;
 
-  /// The loop's settings both hearts share; the model fills in columns, advance, row, save and restore.
+  /// The loop's settings both runs share; the model fills in columns, advance, row, save and restore.
   TimeLoop loop_settings(const RunContext& context, std::function<void(RunSummary&)> extra_lines)
   {
     const double dt = step();
@@ -271,7 +270,8 @@ class LumpedRun : public PreparedRun {
   }
 };
 
-/// heart = "table": the LV pressure table drives the valve into the three-element Windkessel.
+/// inlet.driver = "table", outlet.driver = "windkessel": the LV pressure table drives the valve into the
+/// three-element Windkessel.
 class TableRun : public LumpedRun {
  public:
   explicit TableRun(const io::Config& config) : LumpedRun(config), lv_pressure_(table()), outlet_(outlet())
@@ -339,8 +339,8 @@ class TableRun : public LumpedRun {
   windkessel::ThreeElementWindkessel outlet_;
 };
 
-/// heart = "circulation": the closed-loop circulation; the valve analysed is its aortic valve, the
-/// "aortic" pressure its systemic arteries'.
+/// inlet.driver = outlet.driver = "circulation": the closed-loop circulation; the valve analysed is its
+/// aortic valve, the "aortic" pressure its systemic arteries'.
 class CirculationRun : public LumpedRun {
  public:
   explicit CirculationRun(const io::Config& config) : LumpedRun(config), loop_(parameters())
@@ -353,7 +353,7 @@ class CirculationRun : public LumpedRun {
   circulation::CirculationParameters parameters() const
   {
     if (!k_.lv_pressure.file.empty())
-      keys_.fail(k_.lv_pressure.file, "not used with " + keys_.key_of(k_.heart) +
+      keys_.fail(k_.lv_pressure.file, "not used with " + keys_.key_of(k_.sides.inlet) +
                                           " = \"circulation\" (the loop computes the LV pressure)");
     circulation::check(keys_, k_.circulation);
     circulation::CirculationParameters p = k_.circulation.parameters;
@@ -493,7 +493,7 @@ Model lumped_model()
                "or inside the closed-loop circulation of circulation/; writes timeseries.csv and the "
                "report in seconds",
                add_bound_schema<LumpedKeys>, [](const io::Config& config) -> std::unique_ptr<PreparedRun> {
-                 if (heart_of(config) == Heart::circulation) return std::make_unique<CirculationRun>(config);
+                 if (closed_loop(config)) return std::make_unique<CirculationRun>(config);
                  return std::make_unique<TableRun>(config);
                }};
 }

@@ -20,12 +20,8 @@ std::shared_ptr<ClosedLoopCoupling> make_loop(const io::KeyBinder& keys, const D
                                               const io::Config& config)
 {
   if (config.has(table_file_key))
-    config.fail(table_file_key, "not used with " + keys.key_of(k.inlet) +
+    config.fail(table_file_key, "not used with " + keys.key_of(k.sides.inlet) +
                                     " = \"circulation\" (the loop's ventricle gives the inlet pressure)");
-  if (k.outlet != OutletKind::circulation)
-    keys.fail(k.outlet,
-              "must be \"circulation\" with " + keys.key_of(k.inlet) +
-                  " = \"circulation\": the loop's systemic arteries take what its ventricle ejects");
   circulation::check(keys, k.circulation);
   if (k.circulation.parameters.aortic_kind != circulation::AorticValveKind::diode)
     keys.fail(k.circulation.parameters.aortic_kind,
@@ -38,7 +34,7 @@ std::shared_ptr<ClosedLoopCoupling> make_loop(const io::KeyBinder& keys, const D
 
 } // namespace
 
-void bind(io::KeyBinder& keys, DriverKeys& k)
+void bind(io::KeyBinder& keys, DriverSides& k)
 {
   keys.choice("inlet.driver",
               "what drives the inlet: the LV pressure table of lv_pressure.* (the study), or the closed-loop "
@@ -50,6 +46,24 @@ void bind(io::KeyBinder& keys, DriverKeys& k)
               "closed-loop circulation's systemic arteries",
               k.outlet, {{"windkessel", OutletKind::windkessel}, {"circulation", OutletKind::circulation}})
       .defaults(std::string("windkessel"));
+}
+
+bool closed_loop(const io::KeyBinder& keys, const DriverSides& sides)
+{
+  const bool inlet = sides.inlet == InletKind::circulation, outlet = sides.outlet == OutletKind::circulation;
+  if (inlet && !outlet)
+    keys.fail(sides.outlet,
+              "must be \"circulation\" with " + keys.key_of(sides.inlet) +
+                  " = \"circulation\": the loop's systemic arteries take what its ventricle ejects");
+  if (outlet && !inlet)
+    keys.fail(sides.inlet, "must be \"circulation\" with " + keys.key_of(sides.outlet) +
+                               " = \"circulation\": the loop's ventricle feeds its systemic arteries");
+  return inlet;
+}
+
+void bind(io::KeyBinder& keys, DriverKeys& k)
+{
+  bind(keys, k.sides);
   keys.integer("circulation.start_beats",
                "beats the closed loop runs on its own (its diode aortic valve) before the 3-D valve joins "
                "it at t = 0, from the preset's initial state",
@@ -62,17 +76,14 @@ void bind(io::KeyBinder& keys, DriverKeys& k)
 
 BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k, const io::Config& config)
 {
-  if (k.inlet == InletKind::circulation) {
+  if (closed_loop(keys, k.sides)) {
     std::shared_ptr<ClosedLoopCoupling> loop = make_loop(keys, k, config);
     return BoundaryDrivers(std::make_unique<ClosedLoopSide>(Side::upstream, loop),
                            std::make_unique<ClosedLoopSide>(Side::downstream, loop), loop);
   }
-  if (k.outlet == OutletKind::circulation)
-    keys.fail(k.inlet, "must be \"circulation\" with " + keys.key_of(k.outlet) +
-                           " = \"circulation\": the loop's ventricle feeds its systemic arteries");
   if (!config.has(table_file_key))
-    config.fail(table_file_key,
-                "missing: " + keys.key_of(k.inlet) + " = \"table\" needs the LV pressure table (a CSV file)");
+    config.fail(table_file_key, "missing: " + keys.key_of(k.sides.inlet) +
+                                    " = \"table\" needs the LV pressure table (a CSV file)");
   auto table = std::make_unique<TableDriver>(
       Side::upstream, windkessel::waveform_from_config(config, "lv_pressure", units::mmHg),
       "LV pressure table");

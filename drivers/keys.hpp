@@ -1,5 +1,6 @@
 #pragma once
-// The valve case's choice of drivers (io/key_binder.hpp) and the drivers it builds (docs/drivers.md):
+// The valve cases' choice of drivers (io/key_binder.hpp) and the drivers the 3-D valve builds
+// (docs/drivers.md); the lumped valve makes the same choice with the same two keys:
 //
 //   inlet.driver  = "table" (lv_pressure.* : the prescribed LV pressure) | "circulation"
 //   outlet.driver = "windkessel" (windkessel.* : the three-element Windkessel) | "circulation"
@@ -19,12 +20,24 @@ namespace ibvalve::drivers {
 enum class InletKind { table, circulation };
 enum class OutletKind { windkessel, circulation };
 
-struct DriverKeys {
+/// The choice of the two sides' drivers, which the 3-D valve and the lumped valve share.
+struct DriverSides {
   InletKind inlet = InletKind::table;
   OutletKind outlet = OutletKind::windkessel;
+};
+
+struct DriverKeys {
+  DriverSides sides;
   std::int64_t start_beats = 0;
   circulation::CirculationKeys circulation;
 };
+
+/// Declares or reads inlet.driver and outlet.driver alone.
+void bind(io::KeyBinder& keys, DriverSides& sides);
+
+/// Whether the sides are the closed loop (both "circulation") rather than the table and the Windkessel
+/// (neither); the loop on one side only is an InputError naming the key.
+bool closed_loop(const io::KeyBinder& keys, const DriverSides& sides);
 
 /// Declares or reads inlet.driver, outlet.driver, circulation.start_beats and the loop's circulation.*.
 /// The table's lv_pressure.* and the Windkessel's windkessel.* are their folder's sections, which the

@@ -74,7 +74,11 @@ INPUTS = [
      False),
     ("lumped unknown key in table", "lumped", ("edit", LUMPED, "annulus_radius = 1.3", "anulus_radius = 1.3"),
      "valve.anulus_radius", "case", False),
-    # --- lumped, heart = "circulation"
+    # --- lumped, inlet.driver = outlet.driver = "circulation"
+    ("lumped heart key retired", "lumped", ("edit", LUMPED, 'model = "lumped"', 'model = "lumped"\nheart = "circulation"'),
+     "heart", "case+1", False),
+    ("closed loop on the inlet only", "lumped", ("edit", CLOSED_LOOP, '[outlet]\ndriver = "circulation"', '[outlet]'),
+     "outlet.driver", "nofile-line", False),
     ("lumped table without its file", "lumped",
      ("edit", LUMPED, 'file = "../waveforms/lv_pressure_typeA.csv"', '# no file'), "lv_pressure.file",
      "nofile-line", False),
