@@ -593,6 +593,7 @@ class AorticValveRun : public PreparedRun {
       options.cycle_folders = hemodynamics::CycleFolders::none;
     }
     options.plots = k_.report.plots;
+    options.cycle_plots = k_.report.cycle_plots;
     options.templates = k_.report.templates;
     // Rank 0 writes it; a failure there (a full disk) reaches every rank instead of leaving them waiting.
     io::on_root(context.comm, [&] {

@@ -261,6 +261,7 @@ class LumpedRun : public PreparedRun {
     options.settings = k_.report.metrics;
     options.settings.density = k_.valve.density; // the EOA's density is the fluid's (g/cm^3 = g/mL)
     options.plots = k_.report.plots;
+    options.cycle_plots = k_.report.cycle_plots;
     options.templates = k_.report.templates;
     const hemodynamics::ReportFiles files = hemodynamics::write_report(directory, options);
     summary.lines.push_back(hemodynamics::metrics_summary(files.json));

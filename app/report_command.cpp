@@ -56,6 +56,7 @@ int report(const ReportCommandOptions& options)
       report_options.settings.closure_rule = hemodynamics::closure_rule_from_name(*options.closure_rule);
     report_options.python = options.python;
     report_options.plots = !options.no_plots;
+    report_options.cycle_plots = recorded.report.cycle_plots;
     report_options.templates = options.templates ? *options.templates : recorded.report.templates;
     report_options.output = options.output;
     const auto files = hemodynamics::write_report(options.run_directory, report_options);

@@ -241,6 +241,7 @@ void combine_uncertainties(const Study& study)
     report.settings = recorded.report.metrics;
     report.run_period = recorded.period;
     report.plots = recorded.report.plots;
+    report.cycle_plots = recorded.report.cycle_plots;
     report.templates = recorded.report.templates;
     hemodynamics::write_report(folder, report);
     base::Logger::global().info(fmt::format("study: {}: uncertainties from {} source(s) in {}", c.name,

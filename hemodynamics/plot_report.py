@@ -1,13 +1,14 @@
 """Plots of an ibvalve report and curves of a comparison (run by `ibvalve report` and `ibvalve compare`
 with Debian's /usr/bin/python3).
 
-usage: plot_report.py TIMESERIES.csv METRICS.json OUTPUT_DIR
+usage: plot_report.py TIMESERIES.csv METRICS.json OUTPUT_DIR [METRICS.json OUTPUT_DIR ...]
        plot_report.py --compare CURVES.json OUTPUT_DIR
 
 Report: reads the run's time series and the metrics.json written beside the report (for the analysed
-cycle and its phases) and writes flow.png, pressures.png, pressure_difference.png and, when the series
+cycle and its phases) and writes into OUTPUT_DIR flow.png, pressures.png, pressure_difference.png and, when the series
 has an orifice_area column, orifice_area.png; with a V_LV column (a run inside the closed-loop
-circulation) pv_loop.png, the LV pressure-volume loop. Only the analysed cycle is drawn.
+circulation) pv_loop.png, the LV pressure-volume loop. Only the analysed cycle is drawn. Further
+METRICS.json OUTPUT_DIR pairs (a run's other cycles) are drawn by the same process.
 
 Comparison: CURVES.json (written by `ibvalve compare`) lists the cases: {"cases": [{"name", "series",
 "cycle_start", "cycle_end"}]}, the series being a run's timeseries.csv and the cycle the one its metrics
@@ -45,8 +46,17 @@ def shade(ax, start, end, color, label):
 
 
 def main():
-    series_path, metrics_path, out_dir = sys.argv[1:4]
+    # One page or several of the same series (a run's cycles): the series is read, and matplotlib
+    # imported, once for all of them.
+    series_path, pages = sys.argv[1], sys.argv[2:]
+    if len(pages) < 2 or len(pages) % 2:
+        sys.exit("usage: plot_report.py TIMESERIES.csv METRICS.json OUTPUT_DIR [METRICS.json OUTPUT_DIR ...]")
     s = read_series(series_path)
+    for metrics_path, out_dir in zip(pages[0::2], pages[1::2]):
+        draw_page(s, metrics_path, out_dir)
+
+
+def draw_page(s, metrics_path, out_dir):
     with open(metrics_path) as f:
         doc = json.load(f)
     ph = doc["phases"]

@@ -34,6 +34,30 @@ DrawnPlots draw_plots(bool draw, const std::string& python, const std::vector<st
   return out;
 }
 
+std::vector<DrawnPlots> draw_page_plots(bool draw, const std::string& python, const fs::path& series,
+                                        std::span<const fs::path> folders,
+                                        std::span<const PlotCaption> expected)
+{
+  std::vector<DrawnPlots> out(folders.size());
+  for (const fs::path& folder : folders)
+    for (const PlotCaption& plot : expected) fs::remove(folder / plot.file);
+  if (!draw || folders.empty()) return out;
+  std::vector<std::string> args{python, "-I", fs::absolute(folders.front() / "plot_report.py").string(),
+                                fs::absolute(series).string()};
+  for (const fs::path& folder : folders) {
+    io::write_file_atomically(folder / "plot_report.py", plot_report_script());
+    args.push_back(fs::absolute(folder / "metrics.json").string());
+    args.push_back(fs::absolute(folder).string());
+  }
+  const fs::path log = folders.front() / "plot_log.txt";
+  if (const std::string problem = run_program(args, "/", log); !problem.empty())
+    out.front().problem = "plotting with " + python + " failed (" + log.string() + "): " + problem;
+  for (std::size_t i = 0; i < folders.size(); ++i)
+    for (const PlotCaption& plot : expected)
+      if (fs::exists(folders[i] / plot.file)) out[i].files.push_back(folders[i] / plot.file);
+  return out;
+}
+
 kainjow::mustache::data plot_template_rows(std::span<const fs::path> plots,
                                            std::span<const PlotCaption> captions)
 {

@@ -38,6 +38,15 @@ struct DrawnPlots {
 DrawnPlots draw_plots(bool draw, const std::string& python, const std::vector<std::string>& script_arguments,
                       const std::filesystem::path& folder, std::span<const PlotCaption> expected);
 
+/// A report's pages drawn by one Python (matplotlib imported and the series read once): `expected`'s
+/// images removed from every folder, then, with `draw`, plot_report.py written into each (to draw that
+/// page again by hand) and run as draw_plots runs it, on `series` and each folder's metrics.json, its log
+/// in the first folder's plot_log.txt. One DrawnPlots a folder, in order; the first carries the problem.
+std::vector<DrawnPlots> draw_page_plots(bool draw, const std::string& python,
+                                        const std::filesystem::path& series,
+                                        std::span<const std::filesystem::path> folders,
+                                        std::span<const PlotCaption> expected);
+
 /// The templates' `plots` list: file, caption and png_base64 of each drawn image.
 kainjow::mustache::data plot_template_rows(std::span<const std::filesystem::path> plots,
                                            std::span<const PlotCaption> captions);

@@ -68,6 +68,11 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
       .above(0.0)
       .below(1.0);
   keys.boolean(p + "plots", "draw the report's plots (matplotlib)", r.plots).defaults(true);
+  keys.boolean(p + "cycle_plots",
+               "draw the plots on every cycle's own page (report/cycle_N/) too; false: on the reported "
+               "cycle's only (a run of many settling cycles: about half a second a page)",
+               r.cycle_plots)
+      .defaults(true);
   keys.path(p + "templates",
             "folder of report.html.tpl and/or report.md.tpl laid out in place of the built-in ones (`ibvalve "
             "report --write-templates DIR` copies those)",
@@ -417,27 +422,23 @@ DrawnPlots copy_plots(const fs::path& from, const fs::path& folder)
   return copied;
 }
 
-/// One page of the report in `folder`: metrics.json, the plots (drawn, or copied from `plots_from` when
-/// it is not empty), report.md and report.html.
-DrawnPlots write_page(const Json& doc, const fs::path& series_file, const fs::path& folder,
-                      const PageTemplates& templates, const ReportOptions& options,
-                      const fs::path& plots_from, const std::string& report_root)
+/// A page's metrics.json in `folder` (made if missing): what its plots and its text are drawn from.
+void write_page_document(const Json& doc, const fs::path& folder)
 {
   io::create_output_folder(folder);
-  const fs::path json = folder / "metrics.json";
   // Text that is not UTF-8 (a run folder's name) is replaced rather than refused.
-  io::write_file_atomically(json, doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
-  DrawnPlots drawn = !plots_from.empty()
-                         ? copy_plots(plots_from, folder)
-                         : draw_plots(options.plots, options.python,
-                                      {fs::absolute(series_file).string(), fs::absolute(json).string(),
-                                       fs::absolute(folder).string()},
-                                      folder, report_plots());
-  const kainjow::mustache::data values = report_template_values(doc, drawn.files, report_root);
+  io::write_file_atomically(folder / "metrics.json",
+                            doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
+}
+
+/// A page's report.md and report.html in `folder`, beside its metrics.json and `plots`.
+void render_page(const Json& doc, const fs::path& folder, const std::vector<fs::path>& plots,
+                 const PageTemplates& templates, const std::string& report_root)
+{
+  const kainjow::mustache::data values = report_template_values(doc, plots, report_root);
   const std::string markdown = templates.markdown.render(values), html = templates.html.render(values);
   io::write_file_atomically(folder / "report.md", markdown);
   io::write_file_atomically(folder / "report.html", html);
-  return drawn;
 }
 
 } // namespace
@@ -489,29 +490,46 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   files.warning = period_warning(reported ? reported->first : pages.back().first, options);
   if (!files.warning.empty()) base::Logger::global().warn(files.warning);
   const fs::path folder = options.output.empty() ? run_directory / "report" : options.output;
-  std::string problem;
-  fs::path reported_plots; // the reported cycle's own folder, when written: its plots serve report/ too
+  // Every page's metrics.json first; then the plots, all pages' by one Python; then their text.
+  std::vector<fs::path> page_folders;
+  fs::path reported_folder; // the reported cycle's own folder, when written: its plots serve report/ too
   for (const auto& [metrics, doc] : pages) {
-    const fs::path cycle_folder = folder / fmt::format("cycle_{}", metrics.cycle);
-    const DrawnPlots drawn = write_page(doc, series_file, cycle_folder, templates, options, {}, "../");
-    if (problem.empty()) problem = drawn.problem;
-    files.cycle_pages.push_back(cycle_folder / "report.html");
-    if (reported && metrics.cycle == reported->first.cycle) reported_plots = cycle_folder;
+    page_folders.push_back(folder / fmt::format("cycle_{}", metrics.cycle));
+    write_page_document(doc, page_folders.back());
+    if (reported && metrics.cycle == reported->first.cycle) reported_folder = page_folders.back();
   }
-  // report/ itself is the reported cycle's; a run's end of cycle N writes it when N is that cycle.
   files.directory = folder;
-  if (options.cycle_folders == CycleFolders::last && reported_plots.empty())
-    files.directory = files.cycle_pages.back().parent_path();
-  else
-    files.plots =
-        write_page(reported->second, series_file, folder, templates, options, reported_plots, "").files;
+  const bool report_page = !(options.cycle_folders == CycleFolders::last && reported_folder.empty());
+  if (!report_page) files.directory = page_folders.back();
+  if (report_page) write_page_document(reported->second, folder);
+  std::vector<fs::path> drawn_folders; // the pages whose plots are drawn
+  for (const fs::path& page : page_folders)
+    if (options.cycle_plots || page == reported_folder) drawn_folders.push_back(page);
+  if (report_page && reported_folder.empty()) drawn_folders.push_back(folder);
+  const std::vector<DrawnPlots> drawn =
+      draw_page_plots(options.plots, options.python, series_file, drawn_folders, report_plots());
+  auto drawn_in = [&](const fs::path& page) {
+    for (std::size_t i = 0; i < drawn_folders.size(); ++i)
+      if (drawn_folders[i] == page) return drawn[i].files;
+    return std::vector<fs::path>{};
+  };
+  for (std::size_t i = 0; i < pages.size(); ++i) {
+    if (!options.cycle_plots && page_folders[i] != reported_folder)
+      draw_page_plots(false, options.python, series_file, std::span(&page_folders[i], 1), report_plots());
+    render_page(pages[i].second, page_folders[i], drawn_in(page_folders[i]), templates, "../");
+    files.cycle_pages.push_back(page_folders[i] / "report.html");
+  }
+  if (report_page) {
+    files.plots = reported_folder.empty() ? drawn_in(folder) : copy_plots(reported_folder, folder).files;
+    render_page(reported->second, folder, files.plots, templates, "");
+  }
   const auto& shown = reported ? *reported : pages.back();
   files.reported_cycle = shown.first.cycle;
   files.cycles = shown.second.at("cycle").at("of").get<int>();
   files.json = files.directory / "metrics.json";
   files.markdown = files.directory / "report.md";
   files.html = files.directory / "report.html";
-  if (!problem.empty()) throw RunError(problem);
+  if (!drawn.empty() && !drawn.front().problem.empty()) throw RunError(drawn.front().problem);
   return files;
 }
 

@@ -26,6 +26,7 @@ using Json = nlohmann::ordered_json;
 struct ReportSettings {
   MetricSettings metrics;
   bool plots = true;
+  bool cycle_plots = true; // each cycle's own page (report/cycle_N/) drawn too, not only the reported one
   std::filesystem::path templates; // empty = the built-in templates
 };
 
@@ -65,6 +66,8 @@ struct ReportOptions {
   MetricSettings settings;
   std::string python = default_python(); // an interpreter with matplotlib and numpy
   bool plots = true;
+  /// With `plots`: every cycle page's plots, or only the reported cycle's (its own folder and <output>).
+  bool cycle_plots = true;
   /// The settings' period was given on the command line (--period): messages name the option.
   bool period_given = false;
   /// The run's own cycle (RecordedReport::period), which a given period is checked against.

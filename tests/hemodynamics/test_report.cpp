@@ -698,6 +698,38 @@ TEST(Report, EachCycleHasItsOwnReportCountedFromOneAndTheLastHoldsTheCycleToCycl
   fs::remove_all(run);
 }
 
+TEST(Report, EveryCyclesPageHasItsPlotsOrWithCyclePlotsOffOnlyTheReportedCyclesPage)
+{
+  const auto run = scratch("cycle_plots");
+  write_cycles(run, 3, 300.0, 5.0, 0.0);
+  hd::ReportOptions options; // plots on: one Python draws the three cycles' pages
+  const hd::ReportFiles files = hd::write_report(run, options);
+  const std::vector<std::string> images{"flow.png", "pressures.png", "pressure_difference.png", "orifice_area.png"};
+  for (int c = 1; c <= 3; ++c)
+    for (const std::string& image : images)
+      EXPECT_TRUE(fs::exists(run / "report" / ("cycle_" + std::to_string(c)) / image)) << c << " " << image;
+  // Each page draws its own cycle: the flow plots of cycles 1 and 2 (lobes of 1 and 1.1 x) differ.
+  EXPECT_NE(ibvalve::io::read_text_file(run / "report" / "cycle_1" / "flow.png"),
+            ibvalve::io::read_text_file(run / "report" / "cycle_2" / "flow.png"));
+  EXPECT_EQ(files.plots.size(), images.size());
+  EXPECT_EQ(ibvalve::io::read_text_file(run / "report" / "flow.png"),
+            ibvalve::io::read_text_file(run / "report" / "cycle_3" / "flow.png"));
+
+  options.cycle_plots = false; // again: the earlier cycles' images are removed, not left stale
+  const hd::ReportFiles reported_only = hd::write_report(run, options);
+  for (int c = 1; c <= 2; ++c) {
+    const fs::path page = run / "report" / ("cycle_" + std::to_string(c));
+    for (const std::string& image : images) EXPECT_FALSE(fs::exists(page / image)) << c << " " << image;
+    EXPECT_EQ(ibvalve::io::read_text_file(page / "report.html").find(".png"), std::string::npos) << c;
+  }
+  for (const std::string& image : images) {
+    EXPECT_TRUE(fs::exists(run / "report" / "cycle_3" / image)) << image;
+    EXPECT_TRUE(fs::exists(run / "report" / image)) << image;
+  }
+  EXPECT_EQ(reported_only.plots.size(), images.size());
+  fs::remove_all(run);
+}
+
 TEST(Report, ARunsEndOfCycleWritesThatCyclesFolderAndTheReportedOnesOnlyWhenItIsThatCycle)
 {
   const auto run = scratch("cycle_end");
