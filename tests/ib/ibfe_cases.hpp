@@ -62,7 +62,7 @@ inline std::vector<fe::BodyPart> one_part(const fe::Mesh& mesh,
 
 /// A neo-Hookean block (its volumetric penalty integrated at the element centre, as the valve's parts),
 /// tethered, stretched isochorically by 1.1 along x about its centre, in a periodic box of 16^3 cells:
-/// released, it relaxes. The coupled stability estimate's test case.
+/// released, it relaxes. The coupled stability estimate's and the semi-implicit coupling's test case.
 struct StretchedBlock {
   std::unique_ptr<fluid::NavierStokes> fluid;
   fe::Mesh mesh =
@@ -70,7 +70,8 @@ struct StretchedBlock {
   std::unique_ptr<fe::SolidModel> solid;
   std::unique_ptr<ib::IbfeIntegrator> ibfe;
 
-  explicit StretchedBlock(MPI_Comm comm)
+  explicit StretchedBlock(MPI_Comm comm, ib::CouplingKind coupling = ib::CouplingKind::explicit_midpoint,
+                          double tolerance = 1e-3)
   {
     fluid = periodic_fluid(comm, 16, 1.0, 0.1);
     fe::BodyPart part;
@@ -83,6 +84,8 @@ struct StretchedBlock {
     solid = std::make_unique<fe::SolidModel>(mesh, std::vector<fe::BodyPart>{part}, 2, comm);
     ib::IbfeSettings settings;
     settings.tethers.push_back({"body", 1e5, 0.0});
+    settings.coupling = coupling;
+    settings.semi_implicit.tolerance = tolerance;
     ibfe = std::make_unique<ib::IbfeIntegrator>(*fluid, *solid, settings);
     std::vector<double> u(solid->num_dofs());
     const fe::Vec3 factor(1.1, 1.0 / std::sqrt(1.1), 1.0 / std::sqrt(1.1));
