@@ -575,6 +575,10 @@ class AorticValveRun : public PreparedRun {
   // finest level one box holding the whole structure with the kernel's reach.
   void read_levels(const io::Config& config)
   {
+    if (k_.coupling.coupling == ib::CouplingKind::semi_implicit)
+      keys_.fail(k_.coupling.coupling,
+                 std::string("\"semi-implicit\" needs the fluid on one grid, not on the levels of ") +
+                     nested_ratios_key);
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
         read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
     memory_line_ = check_memory(
