@@ -167,6 +167,9 @@ StepFigures ibfe_step_figures(const fluid::FlowSolver& fluid, const ib::IbfeInte
   StepFigures f = fluid_step_figures(fluid, dt);
   f.solver.push_back(
       {"structure_iterations", static_cast<double>(ibfe.last_projection_iterations()), "structure it"});
+  if (ibfe.settings().coupling == ib::CouplingKind::semi_implicit)
+    f.solver.push_back(
+        {"implicit_iterations", static_cast<double>(ibfe.last_implicit_iterations()), "implicit it"});
   const fe::SmallestJacobian smallest = ibfe.solid().smallest_point_jacobian(ibfe.displacement());
   f.solver.push_back({"smallest_J", smallest.J, "min J"});
   if (watch) watch->observe(ibfe.time(), smallest);

@@ -377,6 +377,10 @@ class IbfeRun : public PreparedRun {
     if (box_.periodic[0])
       config.fail(nested_ratios_key, "nested grid levels need " + keys_.key_of(k_.periodic) +
                                          " = \"walls\" (the composite solver has no periodic box)");
+    if (k_.ib.coupling == ib::CouplingKind::semi_implicit)
+      keys_.fail(k_.ib.coupling,
+                 std::string("\"semi-implicit\" needs the fluid on one grid, not on the levels of ") +
+                     nested_ratios_key);
     std::vector<fe::Vec3> positions(mesh_.num_nodes());
     for (std::size_t n = 0; n < positions.size(); ++n)
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];

@@ -407,6 +407,20 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
   for_boundary_faces([&](double& un, double outward, double) { un -= outward * c * std::abs(un); });
 }
 
+void KrylovStokesSolver::set_homogeneous_boundary_rows(Vec rhs)
+{
+  StagArray r(grid_, rhs);
+  std::vector<Entry> entries;
+  double constant = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    if (grid_.periodic(d)) continue;
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      if (grid_.is_boundary_face(d, idx[d]) && velocity_row(d, idx, 0.0, 0.0, entries, constant))
+        r(idx[0], idx[1], idx[2], grid_.face_slot(d)) = 0.0;
+    });
+  }
+}
+
 SolveStatistics KrylovStokesSolver::solve(Vec rhs, Vec solution)
 {
   helmholtz_seconds_ = poisson_seconds_ = 0.0;

@@ -38,6 +38,7 @@ class KrylovStokesSolver : public StokesSolver {
   void set_parameters(const StokesParameters& parameters) override;
   SolveStatistics solve(Vec rhs, Vec solution) override;
   void add_boundary_terms(Vec rhs, double t_new, double t_half) override;
+  void set_homogeneous_boundary_rows(Vec rhs) override;
   std::string name() const override
   {
     return settings_.subsolver == SubsolverKind::fft ? "krylov (fft sub-solves)" : "krylov";

@@ -296,6 +296,38 @@ void NavierStokes::step(double dt)
   statistics_.total += MPI_Wtime() - start;
 }
 
+void NavierStokes::stokes_response(Vec force, double dt, Vec velocity)
+{
+  if (!(dt > 0.0)) throw std::invalid_argument("fluid: the time step must be positive");
+  if (parameters_.dt != dt) {
+    parameters_ = {settings_.rho, settings_.mu, dt};
+    solver_->set_parameters(parameters_);
+  }
+  if (!response_rhs_) response_rhs_ = grid_->create_local();
+  PETSC_CHECK(VecCopy(force, response_rhs_));
+  {
+    StagArray r(*grid_, response_rhs_);
+    for (PetscInt k = grid_->begin(2); k < grid_->begin(2) + grid_->count(2); ++k)
+      for (PetscInt j = grid_->begin(1); j < grid_->begin(1) + grid_->count(1); ++j)
+        for (PetscInt i = grid_->begin(0); i < grid_->begin(0) + grid_->count(0); ++i)
+          r(i, j, k, grid_->pressure_slot()) = 0.0;
+  }
+  solver_->set_homogeneous_boundary_rows(response_rhs_);
+  PETSC_CHECK(VecSet(velocity, 0.0));
+  solver_->solve(response_rhs_, velocity);
+  Vec global;
+  PETSC_CHECK(DMGetGlobalVector(grid_->dm(), &global));
+  PETSC_CHECK(DMLocalToGlobal(grid_->dm(), velocity, INSERT_VALUES, global));
+  grid_->global_to_local(global, velocity);
+  PETSC_CHECK(DMRestoreGlobalVector(grid_->dm(), &global));
+}
+
+void NavierStokes::add_to_state(Vec increment)
+{
+  PETSC_CHECK(VecAXPY(state_, 1.0, increment));
+  exchange(time_);
+}
+
 void NavierStokes::save(io::Hdf5File& file, const std::string& group) const
 {
   // After a step, convection_old_ holds N^n (the swap at its end); the next step extrapolates from it.

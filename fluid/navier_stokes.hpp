@@ -49,6 +49,16 @@ class NavierStokes final : public FlowSolver {
   /// Advances from time() to time() + dt.
   void step(double dt) override;
 
+  /// The velocity one step of dt gives a body force `force` (the face slots of a local vector) from rest
+  /// with homogeneous boundary data, no convection: (rho/dt - mu/2 L) u + G p = f, -D u = 0, the linear
+  /// part of a step's response to its body force. `velocity` (a local vector) receives u (ghosts from
+  /// the neighbouring ranks filled; the sides' ghosts not). The state is not touched. Collective.
+  void stokes_response(Vec force, double dt, Vec velocity);
+  /// Adds `increment` (a local vector: face velocities and cell pressures, e.g. a stokes_response) to
+  /// the state u^n, p^{n-1/2} and refills the ghosts: the step's solution being linear in its body
+  /// force, a step taken without a force plus the response to one is the step taken with it.
+  void add_to_state(Vec increment);
+
   double time() const override { return time_; }
   PetscInt steps_taken() const override { return steps_; }
   /// The state as a local vector: face slots u^n (ghosts filled, boundary conditions applied), cell
@@ -95,7 +105,7 @@ class NavierStokes final : public FlowSolver {
   FluidSettings settings_;
   std::unique_ptr<StaggeredGrid> grid_;
   std::unique_ptr<StokesSolver> solver_;
-  petsc::OwnedVec state_, force_, rhs_;
+  petsc::OwnedVec state_, force_, rhs_, response_rhs_;
   petsc::OwnedVec convection_, convection_old_, convection_half_, saved_;
   double time_ = 0.0, pressure_time_ = 0.0, last_dt_ = 0.0;
   PetscInt steps_ = 0;

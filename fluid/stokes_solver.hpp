@@ -51,6 +51,9 @@ class StokesSolver {
   /// Adds to `rhs` what the boundary conditions contribute to the implicit side: velocity data at
   /// t_new (Dirichlet rows, wall ghosts of the implicit Laplacian) and boundary pressures at t_half.
   virtual void add_boundary_terms(Vec /*rhs*/, double /*t_new*/, double /*t_half*/) {}
+  /// What add_boundary_terms does for zero boundary data: the rows that hold a boundary value
+  /// (Dirichlet rows) set to 0, the others left as they are.
+  virtual void set_homogeneous_boundary_rows(Vec /*rhs*/) {}
   virtual std::string name() const = 0;
 };
 

@@ -36,6 +36,14 @@ void UniformFluid::step(double dt)
 {
   fluid_.step(dt);
 }
+void UniformFluid::stokes_response(Vec force, double dt, Vec velocity)
+{
+  fluid_.stokes_response(force, dt, velocity);
+}
+void UniformFluid::add_to_state(Vec increment)
+{
+  fluid_.add_to_state(increment);
+}
 double UniformFluid::time() const
 {
   return fluid_.time();

@@ -51,6 +51,13 @@ class EulerianFluid {
   virtual void require_inside(std::span<const Vec3> nodes, int reach) const = 0;
   /// Re-reads the fluid's state after it changed outside step() (a checkpoint restored). Collective.
   virtual void refresh() {}
+  /// Whether stokes_response() is available (the semi-implicit coupling's fluid model).
+  virtual bool has_stokes_response() const { return false; }
+  /// The velocity (a local vector of grid()) one step of dt gives the body force `force` (a local
+  /// vector of grid()) from rest, with homogeneous boundary data and no convection. Collective.
+  virtual void stokes_response(Vec /*force*/, double /*dt*/, Vec /*velocity*/) {}
+  /// Adds a stokes_response() (velocity and pressure) to the fluid's state after a step. Collective.
+  virtual void add_to_state(Vec /*increment*/) {}
 };
 
 /// The IB's view of either flow solver: a UniformFluid of a fluid::NavierStokes, a NestedFluid of a
@@ -71,6 +78,9 @@ class UniformFluid final : public EulerianFluid {
   double density() const override;
   double viscosity() const override;
   void require_inside(std::span<const Vec3>, int) const override {}
+  bool has_stokes_response() const override { return true; }
+  void stokes_response(Vec force, double dt, Vec velocity) override;
+  void add_to_state(Vec increment) override;
 
   fluid::NavierStokes& navier_stokes() const { return fluid_; }
 

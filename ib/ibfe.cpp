@@ -76,6 +76,13 @@ IbfeIntegrator::IbfeIntegrator(std::unique_ptr<EulerianFluid> owned, EulerianFlu
   if (settings_.force_projection != settings_.velocity_projection)
     force_mass_ = std::make_unique<NodalMass>(solid.mesh(), settings_.force_projection, fluid_.grid().comm(),
                                               "ib_force_mass_");
+  const SemiImplicitSettings& implicit = settings_.semi_implicit;
+  if (!(implicit.tolerance > 0.0 && implicit.tolerance < 1.0) || implicit.max_iterations < 1 ||
+      implicit.newton_iterations < 1)
+    throw InputError(
+        "ib: the semi-implicit solve's tolerance must lie in (0, 1) and its iterations be positive");
+  if (settings_.coupling == CouplingKind::semi_implicit && !fluid_.has_stokes_response())
+    throw InputError("ib: the semi-implicit coupling needs the fluid on one grid (not nested levels)");
   for (const Tether& t : settings_.tethers) {
     if (t.stiffness < 0.0 || t.damping < 0.0)
       throw InputError("ib: tether '" + t.group + "': stiffness and damping must be non-negative");
@@ -255,7 +262,12 @@ void IbfeIntegrator::step(double dt)
 {
   Stopwatch total(timings_.total);
   projection_iterations_ = 0;
-  if (timings_.steps == 0 && coupled_estimate_.dt > 0.0) {
+  if (timings_.steps == 0 && settings_.coupling == CouplingKind::semi_implicit) {
+    base::Logger::global().info(fmt::format(
+        "ib: semi-implicit coupling ({} Newton iterations a step through the fluid's linear response, GMRES "
+        "to a relative residual of {}); dt = {} s",
+        settings_.semi_implicit.newton_iterations, format(settings_.semi_implicit.tolerance), format(dt)));
+  } else if (timings_.steps == 0 && coupled_estimate_.dt > 0.0) {
     // An adaptive run measured the coupled estimate before its first step: that is the limit to name.
     const std::string line =
         fmt::format("dt = {} s is {} the coupled stability estimate {} s (docs/ib.md)", format(dt),
@@ -271,6 +283,7 @@ void IbfeIntegrator::step(double dt)
     else
       base::Logger::global().info("ib: " + describe_time_step(dt, s));
   }
+  if (settings_.coupling == CouplingKind::semi_implicit) return step_semi_implicit(dt);
   const std::size_t dofs = solid_.num_dofs();
   // 1. U^n at chi^n, and the half-step position.
   place_points(displacement_);
@@ -289,9 +302,14 @@ void IbfeIntegrator::step(double dt)
     fluid_.step(dt);
   }
   // 4. U^{n+1/2} from (u^n + u^{n+1})/2 at the same points, and the full position update.
+  finish_step(dt);
+}
+
+void IbfeIntegrator::finish_step(double dt)
+{
   PETSC_CHECK(VecAXPBYPCZ(velocity_mid_, 0.5, 0.5, 0.0, velocity_old_, fluid_.velocity()));
   velocity_ = project_velocity(velocity_mid_, 1);
-  for (std::size_t i = 0; i < dofs; ++i) {
+  for (std::size_t i = 0; i < displacement_.size(); ++i) {
     displacement_[i] += dt * velocity_[i];
     if (!std::isfinite(displacement_[i]))
       throw RunError("ib: the structure's position became non-finite at t = " + format(fluid_.time()) +

@@ -11,6 +11,7 @@
 // advanced by the explicit midpoint rule (the "IB explicit" scheme of Griffith & Luo, section 3.4),
 // second order in time for smooth problems:
 //   1. U^n = P_h J[chi^n] u^n,                 chi^{n+1/2} = chi^n + dt/2 U^n
+//      (the semi-implicit coupling finds chi^{n+1/2} implicitly instead, below)
 //   2. f^{n+1/2} = S[chi^{n+1/2}] M^{-1} F(chi^{n+1/2}, U^n)
 //   3. (u^{n+1}, p^{n+1/2}) from the Navier–Stokes step with body force f^{n+1/2}
 //   4. U^{n+1/2} = P_h J[chi^{n+1/2}] (u^n + u^{n+1})/2,   chi^{n+1} = chi^n + dt U^{n+1/2}
@@ -19,10 +20,33 @@
 // Spreading (2) and the interpolation of (4) use the same points, so the power the structure puts
 // into the fluid equals the power it receives (the operators are adjoint).
 //
+// The semi-implicit coupling (IbfeSettings::coupling; docs/ib.md, "The semi-implicit coupling") takes
+// the structure's force at a half-step position found implicitly with the fluid's own linear response.
+// The fluid's step is linear in its body force (convection is extrapolated from u^n and u^{n-1}, the
+// boundary data do not depend on the force), so
+//   u^{n+1} = u_free + R_u f,   u_free: the step without the force,  R_u f: the Stokes solve of the
+//   step for the force alone from rest, homogeneous boundary data (EulerianFluid::stokes_response).
+// With R F = P_h J R_u S M^{-1} F (the nodes' velocity change forces F give in one step) and
+// W_free = P_h J (u^n + u_free)/2, the half-step velocity W = U^{n+1/2} solves
+//   W = W_free + 1/2 R F(chi^n + dt/2 W)
+// (the implicit midpoint rule for the structure; with the fluid exact, the linear problem's modes
+// keep their amplitude at every dt). Newton's method from W_0 = U^n, K = -dF/du at chi_k:
+//   (I + dt/4 R K) dW = W_free + 1/2 R F(chi_k) - W_k,   chi_k = chi^n + dt/2 W_k,
+// each solved by matrix-free GMRES (PETSc; each product one Stokes solve, a force difference, a
+// spreading and an interpolation). The coupling points stay at chi_0 = chi^n + dt/2 U^n, where the
+// explicit step places them, for the whole step: R, S and J are the step's, and the force's power is
+// what the structure receives back. Then F(chi^{n+1/2}) is spread from them, its response added to
+// u_free, and step 4 runs as in the explicit step. Newren, Fogelson, Guy & Kirby 2007 (J. Comput. Phys.
+// 222:702-719) show such linearly implicit discretisations unconditionally stable for linear forces;
+// Ceniceros, Fisher & Roma 2009 (J. Comput. Phys. 228:7137-7158) solve the same kind of structure
+// system with the fluid solve inside. Measured here: the nonlinear forces limit it to a few times the
+// explicit step, and each GMRES product costs a Stokes solve (docs/ib.md).
+//
 // Tethers pull chosen nodes back to their reference positions with a spring and a dashpot,
 //   F_a += -w_a (kappa (chi_a - X_a) + eta U_a),
 // w_a = int_group N_a (dA for a surface group, dX for a volume group) or 1 for a point group; kappa is
 // then a stiffness per area, per volume or per node.
+#include <exception>
 #include <memory>
 #include <span>
 #include <string>
@@ -44,8 +68,24 @@ struct Tether {
   double damping = 0.0;   ///< eta: the same per unit velocity (s/cm times kappa's unit)
 };
 
+/// How the structure's force at the half step is found (docs/ib.md, "The semi-implicit coupling").
+enum class CouplingKind {
+  explicit_midpoint, ///< chi^{n+1/2} = chi^n + dt/2 U^n: stable below the coupled estimate's dt
+  semi_implicit,     ///< chi^{n+1/2} implicitly, through the fluid's linear response (below)
+};
+
+/// The semi-implicit coupling's solves (header comment): Newton iterations, each a GMRES solve on the
+/// structure's degrees of freedom.
+struct SemiImplicitSettings {
+  double tolerance = 1e-3;   ///< GMRES: relative residual of (I + dt/4 R K) dW = r
+  int max_iterations = 100;  ///< GMRES stops there (counted, not an error)
+  int newton_iterations = 2; ///< the second takes the stable step from 2 to 3 estimates (docs/ib.md)
+};
+
 struct IbfeSettings {
   KernelKind kernel = default_kernel;
+  CouplingKind coupling = CouplingKind::explicit_midpoint;
+  SemiImplicitSettings semi_implicit{};
   fe::MassKind velocity_projection = fe::MassKind::consistent;
   fe::MassKind force_projection = fe::MassKind::consistent;
   CouplingPointSettings points{};
@@ -61,6 +101,7 @@ struct IbfeTimings {
   double spreading = 0.0;     ///< S F
   double points = 0.0;        ///< choosing the rules and placing the coupling points
   double stability = 0.0;     ///< the coupled stability estimates (not part of the steps' total)
+  double implicit = 0.0;      ///< the semi-implicit coupling's half-step solve (its own parts included)
   double total = 0.0;
   long steps = 0;
 };
@@ -152,6 +193,9 @@ class IbfeIntegrator {
   const IbfeTimings& timings() const { return timings_; }
   /// Krylov iterations of the last step's L2 projections (velocity twice, force once; 0 for direct solves).
   PetscInt last_projection_iterations() const { return projection_iterations_; }
+  /// GMRES iterations of the last step's semi-implicit solves, summed over its Newton iterations (0
+  /// with the explicit coupling).
+  PetscInt last_implicit_iterations() const { return implicit_iterations_; }
   /// The estimate in the reference state (no argument) or at the displacement u = chi - X given
   /// (replicated, 3 per node), e.g. displacement() for the current state. Collective only in the sense
   /// that every rank computes the same figure from the replicated state.
@@ -221,6 +265,35 @@ class IbfeIntegrator {
   PetscInt projection_iterations_ = 0; // of the step being taken
   /// A = (1/rho) P_h J S M^{-1} K applied to `mode` (coupled_stability_estimate).
   std::vector<double> coupled_operator(const std::vector<double>& mode);
+  /// P_h J u with u the fluid's Stokes response over one step of dt (EulerianFluid::stokes_response)
+  /// to the force density S M^{-1} F: the nodes' velocity change that the forces F give in one step.
+  std::vector<double> stokes_model_response(std::span<const double> nodal_forces, double dt);
+  petsc::OwnedVec probe_velocity_;
+
+  /// Step 4 of both couplings: U^{n+1/2} from (u^n + u^{n+1})/2 at the points placed last (u^n in
+  /// velocity_old_) and chi^{n+1} = chi^n + dt U^{n+1/2}.
+  void finish_step(double dt);
+  void step_semi_implicit(double dt);
+  /// One Newton iteration of the semi-implicit coupling (header comment) from chi_k = `position` (its
+  /// points placed), W_k and W_free: chi_{k+1}. Sets implicit_iterations_.
+  std::vector<double> implicit_position(double dt, std::span<const double> position,
+                                        std::span<const double> W, std::span<const double> W_free);
+  /// The semi-implicit solve's operator and the state it is linearised at (ib/semi_implicit.cpp).
+  struct ImplicitSolve {
+    petsc::OwnedMat matrix; ///< shell: x -> x + dt/4 R K x
+    petsc::OwnedKSP ksp;
+    petsc::OwnedVec rhs, solution;
+    std::vector<double> displacement; ///< chi_k, where K is taken
+    std::vector<double> forces;       ///< the material forces at chi_k (no tethers)
+    double scale = 0.0;               ///< dt / 4
+    double dt = 0.0;
+    std::exception_ptr error; ///< thrown inside the operator, rethrown after the solve
+  };
+  void create_implicit_solver();
+  /// MATOP_MULT of ImplicitSolve::matrix (its context: the integrator).
+  static PetscErrorCode apply_implicit_operator(Mat matrix, Vec x, Vec y);
+  ImplicitSolve implicit_;
+  PetscInt implicit_iterations_ = 0;
   std::vector<double> stability_mode_;        // the last dominant mode of A (checkpointed: the next start)
   CoupledStabilityEstimate coupled_estimate_; // the last one (none: dt 0)
   petsc::OwnedVec probe_force_;               // a grid vector for A's spreading, apart from the fluid's force

@@ -13,45 +13,12 @@
 #include <gtest/gtest.h>
 
 #include "base/errors.hpp"
-#include "fe/mesh.hpp"
 #include "ibfe_cases.hpp"
 
 using namespace ibvalve;
 using namespace ibvalve::ib::testing;
 
-namespace {
-
-struct Block {
-  std::unique_ptr<fluid::NavierStokes> fluid;
-  fe::Mesh mesh =
-      fe::box_mesh(fe::CellShape::hexahedron, fe::Vec3(0.35, 0.4, 0.4), fe::Vec3(0.65, 0.6, 0.6), {6, 4, 4});
-  std::unique_ptr<fe::SolidModel> solid;
-  std::unique_ptr<ib::IbfeIntegrator> ibfe;
-
-  explicit Block(MPI_Comm comm)
-  {
-    fluid = periodic_fluid(comm, 16, 1.0, 0.1);
-    fe::BodyPart part;
-    part.name = "body";
-    part.elements = mesh.group("body").elements;
-    part.laws.push_back(
-        std::make_shared<materials::InvariantLaw>(materials::LawKind::neo_hookean, std::vector<double>{1e4}));
-    part.centre_laws.push_back(
-        std::make_shared<materials::VolumetricPenalty>(materials::PenaltyKind::log, 1e6));
-    solid = std::make_unique<fe::SolidModel>(mesh, std::vector<fe::BodyPart>{part}, 2, comm);
-    ib::IbfeSettings settings;
-    settings.tethers.push_back({"body", 1e5, 0.0});
-    ibfe = std::make_unique<ib::IbfeIntegrator>(*fluid, *solid, settings);
-    // Stretched isochorically by 1.1 along x about the centre.
-    std::vector<double> u(solid->num_dofs());
-    const fe::Vec3 factor(1.1, 1.0 / std::sqrt(1.1), 1.0 / std::sqrt(1.1));
-    for (std::size_t n = 0; n < mesh.num_nodes(); ++n)
-      for (int d = 0; d < 3; ++d) u[3 * n + d] = (factor[d] - 1.0) * (mesh.nodes()[n][d] - 0.5);
-    ibfe->set_displacement(u);
-  }
-};
-
-} // namespace
+using Block = StretchedBlock;
 
 TEST(CoupledStability, TheEstimateConvergesAndIsFarAboveThePerElementOne)
 {
