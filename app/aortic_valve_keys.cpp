@@ -152,8 +152,8 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
   tube.preset.clear();
   tube.law = "neo-hookean";
   tube.parameters = {{"mu", 100.0}}; // kPa
-  keys.merge(materials::material_schema("leaflets.material", leaflets));
-  keys.merge(materials::material_schema("tube.material", tube));
+  materials::bind(keys, k.leaflets_material, "leaflets.material", leaflets);
+  materials::bind(keys, k.tube_material, "tube.material", tube);
   keys.paths("leaflets.fit_data",
              "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "
              "its parameters is measured against: the report's fit_error, the first criterion of the study's "

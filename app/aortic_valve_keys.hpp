@@ -16,6 +16,7 @@
 #include "hemodynamics/report.hpp"
 #include "ib/ibfe.hpp"
 #include "io/key_binder.hpp"
+#include "materials/settings.hpp"
 
 namespace ibvalve::app {
 
@@ -32,6 +33,7 @@ struct AorticValveKeys {
   fluid::FluidSettings fluid;
   double backflow = 0;
   ValveMeshKeys mesh;
+  materials::MaterialKeys leaflets_material, tube_material;
   fibers::FiberRule rule = fibers::FiberRule::FD1;
   std::vector<std::string> tube_surfaces;
   double tube_stiffness = 0, tube_damping = 0, attachment_stiffness = 0, attachment_damping = 0;

@@ -90,9 +90,9 @@ class AorticValveRun : public PreparedRun {
           keys_.fail(k.lower, "the valve and tube must lie inside the box");
 
     // The leaflets carry one fiber family (fibers.rule), the tube none.
-    leaflet_material_ = read_part_material(config, "leaflets.material", 1);
+    leaflet_material_ = part_material(keys_, k.leaflets_material, 1);
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
-    tube_material_ = read_part_material(config, "tube.material", 0);
+    tube_material_ = part_material(keys_, k.tube_material, 0);
     ib_ = k.coupling;
     for (const std::string& surface : k.tube_surfaces)
       ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});

@@ -48,6 +48,23 @@ namespace {
 
 enum class Shape { file, box, spherical_shell };
 
+/// One [[structure.part]]: a volume group, its material, its fiber direction.
+struct PartKeys {
+  std::string group;
+  std::vector<double> fiber_direction;
+  materials::MaterialKeys material;
+};
+
+void bind(io::KeyBinder& keys, PartKeys& p)
+{
+  keys.string("group", "a volume group of the mesh", p.group).required();
+  keys.reals("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none",
+             p.fiber_direction)
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  materials::bind(keys, p.material, "material");
+}
+
 /// The model's own keys and where they go (io/key_binder.hpp); the materials, the volumetric integration,
 /// checkpoints and nested levels are their folders' sections.
 struct IbfeKeys {
@@ -67,26 +84,13 @@ struct IbfeKeys {
   std::vector<double> stretch;
   double inflated_inner_radius = 0;
   int quadrature_degree = 2;
+  materials::MaterialKeys material; // the whole mesh's, without [[structure.part]]
   std::vector<double> fiber_direction;
-  std::vector<io::Config> parts, tethers;
+  std::vector<PartKeys> parts;
+  std::vector<io::Config> tethers;
   ib::IbfeSettings ib;
   io::CheckpointSettings checkpoints;
 };
-
-/// The material of the whole mesh (without [[structure.part]]).
-constexpr const char* structure_material = "structure.material";
-
-/// One [[structure.part]]: a volume group, its material, its fiber direction.
-io::Schema part_schema()
-{
-  io::Schema part;
-  part.add_string("group", "a volume group of the mesh").required();
-  part.add_real_list("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none")
-      .size(3)
-      .defaults(std::vector<double>{0, 0, 0});
-  part.merge(materials::material_schema("material"));
-  return part;
-}
 
 /// One [[ib.tether]]: a group of nodes pulled back to its reference positions.
 io::Schema tether_schema()
@@ -188,19 +192,17 @@ void bind_structure(io::KeyBinder& keys, IbfeKeys& k)
       .defaults(std::int64_t{2})
       .at_least(1)
       .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) {
-    add_volumetric_integration_key(s, VolumetricIntegration::full);
-    s.merge(materials::material_schema(structure_material));
-  });
+  keys.section([](io::Schema& s) { add_volumetric_integration_key(s, VolumetricIntegration::full); });
+  materials::bind(keys, k.material, "structure.material");
   keys.reals("structure.fiber_direction",
              "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none",
              k.fiber_direction)
       .size(3)
       .defaults(std::vector<double>{0, 0, 0});
-  keys.tables("structure.part", part_schema(),
+  keys.tables("structure.part",
               "body parts, each a volume group with its own material and fibers (instead of "
               "[structure.material] for the whole mesh); every element in exactly one part",
-              k.parts);
+              k.parts, [](io::KeyBinder& part, PartKeys& p) { bind(part, p); });
 }
 
 void bind(io::KeyBinder& keys, IbfeKeys& k)
@@ -276,7 +278,7 @@ class IbfeRun : public PreparedRun {
       keys_.fail(k.inflated_inner_radius, "applies to the spherical-shell shape only");
     if (inflated_ > 0.0 && inflated_ < inner_radius_)
       keys_.fail(k.inflated_inner_radius, "must not be below " + keys_.key_of(k.inner_radius));
-    read_parts(config);
+    read_parts();
 
     settings_ = k.ib;
     for (const io::Config& t : k.tethers) {
@@ -399,30 +401,28 @@ class IbfeRun : public PreparedRun {
 
   // One part per [[structure.part]] (a volume group, its material, its fiber direction), or the whole
   // mesh with [structure.material].
-  void read_parts(const io::Config& config)
+  void read_parts()
   {
     fibers_.assign(mesh_.num_elements(), fiber_frame(k_.fiber_direction));
-    const VolumetricIntegration integration = read_volumetric_integration(config);
+    const VolumetricIntegration integration = read_volumetric_integration(config_);
     if (k_.parts.empty()) {
       std::vector<int> all(mesh_.num_elements());
       for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
       const int families = fiber_frame(k_.fiber_direction).f0.norm() > 0.0 ? 1 : 0;
       parts_.push_back(material_part("structure", std::move(all),
-                                     read_part_material(config, structure_material, families).build(),
-                                     integration));
+                                     part_material(keys_, k_.material, families).build(), integration));
       return;
     }
     std::vector<int> owner(mesh_.num_elements(), -1);
-    for (const io::Config& p : k_.parts) {
-      const std::string group = p.string("group");
-      if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
-        p.fail("group", "the mesh has no volume group '" + group + "'");
-      const materials::FiberFrame frame = fiber_frame(p.reals("fiber_direction"));
-      fe::BodyPart part = material_part(
-          group, mesh_.group(group).elements,
-          read_part_material(p, "material", frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
+    for (const PartKeys& p : k_.parts) {
+      if (!mesh_.has_group(p.group) || mesh_.group(p.group).dimension != 3)
+        keys_.fail(p.group, "the mesh has no volume group '" + p.group + "'");
+      const materials::FiberFrame frame = fiber_frame(p.fiber_direction);
+      fe::BodyPart part =
+          material_part(p.group, mesh_.group(p.group).elements,
+                        part_material(keys_, p.material, frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
       for (int e : part.elements) {
-        if (owner[e] >= 0) p.fail("group", fmt::format("element {} is already in another part", e));
+        if (owner[e] >= 0) keys_.fail(p.group, fmt::format("element {} is already in another part", e));
         owner[e] = static_cast<int>(parts_.size());
         fibers_[e] = frame;
       }

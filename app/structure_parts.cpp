@@ -45,11 +45,11 @@ fe::BodyPart material_part(std::string name, std::vector<int> elements,
   return part;
 }
 
-materials::MaterialSettings read_part_material(const io::Config& config, const std::string& prefix,
-                                               int fiber_families)
+materials::MaterialSettings part_material(const io::KeyBinder& keys, const materials::MaterialKeys& k,
+                                          int fiber_families)
 {
-  materials::MaterialSettings material = materials::read_material(config, prefix);
-  materials::check_fiber_families(material, fiber_families, config, prefix);
+  materials::MaterialSettings material = materials::material_settings(keys, k);
+  materials::check_fiber_families(material, fiber_families, keys, k);
   for (const std::string& warning : material.warnings) base::Logger::global().warn(warning);
   return material;
 }

@@ -13,6 +13,7 @@
 
 #include "fe/solid.hpp"
 #include "io/config.hpp"
+#include "io/key_binder.hpp"
 #include "materials/material.hpp"
 #include "materials/settings.hpp"
 
@@ -32,9 +33,10 @@ fe::BodyPart material_part(std::string name, std::vector<int> elements,
                            const std::shared_ptr<const materials::Material>& material,
                            VolumetricIntegration integration);
 
-/// read_material for a body part with `fiber_families` fiber families (0, 1 or 2): an expression law
-/// reading fibers the part lacks is an input error; its warnings (loss of convexity) are logged.
-materials::MaterialSettings read_part_material(const io::Config& config, const std::string& prefix,
-                                               int fiber_families);
+/// materials::material_settings for a body part with `fiber_families` fiber families (0, 1 or 2): an
+/// expression law reading fibers the part lacks is an input error; its warnings (loss of convexity) are
+/// logged.
+materials::MaterialSettings part_material(const io::KeyBinder& keys, const materials::MaterialKeys& k,
+                                          int fiber_families);
 
 } // namespace ibvalve::app
