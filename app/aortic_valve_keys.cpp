@@ -6,7 +6,7 @@
 #include "app/coupling_keys.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
-#include "app/structure_parts.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fluid/hierarchy.hpp"
 #include "io/checkpoint.hpp"
 #include "materials/settings.hpp"
@@ -241,11 +241,9 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(std::int64_t{2})
       .at_least(1)
       .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) {
-    // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
-    // integrated on the full rule: selective reduced integration by default (docs/fe.md).
-    add_volumetric_integration_key(s, VolumetricIntegration::reduced);
-  });
+  // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
+  // integrated on the full rule: selective reduced integration by default (docs/fe.md).
+  fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::reduced);
   hemodynamics::bind_report(keys, k.report);
   keys.section([](io::Schema& s) {
     io::add_checkpoint_schema(s);

@@ -11,6 +11,7 @@
 #include "app/adaptive_step.hpp"
 #include "app/valve_mesh.hpp"
 #include "drivers/keys.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fibers/rules.hpp"
 #include "fluid/settings.hpp"
 #include "hemodynamics/report.hpp"
@@ -44,6 +45,7 @@ struct AorticValveKeys {
   int orifice_resolution = 0;
   ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing
   int quadrature_degree = 0;
+  fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;
 };

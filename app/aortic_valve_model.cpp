@@ -48,6 +48,7 @@
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
 #include "fe/valve_mesh.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fibers/rules.hpp"
 #include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
@@ -224,14 +225,15 @@ class AorticValveRun : public PreparedRun {
   std::vector<fe::BodyPart> body_parts(std::vector<int>& leaflet_elements) const
   {
     std::vector<fe::BodyPart> parts;
-    const VolumetricIntegration volumetric_integration = read_volumetric_integration(config_);
+    const fe::VolumetricIntegration volumetric_integration = k_.volumetric_integration;
     for (int k = 1; k <= leaflet_count; ++k) {
       const auto& elements = mesh_.group(leaflet(k)).elements;
       leaflet_elements.insert(leaflet_elements.end(), elements.begin(), elements.end());
-      parts.push_back(material_part(leaflet(k), elements, leaflet_material_.build(), volumetric_integration));
+      parts.push_back(
+          fe::material_part(leaflet(k), elements, leaflet_material_.build(), volumetric_integration));
     }
-    parts.push_back(
-        material_part("tube", mesh_.group("tube").elements, tube_material_.build(), volumetric_integration));
+    parts.push_back(fe::material_part("tube", mesh_.group("tube").elements, tube_material_.build(),
+                                      volumetric_integration));
     return parts;
   }
 

@@ -32,6 +32,7 @@
 #include "fe/mesh.hpp"
 #include "fe/shell_mesh.hpp"
 #include "fe/solid.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
 #include "ib/eulerian_fluid.hpp"
@@ -84,6 +85,7 @@ struct IbfeKeys {
   std::vector<double> stretch;
   double inflated_inner_radius = 0;
   int quadrature_degree = 2;
+  fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
   materials::MaterialKeys material; // the whole mesh's, without [[structure.part]]
   std::vector<double> fiber_direction;
   std::vector<PartKeys> parts;
@@ -192,7 +194,7 @@ void bind_structure(io::KeyBinder& keys, IbfeKeys& k)
       .defaults(std::int64_t{2})
       .at_least(1)
       .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) { add_volumetric_integration_key(s, VolumetricIntegration::full); });
+  fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::full);
   materials::bind(keys, k.material, "structure.material");
   keys.reals("structure.fiber_direction",
              "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none",
@@ -404,13 +406,13 @@ class IbfeRun : public PreparedRun {
   void read_parts()
   {
     fibers_.assign(mesh_.num_elements(), fiber_frame(k_.fiber_direction));
-    const VolumetricIntegration integration = read_volumetric_integration(config_);
+    const fe::VolumetricIntegration integration = k_.volumetric_integration;
     if (k_.parts.empty()) {
       std::vector<int> all(mesh_.num_elements());
       for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
       const int families = fiber_frame(k_.fiber_direction).f0.norm() > 0.0 ? 1 : 0;
-      parts_.push_back(material_part("structure", std::move(all),
-                                     part_material(keys_, k_.material, families).build(), integration));
+      parts_.push_back(fe::material_part("structure", std::move(all),
+                                         part_material(keys_, k_.material, families).build(), integration));
       return;
     }
     std::vector<int> owner(mesh_.num_elements(), -1);
@@ -418,9 +420,9 @@ class IbfeRun : public PreparedRun {
       if (!mesh_.has_group(p.group) || mesh_.group(p.group).dimension != 3)
         keys_.fail(p.group, "the mesh has no volume group '" + p.group + "'");
       const materials::FiberFrame frame = fiber_frame(p.fiber_direction);
-      fe::BodyPart part =
-          material_part(p.group, mesh_.group(p.group).elements,
-                        part_material(keys_, p.material, frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
+      fe::BodyPart part = fe::material_part(
+          p.group, mesh_.group(p.group).elements,
+          part_material(keys_, p.material, frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
       for (int e : part.elements) {
         if (owner[e] >= 0) keys_.fail(p.group, fmt::format("element {} is already in another part", e));
         owner[e] = static_cast<int>(parts_.size());
