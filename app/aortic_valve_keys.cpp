@@ -3,11 +3,11 @@
 #include <string>
 #include <vector>
 
-#include "app/coupling_keys.hpp"
 #include "app/model.hpp"
 #include "app/resource_estimate.hpp"
 #include "fe/volumetric_integration.hpp"
 #include "fluid/hierarchy.hpp"
+#include "ib/keys.hpp"
 #include "io/checkpoint.hpp"
 #include "materials/settings.hpp"
 #include "windkessel/waveform.hpp"
@@ -236,7 +236,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   bind_structure(keys, k);
   bind_boundary(keys, k);
   // The default mesh's cells, a little longer than a grid cell, get 2 x 2 x 2 points (docs/reference.md).
-  bind_coupling_keys(keys, k.coupling, 1.0);
+  ib::bind(keys, k.coupling, 1.0);
   keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
       .defaults(std::int64_t{2})
       .at_least(1)

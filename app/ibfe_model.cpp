@@ -15,7 +15,6 @@
 
 #include <mpi.h>
 
-#include "app/coupling_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -37,6 +36,7 @@
 #include "fluid/hierarchy.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
+#include "ib/keys.hpp"
 #include "io/checkpoint.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
@@ -67,7 +67,7 @@ void bind(io::KeyBinder& keys, PartKeys& p)
 }
 
 /// The model's own keys and where they go (io/key_binder.hpp); the materials, the volumetric integration,
-/// checkpoints and nested levels are their folders' sections.
+/// the coupling (ib.*), checkpoints and nested levels are their folders' sections.
 struct IbfeKeys {
   double end = 0, step = 0;
   std::optional<double> fields_interval;
@@ -89,25 +89,9 @@ struct IbfeKeys {
   materials::MaterialKeys material; // the whole mesh's, without [[structure.part]]
   std::vector<double> fiber_direction;
   std::vector<PartKeys> parts;
-  std::vector<io::Config> tethers;
-  ib::IbfeSettings ib;
+  ib::IbfeSettings ib; // with its tethers
   io::CheckpointSettings checkpoints;
 };
-
-/// One [[ib.tether]]: a group of nodes pulled back to its reference positions.
-io::Schema tether_schema()
-{
-  io::Schema tether;
-  tether.add_string("group", "a physical group of the mesh (surface, volume or points)").required();
-  tether
-      .add_real("stiffness", "spring stiffness per area (surface), volume (volume) or per node (points), CGS")
-      .defaults(0.0)
-      .non_negative();
-  tether.add_real("damping", "dashpot coefficient, the same per unit velocity, CGS")
-      .defaults(0.0)
-      .non_negative();
-  return tether;
-}
 
 /// The run's length and outputs, and the fluid's box: time.*, output.*, fluid.*.
 void bind_time_and_fluid(io::KeyBinder& keys, IbfeKeys& k)
@@ -211,17 +195,9 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
 {
   bind_time_and_fluid(keys, k);
   bind_structure(keys, k);
-  bind_coupling_keys(keys, k.ib, 0.5);
-  const std::vector<std::pair<std::string, fe::MassKind>> projections{
-      {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
-  keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",
-              k.ib.velocity_projection, projections)
-      .defaults(std::string("consistent"));
-  keys.choice("ib.force_projection", "L2 projection of the nodal forces to a force density",
-              k.ib.force_projection, projections)
-      .defaults(std::string("consistent"));
-  keys.tables("ib.tether", tether_schema(),
-              "tethers pulling groups of nodes back to their reference positions", k.tethers);
+  ib::bind(keys, k.ib, 0.5);
+  ib::bind_projections(keys, k.ib);
+  ib::bind_tethers(keys, k.ib.tethers);
   io::bind(keys, k.checkpoints);
   keys.section([](io::Schema& s) {
     // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
@@ -282,12 +258,9 @@ class IbfeRun : public PreparedRun {
       keys_.fail(k.inflated_inner_radius, "must not be below " + keys_.key_of(k.inner_radius));
     read_parts();
 
+    for (const ib::Tether& t : k.ib.tethers)
+      if (!mesh_.has_group(t.group)) keys_.fail(t.group, "the mesh has no physical group '" + t.group + "'");
     settings_ = k.ib;
-    for (const io::Config& t : k.tethers) {
-      const std::string group = t.string("group");
-      if (!mesh_.has_group(group)) t.fail("group", "the mesh has no physical group '" + group + "'");
-      settings_.tethers.push_back({group, t.real("stiffness"), t.real("damping")});
-    }
 
     initial_ = initial_displacement();
     for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
