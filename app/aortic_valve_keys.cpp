@@ -245,11 +245,9 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   // integrated on the full rule: selective reduced integration by default (docs/fe.md).
   fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::reduced);
   hemodynamics::bind_report(keys, k.report);
-  keys.section([](io::Schema& s) {
-    io::add_checkpoint_schema(s);
-    // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
-    s.merge(fluid::nested_schema());
-  });
+  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+  // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
+  fluid::bind(keys, k.nested);
 }
 
 } // namespace ibvalve::app

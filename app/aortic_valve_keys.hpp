@@ -13,6 +13,7 @@
 #include "drivers/keys.hpp"
 #include "fe/volumetric_integration.hpp"
 #include "fibers/rules.hpp"
+#include "fluid/hierarchy.hpp"
 #include "fluid/settings.hpp"
 #include "hemodynamics/report.hpp"
 #include "ib/ibfe.hpp"
@@ -48,6 +49,7 @@ struct AorticValveKeys {
   fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;
+  fluid::NestedKeys nested;
 };
 
 /// Declares (a Schema binder) or reads (a Config binder) every key of the model.

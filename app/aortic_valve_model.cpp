@@ -150,7 +150,7 @@ class AorticValveRun : public PreparedRun {
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
     checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-    if (has_nested_levels(config)) read_levels(config);
+    if (!k.nested.ratios.empty()) read_levels(config);
     compute_leaflet_fibers(); // the last check: it solves a Laplace problem per leaflet
   }
 
@@ -572,10 +572,12 @@ class AorticValveRun : public PreparedRun {
   // finest level one box holding the whole structure with the kernel's reach.
   void read_levels(const io::Config& config)
   {
-    hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
+    hierarchy_ = std::make_unique<fluid::GridHierarchy>(read_structure_levels(
+        keys_, k_.nested, box_, mesh_.nodes(), ib_.kernel, keys_.key_of(k_.nested.boxes)));
     memory_line_ = check_memory(
-        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
+        config,
+        {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells), keys_.key_of(k_.nested.ratios)),
+          structure_memory_}},
         PETSC_COMM_WORLD);
   }
 

@@ -91,6 +91,7 @@ struct IbfeKeys {
   std::vector<PartKeys> parts;
   ib::IbfeSettings ib; // with its tethers
   io::CheckpointSettings checkpoints;
+  fluid::NestedKeys nested;
 };
 
 /// The run's length and outputs, and the fluid's box: time.*, output.*, fluid.*.
@@ -199,10 +200,8 @@ void bind(io::KeyBinder& keys, IbfeKeys& k)
   ib::bind_projections(keys, k.ib);
   ib::bind_tethers(keys, k.ib.tethers);
   io::bind(keys, k.checkpoints);
-  keys.section([](io::Schema& s) {
-    // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
-    s.merge(fluid::nested_schema());
-  });
+  // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
+  fluid::bind(keys, k.nested);
 }
 
 class IbfeRun : public PreparedRun {
@@ -272,7 +271,7 @@ class IbfeRun : public PreparedRun {
                                                : keys_.key_of(k.shell_center),
                       "the structure must lie inside the walled box");
       }
-    if (has_nested_levels(config)) read_levels(config);
+    if (!k.nested.ratios.empty()) read_levels(config);
     k_.checkpoints.case_record = io::case_record(config);
   }
 
@@ -352,15 +351,17 @@ class IbfeRun : public PreparedRun {
   void read_levels(const io::Config& config)
   {
     if (box_.periodic[0])
-      config.fail(nested_ratios_key, "nested grid levels need " + keys_.key_of(k_.periodic) +
-                                         " = \"walls\" (the composite solver has no periodic box)");
+      keys_.fail(k_.nested.ratios, "nested grid levels need " + keys_.key_of(k_.periodic) +
+                                       " = \"walls\" (the composite solver has no periodic box)");
     std::vector<fe::Vec3> positions(mesh_.num_nodes());
     for (std::size_t n = 0; n < positions.size(); ++n)
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        read_structure_levels(config, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
+        read_structure_levels(keys_, k_.nested, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
     memory_line_ = check_memory(
-        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
+        config,
+        {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells), keys_.key_of(k_.nested.ratios)),
+          structure_memory_}},
         PETSC_COMM_WORLD);
     // Centred convection on nested levels: second order on smooth flows (docs/nested.md).
     fluid_settings_.convection = fluid::ConvectionScheme::centered;
