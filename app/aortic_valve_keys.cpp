@@ -4,14 +4,14 @@
 #include <vector>
 
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
 #include "fe/volumetric_integration.hpp"
 #include "fluid/hierarchy.hpp"
 #include "ib/keys.hpp"
 #include "io/checkpoint.hpp"
 #include "materials/settings.hpp"
-#include "windkessel/waveform.hpp"
-#include "windkessel/windkessel.hpp"
+#include "windkessel/keys.hpp"
 
 namespace ibvalve::app {
 
@@ -90,16 +90,8 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
 /// The outputs' cadence and the blood in its box: output.*, fluid.*.
 void bind_fluid(io::KeyBinder& keys, AorticValveKeys& k)
 {
-  keys.real("output.fields_interval",
-            "simulated time between field snapshots (fields/*.h5 with fields_fluid.xdmf and "
-            "fields_structure.xdmf for ParaView); 0 = none",
-            k.fields_interval)
-      .unit("s")
-      .defaults(0.02)
-      .non_negative();
-  keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{40})
-      .at_least(1);
+  bind_fields_interval(keys, k.fields_interval, 0.02, "fields_fluid.xdmf and fields_structure.xdmf");
+  bind_row_every(keys, k.every, 40);
   bind_fluid_density(keys, k.fluid.rho, "blood density");
   keys.real("fluid.viscosity", "blood viscosity", k.fluid.mu)
       .unit("cP")
@@ -187,9 +179,8 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
 /// The drive and what is measured: lv_pressure.*, inlet.*, windkessel.*, outlet.*, circulation.*, probes.*.
 void bind_boundary(io::KeyBinder& keys, AorticValveKeys& k)
 {
-  keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg", false);
-  });
+  windkessel::bind(keys, k.drivers.lv_pressure, "lv_pressure", "LV pressure on the inlet disk, in mmHg",
+                   false);
   drivers::bind(keys, k.drivers); // which drivers: the table and the Windkessel, or the closed loop
   keys.real("inlet.radius", "radius of the inlet pressure disk (0 = the middle of the tube wall)",
             k.inlet_radius)
@@ -201,7 +192,7 @@ void bind_boundary(io::KeyBinder& keys, AorticValveKeys& k)
               "space around the tube's end)",
               k.inlet_walled, {{"zero-pressure", false}, {"wall", true}})
       .defaults(std::string("wall"));
-  keys.section([](io::Schema& s) { windkessel::add_schema(s, "windkessel"); });
+  windkessel::bind(keys, k.drivers.windkessel, "windkessel");
   keys.real("outlet.radius", "radius of the Windkessel disk (0 = the middle of the tube wall)",
             k.outlet_radius)
       .unit("cm")
@@ -245,7 +236,7 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   // integrated on the full rule: selective reduced integration by default (docs/fe.md).
   fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::reduced);
   hemodynamics::bind_report(keys, k.report);
-  keys.section([](io::Schema& s) { io::add_checkpoint_schema(s); });
+  io::bind(keys, k.checkpoints);
   // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
   fluid::bind(keys, k.nested);
 }

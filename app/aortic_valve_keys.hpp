@@ -17,6 +17,7 @@
 #include "fluid/settings.hpp"
 #include "hemodynamics/report.hpp"
 #include "ib/ibfe.hpp"
+#include "io/checkpoint.hpp"
 #include "io/key_binder.hpp"
 #include "materials/settings.hpp"
 
@@ -26,7 +27,8 @@ namespace ibvalve::app {
 struct AorticValveKeys {
   std::int64_t cycles = 0, every = 0;
   std::optional<double> end;
-  double step = 0, coaptation_step = 0, pressure_ramp = 0, fields_interval = 0;
+  double step = 0, coaptation_step = 0, pressure_ramp = 0;
+  std::optional<double> fields_interval; // its default set: always read
   std::vector<double> coaptation_window;
   bool adaptive = false;
   AdaptiveStepSettings adaptive_step;
@@ -49,6 +51,7 @@ struct AorticValveKeys {
   fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;
+  io::CheckpointSettings checkpoints; // its case_record the model's to fill in
   fluid::NestedKeys nested;
 };
 

@@ -76,7 +76,7 @@ class AorticValveRun : public PreparedRun {
   {
     bind(keys_, k_);
     const AorticValveKeys& k = k_;
-    drivers_ = std::make_unique<drivers::BoundaryDrivers>(drivers::make_drivers(keys_, k.drivers, config_));
+    drivers_ = std::make_unique<drivers::BoundaryDrivers>(drivers::make_drivers(keys_, k.drivers));
     hemodynamics::check_report_templates(keys_, k.report);
     box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
     box_.periodic = {false, false, false};
@@ -141,15 +141,16 @@ class AorticValveRun : public PreparedRun {
     }
     steps_per_cycle_ = static_cast<long>(schedule_.steps_per_cycle());
     read_end();
-    fields_every_ = k.fields_interval > 0
-                        ? std::max<long>(1, std::lround(k.fields_interval *
+    const double fields_interval = k.fields_interval.value_or(0.0);
+    fields_every_ = fields_interval > 0
+                        ? std::max<long>(1, std::lround(fields_interval *
                                                         static_cast<double>(steps_per_cycle_) / period_))
                         : 0;
     const double nadir = g.valve_base, top = nadir + g.commissure_height;
     flow_plane_z_ = nadir - k.flow_plane_offset;
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
+    k_.checkpoints.case_record = io::case_record(config);
     if (!k.nested.ratios.empty()) read_levels(config);
     compute_leaflet_fibers(); // the last check: it solves a Laplace problem per leaflet
   }
@@ -320,7 +321,7 @@ class AorticValveRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = steps_;
     loop.end_time = schedule_.time_of(steps_);
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.columns = hemodynamics::standard_columns();
     loop.units = hemodynamics::standard_units();
     for (const std::string& c : hemodynamics::leaflet_state_columns()) loop.columns.push_back(c);
@@ -657,7 +658,6 @@ class AorticValveRun : public PreparedRun {
   long steps_per_cycle_ = 1, steps_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   MemoryPart structure_memory_;
-  io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
 };
 

@@ -319,8 +319,11 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   // over, one of another case refused): chosen here, before anything is written.
   std::filesystem::path checkpoint;
   if (!options.restart.empty()) {
-    const auto file =
-        io::Checkpoints(PETSC_COMM_WORLD, directory, io::checkpoint_settings_from_config(config)).latest();
+    io::KeyBinder keys(config);
+    io::CheckpointSettings checkpoints;
+    io::bind(keys, checkpoints);
+    checkpoints.case_record = io::case_record(config);
+    const auto file = io::Checkpoints(PETSC_COMM_WORLD, directory, checkpoints).latest();
     // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
     if (!file)
       throw InputError(directory.string() +
