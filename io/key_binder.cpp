@@ -21,11 +21,6 @@ std::string KeyBinder::full(std::string_view key) const
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
 }
 
-void KeyBinder::merge(const Schema& other)
-{
-  if (!reading()) schema_->merge(other);
-}
-
 void KeyBinder::retired(std::string_view key, std::string why)
 {
   if (!reading()) schema_->retire(full(key), std::move(why));
@@ -155,17 +150,6 @@ KeyBuilder KeyBinder::strings(std::string_view key, std::string doc, std::vector
     return scratch();
   }
   return schema_->add_string_list(full(key), std::move(doc));
-}
-
-KeyBuilder KeyBinder::tables(std::string_view key, const Schema& element, std::string doc,
-                             std::vector<Config>& target)
-{
-  bound(key, &target);
-  if (reading()) {
-    if (config_->has(full(key))) target = config_->tables(full(key));
-    return scratch();
-  }
-  return schema_->add_table_list(full(key), element, std::move(doc));
 }
 
 KeyBuilder KeyBinder::named_reals(std::string_view key, std::string doc,

@@ -39,16 +39,6 @@ class KeyBinder {
   const Config& config() const;
   /// The full key of `key`: "<prefix>.<key>", or `key` without a prefix.
   std::string full(std::string_view key) const;
-  /// Declaring: adds every key of `other` (a schema built elsewhere); reading: nothing.
-  void merge(const Schema& other);
-  /// Declaring: calls `add(schema)` (a folder's add_schema, whose keys its own from_config reads);
-  /// reading: nothing.
-  template <class F>
-  void section(F&& add)
-  {
-    if (!reading()) add(*schema_);
-  }
-
   /// Declaring: refuses `key` with "file:line: key: <why>" (Schema::retire); reading: nothing.
   void retired(std::string_view key, std::string why);
 
@@ -66,10 +56,6 @@ class KeyBinder {
   KeyBuilder reals(std::string_view key, std::string doc, std::vector<double>& target);
   KeyBuilder integers(std::string_view key, std::string doc, std::vector<std::int64_t>& target);
   KeyBuilder strings(std::string_view key, std::string doc, std::vector<std::string>& target);
-  /// An array of tables ([[key]]), each element checked against `element` and read by the caller from
-  /// its Config; unset leaves the target empty.
-  KeyBuilder tables(std::string_view key, const Schema& element, std::string doc,
-                    std::vector<Config>& target);
   /// A table of numbers under names the user chooses (`key = { a = 1.0, b = 2.5 }`), as written (no
   /// unit conversion); unset leaves the target empty.
   KeyBuilder named_reals(std::string_view key, std::string doc,
