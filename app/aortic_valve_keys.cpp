@@ -3,15 +3,15 @@
 #include <string>
 #include <vector>
 
-#include "app/coupling_keys.hpp"
 #include "app/model.hpp"
+#include "app/output_keys.hpp"
 #include "app/resource_estimate.hpp"
-#include "app/structure_parts.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fluid/hierarchy.hpp"
+#include "ib/keys.hpp"
 #include "io/checkpoint.hpp"
 #include "materials/settings.hpp"
-#include "windkessel/waveform.hpp"
-#include "windkessel/windkessel.hpp"
+#include "windkessel/keys.hpp"
 
 namespace ibvalve::app {
 
@@ -90,16 +90,8 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
 /// The outputs' cadence and the blood in its box: output.*, fluid.*.
 void bind_fluid(io::KeyBinder& keys, AorticValveKeys& k)
 {
-  keys.real("output.fields_interval",
-            "simulated time between field snapshots (fields/*.h5 with fields_fluid.xdmf and "
-            "fields_structure.xdmf for ParaView); 0 = none",
-            k.fields_interval)
-      .unit("s")
-      .defaults(0.02)
-      .non_negative();
-  keys.integer("output.every", "write a time-series row every this many steps", k.every)
-      .defaults(std::int64_t{40})
-      .at_least(1);
+  bind_fields_interval(keys, k.fields_interval, 0.02, "fields_fluid.xdmf and fields_structure.xdmf");
+  bind_row_every(keys, k.every, 40);
   bind_fluid_density(keys, k.fluid.rho, "blood density");
   keys.real("fluid.viscosity", "blood viscosity", k.fluid.mu)
       .unit("cP")
@@ -152,8 +144,8 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
   tube.preset.clear();
   tube.law = "neo-hookean";
   tube.parameters = {{"mu", 100.0}}; // kPa
-  keys.merge(materials::material_schema("leaflets.material", leaflets));
-  keys.merge(materials::material_schema("tube.material", tube));
+  materials::bind(keys, k.leaflets_material, "leaflets.material", leaflets);
+  materials::bind(keys, k.tube_material, "tube.material", tube);
   keys.paths("leaflets.fit_data",
              "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "
              "its parameters is measured against: the report's fit_error, the first criterion of the study's "
@@ -187,9 +179,8 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
 /// The drive and what is measured: lv_pressure.*, inlet.*, windkessel.*, outlet.*, circulation.*, probes.*.
 void bind_boundary(io::KeyBinder& keys, AorticValveKeys& k)
 {
-  keys.section([](io::Schema& s) {
-    windkessel::add_waveform_schema(s, "lv_pressure", "LV pressure on the inlet disk, in mmHg", false);
-  });
+  windkessel::bind(keys, k.drivers.lv_pressure, "lv_pressure", "LV pressure on the inlet disk, in mmHg",
+                   false);
   drivers::bind(keys, k.drivers); // which drivers: the table and the Windkessel, or the closed loop
   keys.real("inlet.radius", "radius of the inlet pressure disk (0 = the middle of the tube wall)",
             k.inlet_radius)
@@ -201,7 +192,7 @@ void bind_boundary(io::KeyBinder& keys, AorticValveKeys& k)
               "space around the tube's end)",
               k.inlet_walled, {{"zero-pressure", false}, {"wall", true}})
       .defaults(std::string("wall"));
-  keys.section([](io::Schema& s) { windkessel::add_schema(s, "windkessel"); });
+  windkessel::bind(keys, k.drivers.windkessel, "windkessel");
   keys.real("outlet.radius", "radius of the Windkessel disk (0 = the middle of the tube wall)",
             k.outlet_radius)
       .unit("cm")
@@ -236,22 +227,18 @@ void bind(io::KeyBinder& keys, AorticValveKeys& k)
   bind_structure(keys, k);
   bind_boundary(keys, k);
   // The default mesh's cells, a little longer than a grid cell, get 2 x 2 x 2 points (docs/reference.md).
-  bind_coupling_keys(keys, k.coupling, 1.0);
+  ib::bind(keys, k.coupling, 1.0);
   keys.integer("structure.quadrature_degree", "Gauss rule degree of the force integrals", k.quadrature_degree)
       .defaults(std::int64_t{2})
       .at_least(1)
       .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) {
-    // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
-    // integrated on the full rule: selective reduced integration by default (docs/fe.md).
-    add_volumetric_integration_key(s, VolumetricIntegration::reduced);
-  });
+  // One hex through the leaflet thickness locks in bending when the penalty (kappa/mu ~ 800) is
+  // integrated on the full rule: selective reduced integration by default (docs/fe.md).
+  fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::reduced);
   hemodynamics::bind_report(keys, k.report);
-  keys.section([](io::Schema& s) {
-    io::add_checkpoint_schema(s);
-    // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
-    s.merge(fluid::nested_schema());
-  });
+  io::bind(keys, k.checkpoints);
+  // Nested grid levels around the valve and tube (docs/nested.md): the structure on the finest level.
+  fluid::bind(keys, k.nested);
 }
 
 } // namespace ibvalve::app

@@ -11,11 +11,15 @@
 #include "app/adaptive_step.hpp"
 #include "app/valve_mesh.hpp"
 #include "drivers/keys.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fibers/rules.hpp"
+#include "fluid/hierarchy.hpp"
 #include "fluid/settings.hpp"
 #include "hemodynamics/report.hpp"
 #include "ib/ibfe.hpp"
+#include "io/checkpoint.hpp"
 #include "io/key_binder.hpp"
+#include "materials/settings.hpp"
 
 namespace ibvalve::app {
 
@@ -23,7 +27,8 @@ namespace ibvalve::app {
 struct AorticValveKeys {
   std::int64_t cycles = 0, every = 0;
   std::optional<double> end;
-  double step = 0, coaptation_step = 0, pressure_ramp = 0, fields_interval = 0;
+  double step = 0, coaptation_step = 0, pressure_ramp = 0;
+  std::optional<double> fields_interval; // its default set: always read
   std::vector<double> coaptation_window;
   bool adaptive = false;
   AdaptiveStepSettings adaptive_step;
@@ -32,6 +37,7 @@ struct AorticValveKeys {
   fluid::FluidSettings fluid;
   double backflow = 0;
   ValveMeshKeys mesh;
+  materials::MaterialKeys leaflets_material, tube_material;
   fibers::FiberRule rule = fibers::FiberRule::FD1;
   std::vector<std::string> tube_surfaces;
   double tube_stiffness = 0, tube_damping = 0, attachment_stiffness = 0, attachment_damping = 0;
@@ -42,8 +48,11 @@ struct AorticValveKeys {
   int orifice_resolution = 0;
   ib::IbfeSettings coupling; // ib.kernel, ib.point_spacing
   int quadrature_degree = 0;
+  fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
   hemodynamics::ReportSettings report;
   std::vector<std::filesystem::path> fit_data;
+  io::CheckpointSettings checkpoints; // its case_record the model's to fill in
+  fluid::NestedKeys nested;
 };
 
 /// Declares (a Schema binder) or reads (a Config binder) every key of the model.

@@ -48,6 +48,7 @@
 #include "fe/mesh.hpp"
 #include "fe/solid.hpp"
 #include "fe/valve_mesh.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fibers/rules.hpp"
 #include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
@@ -75,7 +76,7 @@ class AorticValveRun : public PreparedRun {
   {
     bind(keys_, k_);
     const AorticValveKeys& k = k_;
-    drivers_ = std::make_unique<drivers::BoundaryDrivers>(drivers::make_drivers(keys_, k.drivers, config_));
+    drivers_ = std::make_unique<drivers::BoundaryDrivers>(drivers::make_drivers(keys_, k.drivers));
     hemodynamics::check_report_templates(keys_, k.report);
     box_ = fluid_box(keys_, k.cells, k.lower, k.upper);
     box_.periodic = {false, false, false};
@@ -90,9 +91,9 @@ class AorticValveRun : public PreparedRun {
           keys_.fail(k.lower, "the valve and tube must lie inside the box");
 
     // The leaflets carry one fiber family (fibers.rule), the tube none.
-    leaflet_material_ = read_part_material(config, "leaflets.material", 1);
+    leaflet_material_ = part_material(keys_, k.leaflets_material, 1);
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
-    tube_material_ = read_part_material(config, "tube.material", 0);
+    tube_material_ = part_material(keys_, k.tube_material, 0);
     ib_ = k.coupling;
     for (const std::string& surface : k.tube_surfaces)
       ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});
@@ -140,16 +141,17 @@ class AorticValveRun : public PreparedRun {
     }
     steps_per_cycle_ = static_cast<long>(schedule_.steps_per_cycle());
     read_end();
-    fields_every_ = k.fields_interval > 0
-                        ? std::max<long>(1, std::lround(k.fields_interval *
+    const double fields_interval = k.fields_interval.value_or(0.0);
+    fields_every_ = fields_interval > 0
+                        ? std::max<long>(1, std::lround(fields_interval *
                                                         static_cast<double>(steps_per_cycle_) / period_))
                         : 0;
     const double nadir = g.valve_base, top = nadir + g.commissure_height;
     flow_plane_z_ = nadir - k.flow_plane_offset;
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
-    checkpoint_settings_ = io::checkpoint_settings_from_config(config);
-    if (has_nested_levels(config)) read_levels(config);
+    k_.checkpoints.case_record = io::case_record(config);
+    if (!k.nested.ratios.empty()) read_levels(config);
     compute_leaflet_fibers(); // the last check: it solves a Laplace problem per leaflet
   }
 
@@ -224,14 +226,15 @@ class AorticValveRun : public PreparedRun {
   std::vector<fe::BodyPart> body_parts(std::vector<int>& leaflet_elements) const
   {
     std::vector<fe::BodyPart> parts;
-    const VolumetricIntegration volumetric_integration = read_volumetric_integration(config_);
+    const fe::VolumetricIntegration volumetric_integration = k_.volumetric_integration;
     for (int k = 1; k <= leaflet_count; ++k) {
       const auto& elements = mesh_.group(leaflet(k)).elements;
       leaflet_elements.insert(leaflet_elements.end(), elements.begin(), elements.end());
-      parts.push_back(material_part(leaflet(k), elements, leaflet_material_.build(), volumetric_integration));
+      parts.push_back(
+          fe::material_part(leaflet(k), elements, leaflet_material_.build(), volumetric_integration));
     }
-    parts.push_back(
-        material_part("tube", mesh_.group("tube").elements, tube_material_.build(), volumetric_integration));
+    parts.push_back(fe::material_part("tube", mesh_.group("tube").elements, tube_material_.build(),
+                                      volumetric_integration));
     return parts;
   }
 
@@ -318,7 +321,7 @@ class AorticValveRun : public PreparedRun {
     loop.comm = context.comm;
     loop.steps = steps_;
     loop.end_time = schedule_.time_of(steps_);
-    loop.checkpoints = checkpoint_settings_;
+    loop.checkpoints = k_.checkpoints;
     loop.columns = hemodynamics::standard_columns();
     loop.units = hemodynamics::standard_units();
     for (const std::string& c : hemodynamics::leaflet_state_columns()) loop.columns.push_back(c);
@@ -577,12 +580,14 @@ class AorticValveRun : public PreparedRun {
   {
     if (k_.coupling.coupling == ib::CouplingKind::semi_implicit)
       keys_.fail(k_.coupling.coupling,
-                 std::string("\"semi-implicit\" needs the fluid on one grid, not on the levels of ") +
-                     nested_ratios_key);
-    hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        read_structure_levels(config, box_, mesh_.nodes(), ib_.kernel, "nested.box"));
+                 "\"semi-implicit\" needs the fluid on one grid, not on the levels of " +
+                     keys_.key_of(k_.nested.ratios));
+    hierarchy_ = std::make_unique<fluid::GridHierarchy>(read_structure_levels(
+        keys_, k_.nested, box_, mesh_.nodes(), ib_.kernel, keys_.key_of(k_.nested.boxes)));
     memory_line_ = check_memory(
-        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
+        config,
+        {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells), keys_.key_of(k_.nested.ratios)),
+          structure_memory_}},
         PETSC_COMM_WORLD);
   }
 
@@ -663,7 +668,6 @@ class AorticValveRun : public PreparedRun {
   long steps_per_cycle_ = 1, steps_ = 1, fields_every_ = 0;
   double flow_plane_z_ = 0, near_lv_z_ = 0, near_ao_z_ = 0;
   MemoryPart structure_memory_;
-  io::CheckpointSettings checkpoint_settings_;
   std::unique_ptr<fluid::GridHierarchy> hierarchy_; // nested levels; null on one grid
 };
 

@@ -117,11 +117,11 @@ std::string refused_case_petsc_options(std::string_view text)
   return "";
 }
 
-void check_case_petsc_options(const io::Config& config)
+void check_case_petsc_options(const io::KeyBinder& keys, const std::string& options)
 {
-  const std::string why = refused_case_petsc_options(config.string("petsc.options"));
+  const std::string why = refused_case_petsc_options(options);
   if (!why.empty())
-    config.fail("petsc.options", why + "; not taken from a case file (give it on the command line after --)");
+    keys.fail(options, why + "; not taken from a case file (give it on the command line after --)");
 }
 
 } // namespace ibvalve::app

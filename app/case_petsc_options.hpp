@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::app {
 
@@ -23,7 +23,8 @@ namespace ibvalve::app {
 ///  - none names python, draw, _lg, save, dump or file (Python code, windows, files).
 std::string refused_case_petsc_options(std::string_view text);
 
-/// Throws the input error "FILE:LINE: petsc.options: -OPTION: why; ..." for refused options.
-void check_case_petsc_options(const io::Config& config);
+/// Throws the input error "FILE:LINE: petsc.options: -OPTION: why; ..." for refused options: `options` is
+/// the text `keys` read from the case's petsc.options.
+void check_case_petsc_options(const io::KeyBinder& keys, const std::string& options);
 
 } // namespace ibvalve::app

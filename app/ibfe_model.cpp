@@ -15,7 +15,6 @@
 
 #include <mpi.h>
 
-#include "app/coupling_keys.hpp"
 #include "app/fftw_plans.hpp"
 #include "app/fluid_box.hpp"
 #include "app/ibfe_fields.hpp"
@@ -32,10 +31,12 @@
 #include "fe/mesh.hpp"
 #include "fe/shell_mesh.hpp"
 #include "fe/solid.hpp"
+#include "fe/volumetric_integration.hpp"
 #include "fluid/flow_solver.hpp"
 #include "fluid/hierarchy.hpp"
 #include "ib/eulerian_fluid.hpp"
 #include "ib/ibfe.hpp"
+#include "ib/keys.hpp"
 #include "io/checkpoint.hpp"
 #include "io/files.hpp"
 #include "io/hdf5.hpp"
@@ -48,8 +49,25 @@ namespace {
 
 enum class Shape { file, box, spherical_shell };
 
+/// One [[structure.part]]: a volume group, its material, its fiber direction.
+struct PartKeys {
+  std::string group;
+  std::vector<double> fiber_direction;
+  materials::MaterialKeys material;
+};
+
+void bind(io::KeyBinder& keys, PartKeys& p)
+{
+  keys.string("group", "a volume group of the mesh", p.group).required();
+  keys.reals("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none",
+             p.fiber_direction)
+      .size(3)
+      .defaults(std::vector<double>{0, 0, 0});
+  materials::bind(keys, p.material, "material");
+}
+
 /// The model's own keys and where they go (io/key_binder.hpp); the materials, the volumetric integration,
-/// checkpoints and nested levels are their folders' sections.
+/// the coupling (ib.*), checkpoints and nested levels are their folders' sections.
 struct IbfeKeys {
   double end = 0, step = 0;
   std::optional<double> fields_interval;
@@ -67,41 +85,14 @@ struct IbfeKeys {
   std::vector<double> stretch;
   double inflated_inner_radius = 0;
   int quadrature_degree = 2;
+  fe::VolumetricIntegration volumetric_integration = fe::VolumetricIntegration::full;
+  materials::MaterialKeys material; // the whole mesh's, without [[structure.part]]
   std::vector<double> fiber_direction;
-  std::vector<io::Config> parts, tethers;
-  ib::IbfeSettings ib;
+  std::vector<PartKeys> parts;
+  ib::IbfeSettings ib; // with its tethers
   io::CheckpointSettings checkpoints;
+  fluid::NestedKeys nested;
 };
-
-/// The material of the whole mesh (without [[structure.part]]).
-constexpr const char* structure_material = "structure.material";
-
-/// One [[structure.part]]: a volume group, its material, its fiber direction.
-io::Schema part_schema()
-{
-  io::Schema part;
-  part.add_string("group", "a volume group of the mesh").required();
-  part.add_real_list("fiber_direction", "reference fiber direction f0 of this part; [0, 0, 0] = none")
-      .size(3)
-      .defaults(std::vector<double>{0, 0, 0});
-  part.merge(materials::material_schema("material"));
-  return part;
-}
-
-/// One [[ib.tether]]: a group of nodes pulled back to its reference positions.
-io::Schema tether_schema()
-{
-  io::Schema tether;
-  tether.add_string("group", "a physical group of the mesh (surface, volume or points)").required();
-  tether
-      .add_real("stiffness", "spring stiffness per area (surface), volume (volume) or per node (points), CGS")
-      .defaults(0.0)
-      .non_negative();
-  tether.add_real("damping", "dashpot coefficient, the same per unit velocity, CGS")
-      .defaults(0.0)
-      .non_negative();
-  return tether;
-}
 
 /// The run's length and outputs, and the fluid's box: time.*, output.*, fluid.*.
 void bind_time_and_fluid(io::KeyBinder& keys, IbfeKeys& k)
@@ -188,41 +179,29 @@ void bind_structure(io::KeyBinder& keys, IbfeKeys& k)
       .defaults(std::int64_t{2})
       .at_least(1)
       .at_most(max_quadrature_degree);
-  keys.section([](io::Schema& s) {
-    add_volumetric_integration_key(s, VolumetricIntegration::full);
-    s.merge(materials::material_schema(structure_material));
-  });
+  fe::bind(keys, k.volumetric_integration, fe::VolumetricIntegration::full);
+  materials::bind(keys, k.material, "structure.material");
   keys.reals("structure.fiber_direction",
              "reference fiber direction f0 (normalised) for laws with fibers; [0, 0, 0] = none",
              k.fiber_direction)
       .size(3)
       .defaults(std::vector<double>{0, 0, 0});
-  keys.tables("structure.part", part_schema(),
+  keys.tables("structure.part",
               "body parts, each a volume group with its own material and fibers (instead of "
               "[structure.material] for the whole mesh); every element in exactly one part",
-              k.parts);
+              k.parts, [](io::KeyBinder& part, PartKeys& p) { bind(part, p); });
 }
 
 void bind(io::KeyBinder& keys, IbfeKeys& k)
 {
   bind_time_and_fluid(keys, k);
   bind_structure(keys, k);
-  bind_coupling_keys(keys, k.ib, 0.5);
-  const std::vector<std::pair<std::string, fe::MassKind>> projections{
-      {"consistent", fe::MassKind::consistent}, {"lumped", fe::MassKind::lumped}};
-  keys.choice("ib.velocity_projection", "L2 projection of the interpolated velocity to the nodes",
-              k.ib.velocity_projection, projections)
-      .defaults(std::string("consistent"));
-  keys.choice("ib.force_projection", "L2 projection of the nodal forces to a force density",
-              k.ib.force_projection, projections)
-      .defaults(std::string("consistent"));
-  keys.tables("ib.tether", tether_schema(),
-              "tethers pulling groups of nodes back to their reference positions", k.tethers);
+  ib::bind(keys, k.ib, 0.5);
+  ib::bind_projections(keys, k.ib);
+  ib::bind_tethers(keys, k.ib.tethers);
   io::bind(keys, k.checkpoints);
-  keys.section([](io::Schema& s) {
-    // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
-    s.merge(fluid::nested_schema());
-  });
+  // Nested grid levels around the structure (walls only): the IB on the finest level (docs/nested.md).
+  fluid::bind(keys, k.nested);
 }
 
 class IbfeRun : public PreparedRun {
@@ -276,14 +255,11 @@ class IbfeRun : public PreparedRun {
       keys_.fail(k.inflated_inner_radius, "applies to the spherical-shell shape only");
     if (inflated_ > 0.0 && inflated_ < inner_radius_)
       keys_.fail(k.inflated_inner_radius, "must not be below " + keys_.key_of(k.inner_radius));
-    read_parts(config);
+    read_parts();
 
+    for (const ib::Tether& t : k.ib.tethers)
+      if (!mesh_.has_group(t.group)) keys_.fail(t.group, "the mesh has no physical group '" + t.group + "'");
     settings_ = k.ib;
-    for (const io::Config& t : k.tethers) {
-      const std::string group = t.string("group");
-      if (!mesh_.has_group(group)) t.fail("group", "the mesh has no physical group '" + group + "'");
-      settings_.tethers.push_back({group, t.real("stiffness"), t.real("damping")});
-    }
 
     initial_ = initial_displacement();
     for (std::size_t n = 0; n < mesh_.num_nodes(); ++n)
@@ -295,7 +271,7 @@ class IbfeRun : public PreparedRun {
                                                : keys_.key_of(k.shell_center),
                       "the structure must lie inside the walled box");
       }
-    if (has_nested_levels(config)) read_levels(config);
+    if (!k.nested.ratios.empty()) read_levels(config);
     k_.checkpoints.case_record = io::case_record(config);
   }
 
@@ -375,19 +351,20 @@ class IbfeRun : public PreparedRun {
   void read_levels(const io::Config& config)
   {
     if (box_.periodic[0])
-      config.fail(nested_ratios_key, "nested grid levels need " + keys_.key_of(k_.periodic) +
-                                         " = \"walls\" (the composite solver has no periodic box)");
+      keys_.fail(k_.nested.ratios, "nested grid levels need " + keys_.key_of(k_.periodic) +
+                                       " = \"walls\" (the composite solver has no periodic box)");
     if (k_.ib.coupling == ib::CouplingKind::semi_implicit)
-      keys_.fail(k_.ib.coupling,
-                 std::string("\"semi-implicit\" needs the fluid on one grid, not on the levels of ") +
-                     nested_ratios_key);
+      keys_.fail(k_.ib.coupling, "\"semi-implicit\" needs the fluid on one grid, not on the levels of " +
+                                     keys_.key_of(k_.nested.ratios));
     std::vector<fe::Vec3> positions(mesh_.num_nodes());
     for (std::size_t n = 0; n < positions.size(); ++n)
       for (int d = 0; d < 3; ++d) positions[n][d] = mesh_.nodes()[n][d] + initial_[3 * n + d];
     hierarchy_ = std::make_unique<fluid::GridHierarchy>(
-        read_structure_levels(config, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
+        read_structure_levels(keys_, k_.nested, box_, positions, settings_.kernel, keys_.key_of(k_.shape)));
     memory_line_ = check_memory(
-        config, {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells)), structure_memory_}},
+        config,
+        {{nested_fluid_memory(*hierarchy_, box_, keys_.key_of(k_.cells), keys_.key_of(k_.nested.ratios)),
+          structure_memory_}},
         PETSC_COMM_WORLD);
     // Centred convection on nested levels: second order on smooth flows (docs/nested.md).
     fluid_settings_.convection = fluid::ConvectionScheme::centered;
@@ -403,30 +380,28 @@ class IbfeRun : public PreparedRun {
 
   // One part per [[structure.part]] (a volume group, its material, its fiber direction), or the whole
   // mesh with [structure.material].
-  void read_parts(const io::Config& config)
+  void read_parts()
   {
     fibers_.assign(mesh_.num_elements(), fiber_frame(k_.fiber_direction));
-    const VolumetricIntegration integration = read_volumetric_integration(config);
+    const fe::VolumetricIntegration integration = k_.volumetric_integration;
     if (k_.parts.empty()) {
       std::vector<int> all(mesh_.num_elements());
       for (std::size_t e = 0; e < all.size(); ++e) all[e] = static_cast<int>(e);
       const int families = fiber_frame(k_.fiber_direction).f0.norm() > 0.0 ? 1 : 0;
-      parts_.push_back(material_part("structure", std::move(all),
-                                     read_part_material(config, structure_material, families).build(),
-                                     integration));
+      parts_.push_back(fe::material_part("structure", std::move(all),
+                                         part_material(keys_, k_.material, families).build(), integration));
       return;
     }
     std::vector<int> owner(mesh_.num_elements(), -1);
-    for (const io::Config& p : k_.parts) {
-      const std::string group = p.string("group");
-      if (!mesh_.has_group(group) || mesh_.group(group).dimension != 3)
-        p.fail("group", "the mesh has no volume group '" + group + "'");
-      const materials::FiberFrame frame = fiber_frame(p.reals("fiber_direction"));
-      fe::BodyPart part = material_part(
-          group, mesh_.group(group).elements,
-          read_part_material(p, "material", frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
+    for (const PartKeys& p : k_.parts) {
+      if (!mesh_.has_group(p.group) || mesh_.group(p.group).dimension != 3)
+        keys_.fail(p.group, "the mesh has no volume group '" + p.group + "'");
+      const materials::FiberFrame frame = fiber_frame(p.fiber_direction);
+      fe::BodyPart part = fe::material_part(
+          p.group, mesh_.group(p.group).elements,
+          part_material(keys_, p.material, frame.f0.norm() > 0.0 ? 1 : 0).build(), integration);
       for (int e : part.elements) {
-        if (owner[e] >= 0) p.fail("group", fmt::format("element {} is already in another part", e));
+        if (owner[e] >= 0) keys_.fail(p.group, fmt::format("element {} is already in another part", e));
         owner[e] = static_cast<int>(parts_.size());
         fibers_[e] = frame;
       }

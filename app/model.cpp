@@ -51,24 +51,36 @@ const Model* find_model(const std::string& name)
   return nullptr;
 }
 
-io::Schema common_schema()
+void bind(io::KeyBinder& keys, CommonKeys& k)
 {
-  io::Schema s;
-  s.add_string("model", "what to run").required().choices(model_names());
-  s.add_string("name", "a name for the case, used for the default run folder").defaults(std::string{});
-  s.add_string("output.directory",
-               "run folder (relative to the working directory); default runs/<case name>");
-  s.add_string("log.level", "how much to print")
-      .defaults(std::string("normal"))
-      .choices({"quiet", "normal", "verbose"});
-  s.add_real("log.progress_interval", "seconds between progress lines when not on a terminal")
+  keys.string("model", "what to run", k.model).required().choices(model_names());
+  keys.string("name", "a name for the case, used for the default run folder", k.name).defaults(std::string{});
+  keys.string("output.directory", "run folder (relative to the working directory); default runs/<case name>",
+              k.output_directory);
+  keys.choice("log.level", "how much to print", k.log_level,
+              {{"quiet", base::LogLevel::quiet},
+               {"normal", base::LogLevel::normal},
+               {"verbose", base::LogLevel::verbose}})
+      .defaults(std::string("normal"));
+  keys.real("log.progress_interval", "seconds between progress lines when not on a terminal",
+            k.progress_interval)
       .unit("s")
       .defaults(10.0)
       .positive();
-  s.add_string("petsc.options", "PETSc options of ibvalve's solvers (e.g. \"-fluid_stokes_ksp_type gmres\"; "
-                                "the rule: docs/design.md); command-line options win")
+  keys.string("petsc.options",
+              "PETSc options of ibvalve's solvers (e.g. \"-fluid_stokes_ksp_type gmres\"; "
+              "the rule: docs/design.md); command-line options win",
+              k.petsc_options)
       .defaults(std::string{});
-  add_memory_schema(s);
+  bind(keys, k.memory);
+}
+
+io::Schema common_schema()
+{
+  io::Schema s;
+  io::KeyBinder keys(s);
+  CommonKeys unused;
+  bind(keys, unused);
   retire_output_spellings(s);
   return s;
 }

@@ -14,6 +14,8 @@
 
 #include <mpi.h>
 
+#include "app/resource_estimate.hpp"
+#include "base/logger.hpp"
 #include "io/config.hpp"
 #include "io/key_binder.hpp"
 
@@ -86,7 +88,21 @@ void bind_fluid_density(io::KeyBinder& keys, double& rho, const std::string& doc
 /// fluid and ibfe models (the aortic valve's is blood's, with a narrower typical range).
 void bind_fluid_viscosity(io::KeyBinder& keys, double& mu, double default_cP);
 
-/// The keys every case has (model, name, time, output, log, petsc).
+/// The keys every case has, whatever its model (io/key_binder.hpp): what it runs, its name and run
+/// folder, the log, its PETSc options and the memory limit.
+struct CommonKeys {
+  std::string model, name;
+  std::string output_directory; ///< no default: runs/<name>
+  base::LogLevel log_level = base::LogLevel::normal;
+  double progress_interval = 0.0; ///< s
+  std::string petsc_options;
+  MemoryKeys memory;
+};
+
+/// Declares (a Schema binder) or reads (a Config binder) the keys every case has.
+void bind(io::KeyBinder& keys, CommonKeys& k);
+
+/// The keys every case has (bind(keys, CommonKeys&)) and the retired spellings every case is refused.
 io::Schema common_schema();
 /// common_schema() plus the model's own keys.
 io::Schema case_schema(const Model& model);

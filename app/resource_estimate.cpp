@@ -91,7 +91,11 @@ std::string check_memory(const io::Config& config, const MemoryEstimate& estimat
   int ranks = 1;
   MPI_Comm_size(comm, &ranks);
   const double machine = machine_bytes(comm);
-  const double chosen = config.real("run.max_memory") * gib;
+  io::KeyBinder keys(config);
+  MemoryKeys k;
+  bind(keys, k);
+  const std::string& max_memory = keys.key_of(k.max_memory);
+  const double chosen = k.max_memory * gib;
   const double limit = chosen > 0.0 ? chosen : machine;
   const double need = estimate.total(ranks);
   std::string parts;
@@ -101,21 +105,21 @@ std::string check_memory(const io::Config& config, const MemoryEstimate& estimat
     if (!largest || part.bytes > largest->bytes) largest = &part;
   }
   const std::string limit_text =
-      chosen > 0.0 ? "run.max_memory is " + gib_text(chosen) : "this machine has " + gib_text(machine);
+      chosen > 0.0 ? max_memory + " is " + gib_text(chosen) : "this machine has " + gib_text(machine);
   if (need > limit && largest)
     config.fail(largest->key,
                 "the case needs about " + gib_text(need) + " (" + parts + "); " + limit_text +
-                    (chosen > 0.0 ? " (raise it to override)" : " (set run.max_memory to override)"));
+                    (chosen > 0.0 ? " (raise it to override)" : " (set " + max_memory + " to override)"));
   return fmt::format("memory: about {} estimated ({}, {}{}); {}", gib_text(need), parts, ranks,
                      (ranks == 1 ? " rank" : " ranks"), limit_text);
 }
 
-void add_memory_schema(io::Schema& schema)
+void bind(io::KeyBinder& keys, MemoryKeys& k)
 {
-  schema
-      .add_real("run.max_memory",
-                "memory the run may use over all its ranks, in GiB, checked against an estimate "
-                "before anything is allocated (docs/runs.md); 0 = the machines' physical memory")
+  keys.real("run.max_memory",
+            "memory the run may use over all its ranks, in GiB, checked against an estimate "
+            "before anything is allocated (docs/runs.md); 0 = the machines' physical memory",
+            k.max_memory)
       .defaults(0.0)
       .non_negative();
 }

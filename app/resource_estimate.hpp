@@ -11,6 +11,7 @@
 #include <mpi.h>
 
 #include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::app {
 
@@ -52,13 +53,18 @@ MemoryPart structure_memory(double nodes, double elements, std::string key);
 /// (PetscInt) or an int cannot hold; `count` is computed in floating point so that it cannot wrap.
 void check_index_count(const io::Config& config, std::string_view key, double count, std::string_view what);
 
+/// The memory limit, a key every case has (app/model.hpp, CommonKeys).
+struct MemoryKeys {
+  double max_memory = 0.0; ///< GiB over all ranks; 0 = the machines' physical memory
+};
+
+/// Declares or reads run.max_memory (io/key_binder.hpp).
+void bind(io::KeyBinder& keys, MemoryKeys& k);
+
 /// Compares the estimate with run.max_memory (GiB) or, when that is 0, the physical memory of the
 /// machines the ranks of `comm` run on (each machine counted once): InputError naming the key of the
 /// largest part, the estimate and the limit when it does not fit. Collective over `comm`. Returns the
 /// one-line summary a run logs at its start.
 std::string check_memory(const io::Config& config, const MemoryEstimate& estimate, MPI_Comm comm);
-
-/// The common key (run.max_memory) check_memory reads.
-void add_memory_schema(io::Schema& schema);
 
 } // namespace ibvalve::app

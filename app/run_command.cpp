@@ -109,8 +109,12 @@ io::Config load_case(const RunOptions& options)
   const Model& model = case_model(table, options.case_file);
   io::Config config = io::Config::validate(std::move(table), options.case_file, case_schema(model));
   // The name is the default run folder's (runs/<name>): a name, not a path. Empty: the case file's name.
-  if (const std::string name = config.string("name"); !name.empty())
-    if (const std::string why = io::folder_name_problem(name); !why.empty()) config.fail("name", why);
+  io::KeyBinder keys(config);
+  CommonKeys common;
+  bind(keys, common);
+  if (!common.name.empty())
+    if (const std::string why = io::folder_name_problem(common.name); !why.empty())
+      keys.fail(common.name, why);
   return config;
 }
 
@@ -118,8 +122,11 @@ std::filesystem::path run_directory(const RunOptions& options, const io::Config&
 {
   if (!options.restart.empty()) return options.restart;
   if (!options.output.empty()) return options.output;
-  if (config.has("output.directory")) return config.string("output.directory");
-  std::string name = config.string("name");
+  io::KeyBinder keys(config);
+  CommonKeys common;
+  bind(keys, common);
+  if (keys.has(common.output_directory)) return common.output_directory;
+  std::string name = common.name;
   if (name.empty()) name = options.case_file.stem().string();
   return std::filesystem::path("runs") / name;
 }
@@ -264,21 +271,19 @@ PreparedCase prepare_case(const RunOptions& options, const PetscArguments& petsc
   log.set_strict(options.strict);
   log.clear_warnings();
   io::Config config = load_case(options);
-  if (!options.quiet && !options.verbose) {
-    const std::string level = config.string("log.level");
-    log.set_level(level == "quiet"     ? base::LogLevel::quiet
-                  : level == "verbose" ? base::LogLevel::verbose
-                                       : base::LogLevel::normal);
-  }
-  log.set_progress_interval(config.real("log.progress_interval"));
+  io::KeyBinder keys(config);
+  CommonKeys common;
+  bind(keys, common);
+  if (!options.quiet && !options.verbose) log.set_level(common.log_level);
+  log.set_progress_interval(common.progress_interval);
   // Values far outside their key's typical range (another unit system?) are warned about; the run goes on.
   for (const std::string& warning : config.warnings()) log.warn(warning);
   // Case options first, then the command line's, so that the command line wins; those of the case that
   // read or write files are refused first (the command line's are the user's own).
-  check_case_petsc_options(config);
-  PETSC_CHECK(PetscOptionsInsertString(nullptr, config.string("petsc.options").c_str()));
+  check_case_petsc_options(keys, common.petsc_options);
+  PETSC_CHECK(PetscOptionsInsertString(nullptr, common.petsc_options.c_str()));
   PETSC_CHECK(PetscOptionsInsertString(nullptr, petsc.joined().c_str()));
-  const Model* model = find_model(config.string("model"));
+  const Model* model = find_model(common.model);
   PreparedCase prepared{std::move(config), model, nullptr};
   prepared.run = model->prepare(prepared.config);
   return prepared;
@@ -314,8 +319,11 @@ int run_case(RunOptions options, const PetscArguments& petsc)
   // over, one of another case refused): chosen here, before anything is written.
   std::filesystem::path checkpoint;
   if (!options.restart.empty()) {
-    const auto file =
-        io::Checkpoints(PETSC_COMM_WORLD, directory, io::checkpoint_settings_from_config(config)).latest();
+    io::KeyBinder keys(config);
+    io::CheckpointSettings checkpoints;
+    io::bind(keys, checkpoints);
+    checkpoints.case_record = io::case_record(config);
+    const auto file = io::Checkpoints(PETSC_COMM_WORLD, directory, checkpoints).latest();
     // A model that writes no checkpoints must not silently start over in the folder it was asked to continue.
     if (!file)
       throw InputError(directory.string() +

@@ -7,13 +7,8 @@
 
 namespace ibvalve::app {
 
-bool has_nested_levels(const io::Config& config)
-{
-  return !config.integers(nested_ratios_key).empty();
-}
-
 MemoryPart nested_fluid_memory(const fluid::GridHierarchy& hierarchy, const fluid::BoxGeometry& box,
-                               const std::string& cells_key)
+                               const std::string& cells_key, const std::string& ratios_key)
 {
   double cells = 1.0;
   for (int d = 0; d < 3; ++d) cells *= static_cast<double>(hierarchy.domain_cells(0)[d]);
@@ -22,12 +17,12 @@ MemoryPart nested_fluid_memory(const fluid::GridHierarchy& hierarchy, const flui
       cells += static_cast<double>(level_box.cells(0)) * static_cast<double>(level_box.cells(1)) *
                static_cast<double>(level_box.cells(2));
   return fluid_memory(cells, FluidMemoryKind::nested, true,
-                      cells > 2.0 * grid_cells(box) ? nested_ratios_key : cells_key);
+                      cells > 2.0 * grid_cells(box) ? ratios_key : cells_key);
 }
 
-fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid::BoxGeometry& box,
-                                           std::span<const fe::Vec3> positions, ib::KernelKind kernel,
-                                           const std::string& structure_key)
+fluid::GridHierarchy read_structure_levels(const io::KeyBinder& keys, const fluid::NestedKeys& k,
+                                           const fluid::BoxGeometry& box, std::span<const fe::Vec3> positions,
+                                           ib::KernelKind kernel, const std::string& structure_key)
 {
   fluid::PhysicalBox bounds;
   for (int d = 0; d < 3; ++d) {
@@ -40,9 +35,9 @@ fluid::GridHierarchy read_structure_levels(const io::Config& config, const fluid
       bounds.upper[d] = std::max(bounds.upper[d], x[d]);
     }
   const int reach = (ib::DeltaKernel(kernel).support() + 1) / 2;
-  fluid::GridHierarchy hierarchy = fluid::read_hierarchy(config, box, bounds, structure_key, reach);
+  fluid::GridHierarchy hierarchy = fluid::read_hierarchy(keys, k, box, bounds, structure_key, reach);
   if (hierarchy.boxes(hierarchy.finest()).size() != 1)
-    config.fail("nested.box", "the finest level must be one box: the structure lives on it");
+    keys.fail(k.boxes, "the finest level must be one box: the structure lives on it");
   return hierarchy;
 }
 

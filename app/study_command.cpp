@@ -93,76 +93,118 @@ std::vector<std::string> variant_overrides(const StudyCase& c, const Uncertainty
   return overrides;
 }
 
-io::Schema study_schema()
+/// One [[case]] of a study file.
+struct CaseKeys {
+  std::string name;
+  std::filesystem::path file;
+  std::vector<std::string> set;
+};
+
+/// One [[uncertainty]] of a study file.
+struct SourceKeys {
+  std::string name;
+  std::vector<std::string> set;
+};
+
+/// A study file's keys (io/key_binder.hpp).
+struct StudyKeys {
+  std::filesystem::path base;
+  std::string output;
+  std::vector<std::string> set, leave_out;
+  std::vector<CaseKeys> cases;
+  std::vector<SourceKeys> sources;
+};
+
+void bind(io::KeyBinder& keys, CaseKeys& c)
 {
-  io::Schema s;
-  s.add_string("base", "case file every case starts from (relative to the study file)").file(true);
-  s.add_string("output", "folder for the cases (<output>/<name>) and the comparison (<output>/comparison)")
+  keys.string("name", "the case's name: its run folder and its name in the comparison", c.name).required();
+  keys.path("file", "this case's own case file (default: base)", c.file);
+  keys.strings("set", "this case's overrides, after the common ones", c.set)
+      .defaults(std::vector<std::string>{});
+}
+
+void bind(io::KeyBinder& keys, SourceKeys& u)
+{
+  keys.string("name", "the source's name (\"time step\", \"grid\"): its folder and its label", u.name)
+      .required();
+  keys.strings("set", "overrides of the variant every case runs again with, after its own", u.set).required();
+}
+
+void bind(io::KeyBinder& keys, StudyKeys& k)
+{
+  keys.path("base", "case file every case starts from (relative to the study file)", k.base);
+  keys.string("output", "folder for the cases (<output>/<name>) and the comparison (<output>/comparison)",
+              k.output)
       .defaults(std::string("runs/study"));
-  s.add_string_list("set", "overrides for every case, as with ibvalve run --set")
+  keys.strings("set", "overrides for every case, as with ibvalve run --set", k.set)
       .defaults(std::vector<std::string>{});
-  s.add_string_list("leave_out",
-                    "ranking criteria (metric keys, e.g. \"fit_error\") the comparison leaves out, as with "
-                    "ibvalve compare --leave-out")
+  keys.strings("leave_out",
+               "ranking criteria (metric keys, e.g. \"fit_error\") the comparison leaves out, as with "
+               "ibvalve compare --leave-out",
+               k.leave_out)
       .defaults(std::vector<std::string>{});
-  io::Schema one;
-  one.add_string("name", "the case's name: its run folder and its name in the comparison").required();
-  one.add_string("file", "this case's own case file (default: base)").file(true);
-  one.add_string_list("set", "this case's overrides, after the common ones")
-      .defaults(std::vector<std::string>{});
-  s.add_table_list("case", one, "the cases, in the order they run");
-  io::Schema source;
-  source.add_string("name", "the source's name (\"time step\", \"grid\"): its folder and its label")
-      .required();
-  source.add_string_list("set", "overrides of the variant every case runs again with, after its own")
-      .required();
-  s.add_table_list("uncertainty", source,
-                   "sources of numerical uncertainty: each reruns every case with its overrides, and "
-                   "|variant - case| is that source's standard uncertainty of each metric");
-  return s;
+  keys.tables("case", "the cases, in the order they run", k.cases,
+              [](io::KeyBinder& element, CaseKeys& c) { bind(element, c); });
+  keys.tables("uncertainty",
+              "sources of numerical uncertainty: each reruns every case with its overrides, and "
+              "|variant - case| is that source's standard uncertainty of each metric",
+              k.sources, [](io::KeyBinder& element, SourceKeys& u) { bind(element, u); });
+}
+
+/// A case of the study: its name checked (a folder of the study's own), its file and its overrides.
+StudyCase study_case(const io::KeyBinder& keys, const StudyKeys& k, const CaseKeys& c,
+                     std::set<std::string>& names)
+{
+  StudyCase one;
+  one.name = c.name;
+  // The case runs in <output>/<name>: a name, not a path, and not a folder the study writes itself.
+  if (const std::string why = io::folder_name_problem(one.name); !why.empty()) keys.fail(c.name, why);
+  if (one.name == "comparison" || one.name == "uncertainty")
+    keys.fail(c.name,
+              "\"" + one.name + "\" is the study's own folder (the comparison, the uncertainty runs)");
+  if (!names.insert(one.name).second) keys.fail(c.name, "\"" + one.name + "\" is listed twice");
+  if (keys.has(c.file))
+    one.case_file = c.file;
+  else if (keys.has(k.base))
+    one.case_file = k.base;
+  else
+    keys.fail(c.file, "the case has no file and the study no base");
+  one.overrides = k.set;
+  for (const auto& o : c.set) one.overrides.push_back(o);
+  one.overrides.push_back("name=\"" + one.name + "\"");
+  return one;
 }
 
 Study read_study(const StudyOptions& options)
 {
-  const io::Config config = io::Config::load(options.study_file, study_schema());
-  Study study;
-  study.output = options.output.empty() ? std::filesystem::path(config.string("output")) : options.output;
-  if (!config.has("case")) config.fail("case", "a study needs at least one [[case]]");
-  const std::vector<std::string> common = config.strings("set");
-  study.leave_out = config.strings("leave_out");
-  if (const std::string why = hemodynamics::check_criteria(study.leave_out); !why.empty())
-    config.fail("leave_out", why);
-  std::set<std::string> names;
-  for (const io::Config& c : config.tables("case")) {
-    StudyCase one;
-    one.name = c.string("name");
-    // The case runs in <output>/<name>: a name, not a path, and not a folder the study writes itself.
-    if (const std::string why = io::folder_name_problem(one.name); !why.empty()) c.fail("name", why);
-    if (one.name == "comparison" || one.name == "uncertainty")
-      c.fail("name", "\"" + one.name + "\" is the study's own folder (the comparison, the uncertainty runs)");
-    if (!names.insert(one.name).second) c.fail("name", "\"" + one.name + "\" is listed twice");
-    if (c.has("file"))
-      one.case_file = c.path("file");
-    else if (config.has("base"))
-      one.case_file = config.path("base");
-    else
-      c.fail("file", "the case has no file and the study no base");
-    one.overrides = common;
-    for (const auto& o : c.strings("set")) one.overrides.push_back(o);
-    one.overrides.push_back("name=\"" + one.name + "\"");
-    study.cases.push_back(std::move(one));
+  io::Schema schema;
+  {
+    io::KeyBinder declaring(schema);
+    StudyKeys unused;
+    bind(declaring, unused);
   }
+  const io::Config config = io::Config::load(options.study_file, schema);
+  io::KeyBinder keys(config);
+  StudyKeys k;
+  bind(keys, k);
+  Study study;
+  study.output = options.output.empty() ? std::filesystem::path(k.output) : options.output;
+  if (!keys.has(k.cases)) keys.fail(k.cases, "a study needs at least one [[case]]");
+  study.leave_out = k.leave_out;
+  if (const std::string why = hemodynamics::check_criteria(study.leave_out); !why.empty())
+    keys.fail(k.leave_out, why);
+  std::set<std::string> names;
+  for (const CaseKeys& c : k.cases) study.cases.push_back(study_case(keys, k, c, names));
   std::set<std::string> sources;
-  if (config.has("uncertainty"))
-    for (const io::Config& u : config.tables("uncertainty")) {
-      UncertaintySource source{u.string("name"), u.strings("set")};
-      if (source.name.empty()) u.fail("name", "must not be empty");
-      if (const std::string why = io::folder_name_problem(variant_folder_name(source)); !why.empty())
-        u.fail("name", why);
-      if (!sources.insert(source.name).second) u.fail("name", "\"" + source.name + "\" is listed twice");
-      if (source.overrides.empty()) u.fail("set", "a source needs at least one override");
-      study.sources.push_back(std::move(source));
-    }
+  for (const SourceKeys& u : k.sources) {
+    UncertaintySource source{u.name, u.set};
+    if (source.name.empty()) keys.fail(u.name, "must not be empty");
+    if (const std::string why = io::folder_name_problem(variant_folder_name(source)); !why.empty())
+      keys.fail(u.name, why);
+    if (!sources.insert(source.name).second) keys.fail(u.name, "\"" + source.name + "\" is listed twice");
+    if (source.overrides.empty()) keys.fail(u.set, "a source needs at least one override");
+    study.sources.push_back(std::move(source));
+  }
   return study;
 }
 

@@ -5,23 +5,19 @@
 #include "base/units.hpp"
 #include "drivers/table_driver.hpp"
 #include "drivers/windkessel_driver.hpp"
-#include "windkessel/waveform.hpp"
-#include "windkessel/windkessel.hpp"
 
 namespace ibvalve::drivers {
 
 namespace {
 
-constexpr const char* table_file_key = "lv_pressure.file";
 // The loop settles on its own at T/8000 a step, as examples/lumped/closed_loop.toml runs it.
 constexpr long settle_steps_per_beat = 8000;
 
-std::shared_ptr<ClosedLoopCoupling> make_loop(const io::KeyBinder& keys, const DriverKeys& k,
-                                              const io::Config& config)
+std::shared_ptr<ClosedLoopCoupling> make_loop(const io::KeyBinder& keys, const DriverKeys& k)
 {
-  if (config.has(table_file_key))
-    config.fail(table_file_key, "not used with " + keys.key_of(k.sides.inlet) +
-                                    " = \"circulation\" (the loop's ventricle gives the inlet pressure)");
+  if (keys.has(k.lv_pressure.file))
+    keys.fail(k.lv_pressure.file, "not used with " + keys.key_of(k.sides.inlet) +
+                                      " = \"circulation\" (the loop's ventricle gives the inlet pressure)");
   circulation::check(keys, k.circulation);
   if (k.circulation.parameters.aortic_kind != circulation::AorticValveKind::diode)
     keys.fail(k.circulation.parameters.aortic_kind,
@@ -74,21 +70,20 @@ void bind(io::KeyBinder& keys, DriverKeys& k)
   circulation::bind(keys, k.circulation);
 }
 
-BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k, const io::Config& config)
+BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k)
 {
   if (closed_loop(keys, k.sides)) {
-    std::shared_ptr<ClosedLoopCoupling> loop = make_loop(keys, k, config);
+    std::shared_ptr<ClosedLoopCoupling> loop = make_loop(keys, k);
     return BoundaryDrivers(std::make_unique<ClosedLoopSide>(Side::upstream, loop),
                            std::make_unique<ClosedLoopSide>(Side::downstream, loop), loop);
   }
-  if (!config.has(table_file_key))
-    config.fail(table_file_key, "missing: " + keys.key_of(k.sides.inlet) +
-                                    " = \"table\" needs the LV pressure table (a CSV file)");
+  if (!keys.has(k.lv_pressure.file))
+    keys.fail(k.lv_pressure.file, "missing: " + keys.key_of(k.sides.inlet) +
+                                      " = \"table\" needs the LV pressure table (a CSV file)");
   auto table = std::make_unique<TableDriver>(
-      Side::upstream, windkessel::waveform_from_config(config, "lv_pressure", units::mmHg),
-      "LV pressure table");
-  auto outlet = std::make_unique<WindkesselDriver>(Side::downstream,
-                                                   windkessel::parameters_from_config(config, "windkessel"));
+      Side::upstream, windkessel::load_waveform(k.lv_pressure, units::mmHg), "LV pressure table");
+  windkessel::check(keys, k.windkessel);
+  auto outlet = std::make_unique<WindkesselDriver>(Side::downstream, k.windkessel.parameters);
   return BoundaryDrivers(std::move(table), std::move(outlet));
 }
 

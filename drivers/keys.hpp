@@ -12,8 +12,8 @@
 
 #include "circulation/keys.hpp"
 #include "drivers/boundary_drivers.hpp"
-#include "io/config.hpp"
 #include "io/key_binder.hpp"
+#include "windkessel/keys.hpp"
 
 namespace ibvalve::drivers {
 
@@ -30,6 +30,8 @@ struct DriverKeys {
   DriverSides sides;
   std::int64_t start_beats = 0;
   circulation::CirculationKeys circulation;
+  windkessel::WaveformKeys lv_pressure; // the table's
+  windkessel::WindkesselKeys windkessel;
 };
 
 /// Declares or reads inlet.driver and outlet.driver alone.
@@ -40,13 +42,14 @@ void bind(io::KeyBinder& keys, DriverSides& sides);
 bool closed_loop(const io::KeyBinder& keys, const DriverSides& sides);
 
 /// Declares or reads inlet.driver, outlet.driver, circulation.start_beats and the loop's circulation.*.
-/// The table's lv_pressure.* and the Windkessel's windkessel.* are their folder's sections, which the
-/// case declares (lv_pressure.file not required: the table driver asks for it).
+/// The table's lv_pressure.* and the Windkessel's windkessel.* are windkessel/'s sections
+/// (windkessel/keys.hpp), which the case binds into `lv_pressure` and `windkessel` where it lists them
+/// (lv_pressure.file not required: the table driver asks for it).
 void bind(io::KeyBinder& keys, DriverKeys& k);
 
-/// The drivers the keys choose, built from `config` (the table and the Windkessel read their own
-/// sections). Bad input (a loop on one side only, the table's file missing or given beside the loop,
-/// the loop's own parameters) is an InputError naming the key.
-BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k, const io::Config& config);
+/// The drivers the keys `keys` read into `k` choose. Bad input (a loop on one side only, the table's file
+/// missing or given beside the loop, a Windkessel parameter neither given nor preset, the loop's own
+/// parameters) is an InputError naming the key.
+BoundaryDrivers make_drivers(const io::KeyBinder& keys, const DriverKeys& k);
 
 } // namespace ibvalve::drivers

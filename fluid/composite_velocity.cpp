@@ -101,7 +101,20 @@ void FaceValue::add(const FaceValue& other, double weight)
 
 CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : operators_(&operators)
 {
+  const PetscInt faces = number_faces();
+  const PetscInt begin = find_owned_keys(faces);
+  // The face values are memoised as the two stencils ask for them, which numbers the wall data points:
+  // the Laplacian's first, then the convection's.
+  assemble_laplacian(begin);
+  build_convection_stencils();
+  const petsc::OwnedVec probe = operators.create_face_vector();
+  PETSC_CHECK(VecScatterCreateToAll(probe, gather_.out(), gathered_.out()));
+}
+
+PetscInt CompositeVelocity::number_faces()
+{
   const GridHierarchy& h = hierarchy();
+  const CompositeOperators& operators = *operators_;
   const CompositeCells& cells = operators.cells();
   // The face numbering of CompositeOperators (Neumann sides): each rank enumerates the faces of its cells
   // in cell order, so the global order is that enumeration over all cells. Replayed here on every rank.
@@ -123,16 +136,22 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
         indices_[pack(key)] = next++;
       }
   });
-  const auto& faces = operators.owned_faces();
+  return next;
+}
+
+PetscInt CompositeVelocity::find_owned_keys(PetscInt faces)
+{
+  const GridHierarchy& h = hierarchy();
+  const auto& owned = operators_->owned_faces();
   PetscInt begin = 0;
   {
-    const PetscInt local = static_cast<PetscInt>(faces.size());
+    const PetscInt local = static_cast<PetscInt>(owned.size());
     PetscInt end = 0;
-    MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, operators.comm());
+    MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, operators_->comm());
     begin = end - local;
   }
   // Owned keys in the operators' order (checked against their face centres).
-  std::vector<FaceKey> all(static_cast<std::size_t>(next));
+  std::vector<FaceKey> all(static_cast<std::size_t>(faces));
   for (const auto& [packed, n] : indices_) {
     FaceKey k;
     k.level = static_cast<int>(packed >> 59);
@@ -141,16 +160,21 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
       k.index[d] = static_cast<PetscInt>((packed >> (19 * d)) & ((1u << 19) - 1)) - index_shift;
     all[static_cast<std::size_t>(n)] = k;
   }
-  for (std::size_t f = 0; f < faces.size(); ++f) {
+  for (std::size_t f = 0; f < owned.size(); ++f) {
     const FaceKey& k = all[static_cast<std::size_t>(begin) + f];
     const Real3 x = position(k);
     double off = 0.0;
-    for (int d = 0; d < 3; ++d) off = std::max(off, std::abs(x[d] - faces[f].center[d]));
-    if (k.normal != faces[f].normal || off > 1e-9 * h.domain().length(0))
+    for (int d = 0; d < 3; ++d) off = std::max(off, std::abs(x[d] - owned[f].center[d]));
+    if (k.normal != owned[f].normal || off > 1e-9 * h.domain().length(0))
       throw std::logic_error("composite velocity: face numbering differs from CompositeOperators");
     owned_keys_.push_back(k);
   }
+  return begin;
+}
 
+void CompositeVelocity::assemble_laplacian(PetscInt begin)
+{
+  const GridHierarchy& h = hierarchy();
   // The Laplacian: sum over directions of (u(I+e) - 2 u(I) + u(I-e)) / h_e^2, ghosts resolved.
   const PetscInt local = static_cast<PetscInt>(owned_keys_.size());
   std::vector<FaceValue> rows(owned_keys_.size());
@@ -170,7 +194,7 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
     for (const auto& [c, w] : row.unknowns) ++(c >= begin && c < end ? diagonal_count[f] : off_count[f]);
     laplacian_data_[f] = row.data;
   }
-  PETSC_CHECK(MatCreateAIJ(operators.comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 0,
+  PETSC_CHECK(MatCreateAIJ(operators_->comm(), local, local, PETSC_DETERMINE, PETSC_DETERMINE, 0,
                            diagonal_count.data(), 0, off_count.data(), laplacian_.out()));
   for (std::size_t f = 0; f < owned_keys_.size(); ++f) {
     std::vector<PetscInt> columns;
@@ -185,7 +209,10 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
   }
   PETSC_CHECK(MatAssemblyBegin(laplacian_, MAT_FINAL_ASSEMBLY));
   PETSC_CHECK(MatAssemblyEnd(laplacian_, MAT_FINAL_ASSEMBLY));
+}
 
+void CompositeVelocity::build_convection_stencils()
+{
   // Convection stencils: for face (l, d, I) and each direction e, the d-values at I +- e and the e-values
   // at the edges +- e/2 (faces I + e, I + e - e_d and I, I - e_d normal to e).
   std::unordered_map<std::uint64_t, std::int32_t> slot;
@@ -213,9 +240,6 @@ CompositeVelocity::CompositeVelocity(const CompositeOperators& operators) : oper
   }
   convection_values_ = FaceValueTable(read);
   convection_buffer_.resize(convection_values_.size());
-
-  const petsc::OwnedVec probe = operators.create_face_vector();
-  PETSC_CHECK(VecScatterCreateToAll(probe, gather_.out(), gathered_.out()));
 }
 
 CompositeVelocity::Kind CompositeVelocity::classify(const FaceKey& k) const

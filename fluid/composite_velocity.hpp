@@ -138,6 +138,16 @@ class CompositeVelocity {
 
  private:
   enum class Mode { finer_interior, coarser };
+  // The constructor's steps, in its order.
+  /// Replays CompositeOperators' face numbering on every rank (indices_); returns the number of faces.
+  PetscInt number_faces();
+  /// The keys of the faces this rank owns (owned_keys_), in the operators' order and checked against
+  /// their face centres; returns the global index of the first.
+  PetscInt find_owned_keys(PetscInt faces);
+  /// The composite face Laplacian of the owned faces (laplacian_, laplacian_data_); `begin` as above.
+  void assemble_laplacian(PetscInt begin);
+  /// The face values convection reads and each owned face's 24 positions among them.
+  void build_convection_stencils();
   FaceValue compute(const FaceKey& key) const;
   FaceValue interpolate(int level, int normal, const Real3& x, Mode mode) const;
   PetscInt data_point(const Real3& x, int component) const;

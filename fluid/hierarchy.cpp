@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "base/errors.hpp"
-#include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::fluid {
 
@@ -198,40 +198,41 @@ bool GridHierarchy::covers(int level, const IndexBox& region) const
 // ---------------------------------------------------------------------------------------------------------
 // Case-file keys.
 
-io::Schema nested_schema()
+void bind(io::KeyBinder& keys, NestedKeys& k)
 {
-  io::Schema s;
-  s.add_integer_list("nested.ratios", "refinement ratio of each finer level to the one below it (2 or 4); "
-                                      "[] = a single uniform level")
+  keys.integers("nested.ratios",
+                "refinement ratio of each finer level to the one below it (2 or 4); "
+                "[] = a single uniform level",
+                k.ratios)
       .defaults(std::vector<std::int64_t>{})
       .sizes(0, 4)
       .at_least(2)
       .at_most(4);
-  s.add_integer_list(
-       "nested.margins",
-       "automatic placement: cells of each finer level between the structure's bounding box (or "
-       "the next finer level) and the level's edge; one value for every level or one per level")
+  keys.integers("nested.margins",
+                "automatic placement: cells of each finer level between the structure's bounding box (or "
+                "the next finer level) and the level's edge; one value for every level or one per level",
+                k.margins)
       .defaults(std::vector<std::int64_t>{4})
       .sizes(1, 4)
       .at_least(1)
       .at_most(4096);
-  io::Schema box;
-  box.add_integer("level", "the finer level (1 = first refined level) this box belongs to")
-      .required()
-      .at_least(1)
-      .at_most(4);
-  box.add_real_list("lower", "lower corner; on a corner of the next coarser level's cells")
-      .unit("cm")
-      .required()
-      .size(3);
-  box.add_real_list("upper", "upper corner; on a corner of the next coarser level's cells")
-      .unit("cm")
-      .required()
-      .size(3);
-  s.add_table_list("nested.box", box,
-                   "explicit boxes of the finer levels (a level without boxes is placed "
-                   "automatically around the structure)");
-  return s;
+  keys.tables("nested.box",
+              "explicit boxes of the finer levels (a level without boxes is placed "
+              "automatically around the structure)",
+              k.boxes, [](io::KeyBinder& box, NestedBoxKeys& b) {
+                box.integer("level", "the finer level (1 = first refined level) this box belongs to", b.level)
+                    .required()
+                    .at_least(1)
+                    .at_most(4);
+                box.reals("lower", "lower corner; on a corner of the next coarser level's cells", b.lower)
+                    .unit("cm")
+                    .required()
+                    .size(3);
+                box.reals("upper", "upper corner; on a corner of the next coarser level's cells", b.upper)
+                    .unit("cm")
+                    .required()
+                    .size(3);
+              });
 }
 
 namespace {
@@ -259,37 +260,36 @@ LevelGrids level_grids(const BoxGeometry& domain, const std::vector<std::int64_t
 }
 
 /// The [[nested.box]] entries as index boxes of their levels; `entry_of` the entry of each box.
-void read_explicit_boxes(const std::vector<io::Config>& entries, const BoxGeometry& domain,
-                         const std::vector<std::int64_t>& ratios, const LevelGrids& g,
-                         std::vector<FinerLevel>& levels, std::vector<std::vector<std::size_t>>& entry_of)
+void read_explicit_boxes(const io::KeyBinder& keys, const NestedKeys& k, const BoxGeometry& domain,
+                         const LevelGrids& g, std::vector<FinerLevel>& levels,
+                         std::vector<std::vector<std::size_t>>& entry_of)
 {
-  const int finer = static_cast<int>(ratios.size());
-  for (std::size_t e = 0; e < entries.size(); ++e) {
-    const io::Config& entry = entries[e];
-    const auto level = entry.integer("level");
-    if (level > finer)
-      entry.fail("level", fmt::format("there are {} finer levels (nested.ratios), not {}", finer, level));
-    const int l = static_cast<int>(level);
+  const int finer = static_cast<int>(k.ratios.size());
+  for (std::size_t e = 0; e < k.boxes.size(); ++e) {
+    const NestedBoxKeys& entry = k.boxes[e];
+    if (entry.level > finer)
+      keys.fail(entry.level, fmt::format("there are {} finer levels ({}), not {}", finer,
+                                         keys.key_of(k.ratios), entry.level));
+    const int l = static_cast<int>(entry.level);
     IndexBox box;
-    for (const char* corner : {"lower", "upper"}) {
-      const auto x = entry.reals(corner);
+    for (const auto& [x, corner] :
+         {std::pair{&entry.lower, &box.lower}, std::pair{&entry.upper, &box.upper}}) {
       for (int d = 0; d < 3; ++d) {
         // Corners lie on the coarser level's cell corners: (x - x0) / h_{l-1} is a whole number.
-        const double q = (x[d] - domain.lower[d]) / g.h[l - 1][d];
+        const double q = ((*x)[d] - domain.lower[d]) / g.h[l - 1][d];
         const double n = std::round(q);
         if (std::abs(q - n) > 1e-8 * std::max(1.0, std::abs(q)))
-          entry.fail(corner,
-                     fmt::format("not on a corner of the level-{} cells (spacing {:g} cm in direction {})",
-                                 l - 1, g.h[l - 1][d], "xyz"[d]));
+          keys.fail(*x, fmt::format("not on a corner of the level-{} cells (spacing {:g} cm in direction {})",
+                                    l - 1, g.h[l - 1][d], "xyz"[d]));
         if (n < 0 || n > static_cast<double>(g.whole[l - 1][d]))
-          entry.fail(corner, std::string("outside the domain in direction ") + "xyz"[d]);
-        (std::string(corner) == "lower" ? box.lower : box.upper)[d] =
-            static_cast<PetscInt>(n) * ratios[l - 1];
+          keys.fail(*x, std::string("outside the domain in direction ") + "xyz"[d]);
+        (*corner)[d] = static_cast<PetscInt>(n) * k.ratios[l - 1];
       }
     }
     for (int d = 0; d < 3; ++d)
       if (box.upper[d] <= box.lower[d])
-        entry.fail("upper", std::string("must lie above lower in direction ") + "xyz"[d]);
+        keys.fail(entry.upper,
+                  "must lie above " + keys.key_of(entry.lower) + " in direction " + std::string(1, "xyz"[d]));
     levels[l - 1].boxes.push_back(box);
     entry_of[l - 1].push_back(e);
   }
@@ -297,12 +297,12 @@ void read_explicit_boxes(const std::vector<io::Config>& entries, const BoxGeomet
 
 /// Automatic placement, finest first: each level without explicit boxes around the structure and the
 /// next finer level's boxes, `margin(l)` cells to spare. The levels so placed are marked in `automatic`.
-void place_automatic_levels(const io::Config& config, const BoxGeometry& domain,
-                            const std::vector<std::int64_t>& ratios, const LevelGrids& g,
-                            const std::optional<PhysicalBox>& structure,
+void place_automatic_levels(const io::KeyBinder& keys, const NestedKeys& k, const BoxGeometry& domain,
+                            const LevelGrids& g, const std::optional<PhysicalBox>& structure,
                             const std::function<PetscInt(int)>& margin, std::vector<FinerLevel>& levels,
                             std::vector<bool>& automatic)
 {
+  const std::vector<std::int64_t>& ratios = k.ratios;
   const int finer = static_cast<int>(ratios.size());
   for (int l = finer; l >= 1; --l) {
     FinerLevel& level = levels[l - 1];
@@ -331,48 +331,43 @@ void place_automatic_levels(const io::Config& config, const BoxGeometry& domain,
     if (l < finer)
       for (const IndexBox& b : levels[l].boxes) add(b.coarsened(levels[l].ratio).grown(margin(l)));
     if (!hull)
-      config.fail(
-          "nested.box",
-          fmt::format("level {} has no [[nested.box]] and there is no structure to place it around", l));
+      keys.fail(k.boxes, fmt::format("level {} has no [[{}]] and there is no structure to place it around", l,
+                                     keys.key_of(k.boxes)));
     level.boxes = {hull->aligned_outward(level.ratio).intersection(IndexBox{{0, 0, 0}, g.whole[l]})};
   }
 }
 
 } // namespace
 
-GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain,
+GridHierarchy read_hierarchy(const io::KeyBinder& keys, const NestedKeys& k, const BoxGeometry& domain,
                              const std::optional<PhysicalBox>& structure, const std::string& structure_key,
                              PetscInt support_cells)
 {
-  const auto ratios = config.integers("nested.ratios");
-  for (const auto r : ratios)
-    if (r != 2 && r != 4) config.fail("nested.ratios", fmt::format("each ratio must be 2 or 4, got {}", r));
-  const int finer = static_cast<int>(ratios.size());
-  const auto margins = config.integers("nested.margins");
+  for (const auto r : k.ratios)
+    if (r != 2 && r != 4) keys.fail(k.ratios, fmt::format("each ratio must be 2 or 4, got {}", r));
+  const int finer = static_cast<int>(k.ratios.size());
+  const auto& margins = k.margins;
   if (margins.size() != 1 && static_cast<int>(margins.size()) != finer)
-    config.fail("nested.margins",
-                fmt::format("give one margin or one per finer level ({}), got {}", finer, margins.size()));
+    keys.fail(margins,
+              fmt::format("give one margin or one per finer level ({}), got {}", finer, margins.size()));
   const auto margin = [&](int level) {
     return static_cast<PetscInt>(margins.size() == 1 ? margins[0] : margins[level - 1]);
   };
-  const LevelGrids g = level_grids(domain, ratios);
+  const LevelGrids g = level_grids(domain, k.ratios);
   std::vector<FinerLevel> levels(finer);
   std::vector<std::vector<std::size_t>> entry_of(finer); // the [[nested.box]] index of each box
-  const auto entries = config.tables("nested.box");
-  read_explicit_boxes(entries, domain, ratios, g, levels, entry_of);
+  read_explicit_boxes(keys, k, domain, g, levels, entry_of);
   std::vector<bool> automatic(finer, false);
-  place_automatic_levels(config, domain, ratios, g, structure, margin, levels, automatic);
+  place_automatic_levels(keys, k, domain, g, structure, margin, levels, automatic);
 
-  const auto key_of = [&](int level, int box) -> std::pair<const io::Config*, std::string> {
-    if (level < 1 || automatic[level - 1] || box < 0) return {&config, "nested.margins"};
-    return {&entries[entry_of[level - 1][box]], "lower"};
-  };
   std::optional<GridHierarchy> hierarchy;
   try {
     hierarchy.emplace(domain, levels);
   } catch (const HierarchyError& e) {
-    const auto [where, key] = key_of(e.level(), e.box());
-    where->fail(key, e.what());
+    // An automatic level is the margins' doing; an explicit box is its entry's.
+    const int level = e.level(), box = e.box();
+    if (level < 1 || automatic[level - 1] || box < 0) keys.fail(margins, e.what());
+    keys.fail(k.boxes[entry_of[level - 1][box]].lower, e.what());
   }
 
   if (structure && finer > 0) {
@@ -384,10 +379,9 @@ GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain
       const std::string message = fmt::format("the structure (bounding box with {} cells of kernel reach, {} "
                                               "of level {}) is not inside the finest level",
                                               support_cells, describe(reach), f);
-      if (automatic[f - 1])
-        config.fail("nested.margins", message + "; raise the margin");
-      else
-        config.fail(structure_key, fmt::format("{} (see [[nested.box]] with level = {})", message, f));
+      if (automatic[f - 1]) keys.fail(margins, message + "; raise the margin");
+      keys.config().fail(structure_key,
+                         fmt::format("{} (see [[{}]] with level = {})", message, keys.key_of(k.boxes), f));
     }
   }
   return std::move(*hierarchy);

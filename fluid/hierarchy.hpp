@@ -13,6 +13,7 @@
 //    which the composite stencils of composite_poisson.hpp use.
 // A composite cell is a cell of level l inside level l's boxes and not covered by level l+1.
 // The hierarchy is the same on every rank (a few boxes); the data on it is split by the solvers.
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -118,11 +119,16 @@ struct PhysicalBox {
 } // namespace ibvalve::fluid
 
 namespace ibvalve::io {
-class Schema;
-class Config;
+class KeyBinder;
 } // namespace ibvalve::io
 
 namespace ibvalve::fluid {
+
+/// One [[nested.box]]: an explicit box of a finer level, its corners in cm.
+struct NestedBoxKeys {
+  std::int64_t level = 1;
+  std::vector<double> lower, upper;
+};
 
 /// The case-file keys of the hierarchy (all under "nested."):
 ///   nested.ratios  = [4]        ratio of each finer level to the one below (2 or 4); [] = one level
@@ -130,12 +136,18 @@ namespace ibvalve::fluid {
 ///                               box (or the finer level) and the level's edge; one value, or one per level
 ///   [[nested.box]] level = 1, lower = [x, y, z], upper = [x, y, z]   (cm) explicit boxes of a level
 /// A finer level without [[nested.box]] entries is placed around the structure's bounding box.
-io::Schema nested_schema();
+struct NestedKeys {
+  std::vector<std::int64_t> ratios, margins;
+  std::vector<NestedBoxKeys> boxes;
+};
 
-/// Builds the hierarchy of a validated case over `domain`. When `structure` is given, the finest level must
-/// hold it with `support_cells` finest cells to spare (the IB kernel's reach), else the error names
-/// `structure_key`. Every broken rule is one InputError "file:line: key: message" (io::Config::fail).
-GridHierarchy read_hierarchy(const io::Config& config, const BoxGeometry& domain,
+/// Declares (a Schema binder) or reads (a Config binder) the nested.* keys (io/key_binder.hpp).
+void bind(io::KeyBinder& keys, NestedKeys& k);
+
+/// Builds the hierarchy the keys `keys` read into `k` describe over `domain`. When `structure` is given, the
+/// finest level must hold it with `support_cells` finest cells to spare (the IB kernel's reach), else the
+/// error names `structure_key`. Every broken rule is one InputError "file:line: key: message".
+GridHierarchy read_hierarchy(const io::KeyBinder& keys, const NestedKeys& k, const BoxGeometry& domain,
                              const std::optional<PhysicalBox>& structure = std::nullopt,
                              const std::string& structure_key = "structure", PetscInt support_cells = 2);
 

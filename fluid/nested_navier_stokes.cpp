@@ -89,6 +89,91 @@ void check_reason(KSP ksp, const char* what)
 
 } // namespace
 
+namespace {
+
+/// U* at the coarse-fine face `k`: the tensor quadratic interpolation of the coarse layer along the
+/// interface (the coarse cells of level l-1 beside `coarse` and their weights), on the first of the
+/// sample windows whose cells are all composite cells.
+std::vector<std::pair<PetscInt, double>> coarse_layer_stencil(const CompositeVelocity& velocity,
+                                                              const FaceKey& k, const Index3& coarse)
+{
+  const GridHierarchy& h = velocity.hierarchy();
+  const CompositeCells& cells = velocity.operators().cells();
+  const int l = k.level, d = k.normal;
+  const Real3 x = velocity.position(k);
+  std::array<std::vector<std::vector<PetscInt>>, 3> windows;
+  std::array<double, 3> target{};
+  for (int e = 0; e < 3; ++e) {
+    if (e == d) {
+      windows[e] = {{coarse[e]}};
+      continue;
+    }
+    target[e] = (x[e] - h.domain().lower[e]) / h.h(l - 1, e) - 0.5;
+    windows[e] = sample_windows(target[e], h.domain_cells(l - 1)[e] - 1);
+  }
+  std::vector<std::pair<PetscInt, double>> interpolated;
+  for (const auto& wx : windows[0]) {
+    for (const auto& wy : windows[1]) {
+      for (const auto& wz : windows[2]) {
+        bool ok = true;
+        for (const PetscInt a : wx)
+          for (const PetscInt b : wy)
+            for (const PetscInt c : wz) ok = ok && cells.index(l - 1, {a, b, c}) >= 0;
+        if (!ok) continue;
+        const auto ax = d == 0 ? std::vector<double>{1.0} : lagrange(wx, target[0]);
+        const auto ay = d == 1 ? std::vector<double>{1.0} : lagrange(wy, target[1]);
+        const auto az = d == 2 ? std::vector<double>{1.0} : lagrange(wz, target[2]);
+        for (std::size_t c = 0; c < wz.size(); ++c)
+          for (std::size_t b = 0; b < wy.size(); ++b)
+            for (std::size_t a = 0; a < wx.size(); ++a)
+              interpolated.emplace_back(cells.index(l - 1, {wx[a], wy[b], wz[c]}), ax[a] * ay[b] * az[c]);
+        return interpolated;
+      }
+    }
+  }
+  throw std::logic_error("consistent composite gradient: no coarse stencil along the interface");
+}
+
+/// The row of G at the coarse-fine face `k` (its cells `lower` below and `above`, one of them covered or
+/// outside the level): the normal derivative from the fine cells and U*, xi running along the normal
+/// from the fine cell towards the coarse one.
+void coarse_fine_row(const CompositeVelocity& velocity, const FaceKey& k, const Index3& lower, PetscInt above,
+                     std::vector<PetscInt>& columns, std::vector<PetscScalar>& values)
+{
+  const GridHierarchy& h = velocity.hierarchy();
+  const CompositeCells& cells = velocity.operators().cells();
+  const int l = k.level, d = k.normal;
+  const double hd = h.h(l, d);
+  const int side = above < 0 ? 1 : -1;
+  const Index3 fine = side > 0 ? lower : k.index, outside = side > 0 ? k.index : lower;
+  const PetscInt r = h.ratio(l);
+  Index3 coarse;
+  for (int e = 0; e < 3; ++e) coarse[e] = floor_div(outside[e], r);
+  const std::vector<std::pair<PetscInt, double>> interpolated = coarse_layer_stencil(velocity, k, coarse);
+  const double H = h.h(l - 1, d);
+  Index3 second = fine;
+  second[d] -= side;
+  const PetscInt f1 = cells.index(l, fine), f2 = cells.index(l, second);
+  double coarse_weight = 0.0;
+  if (f2 >= 0) {
+    const auto w = derivative_weights({-1.5 * hd, -0.5 * hd, 0.5 * H});
+    columns = {f2, f1};
+    values = {side * w[0], side * w[1]};
+    coarse_weight = side * w[2];
+  } else {
+    const double distance = 0.5 * (hd + H);
+    columns = {f1};
+    values = {-side / distance};
+    coarse_weight = side / distance;
+  }
+  for (const auto& [c, w] : interpolated) {
+    columns.push_back(c);
+    values.push_back(coarse_weight * w);
+  }
+}
+
+} // namespace
+
 petsc::OwnedMat consistent_composite_gradient(const CompositeVelocity& velocity)
 {
   const CompositeOperators& ops = velocity.operators();
@@ -127,70 +212,7 @@ petsc::OwnedMat consistent_composite_gradient(const CompositeVelocity& velocity)
       columns = {above, below};
       values = {1.0 / hd, -1.0 / hd};
     } else {
-      // Coarse-fine face; xi runs along the normal from the fine cell towards the coarse one.
-      const int side = above < 0 ? 1 : -1;
-      const Index3 fine = side > 0 ? lower : k.index, outside = side > 0 ? k.index : lower;
-      const PetscInt r = h.ratio(l);
-      Index3 coarse;
-      for (int e = 0; e < 3; ++e) coarse[e] = floor_div(outside[e], r);
-      const Real3 x = velocity.position(k);
-      // U*: tensor quadratic interpolation of the coarse layer along the interface.
-      std::array<std::vector<std::vector<PetscInt>>, 3> windows;
-      std::array<double, 3> target{};
-      for (int e = 0; e < 3; ++e) {
-        if (e == d) {
-          windows[e] = {{coarse[e]}};
-          continue;
-        }
-        target[e] = (x[e] - h.domain().lower[e]) / h.h(l - 1, e) - 0.5;
-        windows[e] = sample_windows(target[e], h.domain_cells(l - 1)[e] - 1);
-      }
-      bool found = false;
-      std::vector<std::pair<PetscInt, double>> interpolated;
-      for (const auto& wx : windows[0]) {
-        for (const auto& wy : windows[1]) {
-          for (const auto& wz : windows[2]) {
-            bool ok = true;
-            for (const PetscInt a : wx)
-              for (const PetscInt b : wy)
-                for (const PetscInt c : wz) ok = ok && cells.index(l - 1, {a, b, c}) >= 0;
-            if (!ok) continue;
-            const auto ax = d == 0 ? std::vector<double>{1.0} : lagrange(wx, target[0]);
-            const auto ay = d == 1 ? std::vector<double>{1.0} : lagrange(wy, target[1]);
-            const auto az = d == 2 ? std::vector<double>{1.0} : lagrange(wz, target[2]);
-            for (std::size_t c = 0; c < wz.size(); ++c)
-              for (std::size_t b = 0; b < wy.size(); ++b)
-                for (std::size_t a = 0; a < wx.size(); ++a)
-                  interpolated.emplace_back(cells.index(l - 1, {wx[a], wy[b], wz[c]}), ax[a] * ay[b] * az[c]);
-            found = true;
-            break;
-          }
-          if (found) break;
-        }
-        if (found) break;
-      }
-      if (!found)
-        throw std::logic_error("consistent composite gradient: no coarse stencil along the interface");
-      const double H = h.h(l - 1, d);
-      Index3 second = fine;
-      second[d] -= side;
-      const PetscInt f1 = cells.index(l, fine), f2 = cells.index(l, second);
-      double coarse_weight = 0.0;
-      if (f2 >= 0) {
-        const auto w = derivative_weights({-1.5 * hd, -0.5 * hd, 0.5 * H});
-        columns = {f2, f1};
-        values = {side * w[0], side * w[1]};
-        coarse_weight = side * w[2];
-      } else {
-        const double distance = 0.5 * (hd + H);
-        columns = {f1};
-        values = {-side / distance};
-        coarse_weight = side / distance;
-      }
-      for (const auto& [c, w] : interpolated) {
-        columns.push_back(c);
-        values.push_back(coarse_weight * w);
-      }
+      coarse_fine_row(velocity, k, lower, above, columns, values);
     }
     PETSC_CHECK(MatSetValues(g, 1, &row, static_cast<PetscInt>(columns.size()), columns.data(), values.data(),
                              ADD_VALUES));
@@ -244,20 +266,38 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
     }
     return Real3{0.0, 0.0, 0.0};
   };
+  // The operators first (the projection's preconditioner is one of them), then the two solvers, then the
+  // state; PETSc's options are read by the solvers in this order, as they always were.
+  const Mat preconditioner = build_operators();
+  set_up_pressure_solver(preconditioner);
+  set_up_velocity_solver();
+
+  u_ = operators_->create_face_vector();
+  force_ = operators_->create_face_vector();
+  convection_ = operators_->create_face_vector();
+  convection_old_ = operators_->create_face_vector();
+  p_ = operators_->create_cell_vector();
+  PETSC_CHECK(VecScatterCreateToAll(p_, pressure_gather_.out(), pressure_gathered_.out()));
+  if (hierarchy.boxes(hierarchy.finest()).size() == 1) build_finest_level();
+}
+
+Mat NestedNavierStokes::build_operators()
+{
   const bool open = bc_.any_traction();
   const DirichletFaces traction = [this](int side, const Real3& x) { return bc_.traction_at(side, x); };
   const CompositeBoundary boundary = open ? CompositeBoundary::mixed : CompositeBoundary::neumann;
-  operators_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::two_point, boundary,
-                                                    nullptr, open ? traction : DirichletFaces{});
+  operators_ = std::make_unique<CompositeOperators>(comm_, *hierarchy_, CoarseFineStencil::two_point,
+                                                    boundary, nullptr, open ? traction : DirichletFaces{});
   velocity_ops_ = std::make_unique<CompositeVelocity>(*operators_);
   Mat preconditioner = nullptr;
-  if (settings.coupling == PressureCoupling::consistent) {
+  if (settings_.coupling == PressureCoupling::consistent) {
     gradient_ = consistent_composite_gradient(*velocity_ops_);
     divergence_ = petsc::OwnedMat::shared(operators_->gradient());
     preconditioner = operators_->laplacian();
   } else {
-    tangential_ = std::make_unique<CompositeOperators>(comm, hierarchy, CoarseFineStencil::tangential_linear,
-                                                       boundary, nullptr, open ? traction : DirichletFaces{});
+    tangential_ =
+        std::make_unique<CompositeOperators>(comm_, *hierarchy_, CoarseFineStencil::tangential_linear,
+                                             boundary, nullptr, open ? traction : DirichletFaces{});
     gradient_ = petsc::OwnedMat::shared(tangential_->gradient());
     divergence_ = petsc::OwnedMat::shared(tangential_->gradient());
   }
@@ -271,12 +311,16 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
   if (!preconditioner) preconditioner = projection_;
   if (!operators_->any_dirichlet()) {
     // A closed box: the pressure is defined up to a constant.
-    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, constants_.out()));
+    PETSC_CHECK(MatNullSpaceCreate(comm_, PETSC_TRUE, 0, nullptr, constants_.out()));
     PETSC_CHECK(MatSetNullSpace(projection_, constants_));
     PETSC_CHECK(MatSetTransposeNullSpace(projection_, constants_));
   }
+  return preconditioner;
+}
 
-  const std::string pressure_prefix = settings.nested_prefix + "pressure_";
+void NestedNavierStokes::set_up_pressure_solver(Mat preconditioner)
+{
+  const std::string pressure_prefix = settings_.nested_prefix + "pressure_";
   PetscBool multigrid = PETSC_FALSE;
   PETSC_CHECK(
       PetscOptionsGetBool(nullptr, pressure_prefix.c_str(), "-composite_multigrid", &multigrid, nullptr));
@@ -285,19 +329,19 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
                                 "composite_multigrid needs a traction side: in a closed box the "
                                 "projection's operator is singular");
   PC pc = nullptr;
-  PETSC_CHECK(KSPCreate(comm, pressure_ksp_.out()));
+  PETSC_CHECK(KSPCreate(comm_, pressure_ksp_.out()));
   // The composite multigrid smooths the projection's own operator on the composite cells and builds only
   // its coarse spaces from `preconditioner`: smoothing A_tp's error instead of M's cost 4 of the 14 GMRES
   // iterations on the study's valve grid (docs/nested.md, "The projection's multigrid").
   PETSC_CHECK(KSPSetOperators(pressure_ksp_, projection_, multigrid ? projection_.get() : preconditioner));
-  if (settings.coupling == PressureCoupling::consistent) {
+  if (settings_.coupling == PressureCoupling::consistent) {
     PETSC_CHECK(KSPSetType(pressure_ksp_, KSPGMRES));
     PETSC_CHECK(KSPSetPCSide(pressure_ksp_, PC_RIGHT));
   } else {
     PETSC_CHECK(KSPSetType(pressure_ksp_, KSPCG));
     PETSC_CHECK(KSPSetNormType(pressure_ksp_, KSP_NORM_UNPRECONDITIONED));
   }
-  PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings.rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetTolerances(pressure_ksp_, settings_.rtol, 1e-50, PETSC_DEFAULT, 1000));
   PETSC_CHECK(KSPSetOptionsPrefix(pressure_ksp_, pressure_prefix.c_str()));
   // The prefix first: the multigrid's level solvers take theirs from it when they are made.
   PETSC_CHECK(KSPGetPC(pressure_ksp_, &pc));
@@ -315,24 +359,20 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
     PETSC_CHECK(KSPSetFromOptions(pressure_ksp_));
     for (const std::string& option : added) PETSC_CHECK(PetscOptionsClearValue(nullptr, option.c_str()));
   }
+}
 
-  PETSC_CHECK(KSPCreate(comm, velocity_ksp_.out()));
+void NestedNavierStokes::set_up_velocity_solver()
+{
+  PC pc = nullptr;
+  PETSC_CHECK(KSPCreate(comm_, velocity_ksp_.out()));
   PETSC_CHECK(KSPSetType(velocity_ksp_, KSPGMRES));
   PETSC_CHECK(KSPSetPCSide(velocity_ksp_, PC_RIGHT));
   PETSC_CHECK(KSPGetPC(velocity_ksp_, &pc));
   PETSC_CHECK(PCSetType(pc, PCHYPRE));
   PETSC_CHECK(PCHYPRESetType(pc, "boomeramg"));
   PETSC_CHECK(KSPSetInitialGuessNonzero(velocity_ksp_, PETSC_TRUE));
-  PETSC_CHECK(KSPSetTolerances(velocity_ksp_, settings.rtol, 1e-50, PETSC_DEFAULT, 1000));
-  PETSC_CHECK(KSPSetOptionsPrefix(velocity_ksp_, (settings.nested_prefix + "velocity_").c_str()));
-
-  u_ = operators_->create_face_vector();
-  force_ = operators_->create_face_vector();
-  convection_ = operators_->create_face_vector();
-  convection_old_ = operators_->create_face_vector();
-  p_ = operators_->create_cell_vector();
-  PETSC_CHECK(VecScatterCreateToAll(p_, pressure_gather_.out(), pressure_gathered_.out()));
-  if (hierarchy.boxes(hierarchy.finest()).size() == 1) build_finest_level();
+  PETSC_CHECK(KSPSetTolerances(velocity_ksp_, settings_.rtol, 1e-50, PETSC_DEFAULT, 1000));
+  PETSC_CHECK(KSPSetOptionsPrefix(velocity_ksp_, (settings_.nested_prefix + "velocity_").c_str()));
 }
 
 void NestedNavierStokes::set_initial_condition(const VelocityFunction& velocity,

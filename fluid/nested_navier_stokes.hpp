@@ -149,6 +149,16 @@ class NestedNavierStokes final : public FlowSolver {
   void add_force_from_finest(Vec local);
 
  private:
+  // The constructor's steps, in its order.
+  /// The composite operators of the chosen pressure coupling: G, G_d and the projection's M = G_d^T W G
+  /// (with the constants as its null space in a closed box); returns the matrix the projection's
+  /// preconditioner is built from.
+  Mat build_operators();
+  /// The projection's solver: GMRES (consistent coupling) or CG, BoomerAMG or the composite multigrid,
+  /// its options prefixed by settings_.nested_prefix + "pressure_".
+  void set_up_pressure_solver(Mat preconditioner);
+  /// The viscous solve's GMRES with BoomerAMG, prefixed by settings_.nested_prefix + "velocity_".
+  void set_up_velocity_solver();
   void advance(double dt, Vec convection_half);
   /// The boundary part c of the pressure gradient (G p + c) on the traction faces at time t, with the
   /// backflow drop from the current u_.

@@ -83,13 +83,6 @@ void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& pref
     keys.fail(m.closed_area_fraction, "must be below " + keys.key_of(m.open_area_fraction));
 }
 
-void add_report_schema(io::Schema& schema, const std::string& prefix)
-{
-  ReportSettings unused;
-  io::KeyBinder keys(schema);
-  bind_report(keys, unused, prefix);
-}
-
 void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r)
 {
   if (r.templates.empty()) return;
@@ -114,7 +107,11 @@ RecordedReport recorded_report(const fs::path& run_directory)
     toml::table table;
     table.insert("report", std::move(*report));
     io::Schema schema;
-    add_report_schema(schema);
+    {
+      io::KeyBinder declaring(schema);
+      ReportSettings unused;
+      bind_report(declaring, unused);
+    }
     const io::Config config = io::Config::validate(std::move(table), file, schema);
     io::KeyBinder keys(config);
     bind_report(keys, recorded.report);

@@ -34,8 +34,6 @@ struct ReportSettings {
 /// bound to `r` (io/key_binder.hpp): declared into a schema, or read from a case (then the checks a
 /// schema cannot express, closed below open area, are made).
 void bind_report(io::KeyBinder& keys, ReportSettings& r, const std::string& prefix = "report");
-/// The same keys declared into `schema`.
-void add_report_schema(io::Schema& schema, const std::string& prefix = "report");
 /// A case's report.templates, when given, must be a folder whose templates parse: refused before the run
 /// rather than after it.
 void check_report_templates(const io::KeyBinder& keys, const ReportSettings& r);

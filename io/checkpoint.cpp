@@ -208,22 +208,6 @@ void bind(KeyBinder& keys, CheckpointSettings& settings, const std::string& pref
       .at_least(1);
 }
 
-void add_checkpoint_schema(Schema& schema, const std::string& prefix)
-{
-  KeyBinder keys(schema);
-  CheckpointSettings unused;
-  io::bind(keys, unused, prefix);
-}
-
-CheckpointSettings checkpoint_settings_from_config(const Config& config, const std::string& prefix)
-{
-  KeyBinder keys(config);
-  CheckpointSettings settings;
-  io::bind(keys, settings, prefix);
-  settings.case_record = case_record(config);
-  return settings;
-}
-
 Checkpoints::Checkpoints(MPI_Comm comm, std::filesystem::path run_directory, CheckpointSettings settings)
     : comm_(comm), directory_(std::move(run_directory) / "checkpoints"), settings_(settings)
 {

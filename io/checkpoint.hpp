@@ -46,11 +46,6 @@ std::string case_record(const Config& config);
 /// Declares or reads `<prefix>.every` and `<prefix>.keep` into `settings` (io/key_binder.hpp); its
 /// case_record is the reader's to fill in, case_record(config), once every key is read.
 void bind(KeyBinder& keys, CheckpointSettings& settings, const std::string& prefix = "checkpoint");
-/// The same keys as a schema, and read from a whole Config with its case_record: for a caller without
-/// a binder of its own (`ibvalve run --restart` finding the checkpoint to continue from).
-void add_checkpoint_schema(Schema& schema, const std::string& prefix = "checkpoint");
-CheckpointSettings checkpoint_settings_from_config(const Config& config,
-                                                   const std::string& prefix = "checkpoint");
 
 /// What every checkpoint records besides the model's own state.
 struct CheckpointHeader {

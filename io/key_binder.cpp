@@ -21,11 +21,6 @@ std::string KeyBinder::full(std::string_view key) const
   return prefix_.empty() ? std::string(key) : prefix_ + "." + std::string(key);
 }
 
-void KeyBinder::merge(const Schema& other)
-{
-  if (!reading()) schema_->merge(other);
-}
-
 void KeyBinder::retired(std::string_view key, std::string why)
 {
   if (!reading()) schema_->retire(full(key), std::move(why));
@@ -33,14 +28,27 @@ void KeyBinder::retired(std::string_view key, std::string why)
 
 void KeyBinder::bound(std::string_view key, const void* target)
 {
-  bound_.emplace_back(target, full(key));
+  bound_.push_back({target, full(key), config_});
 }
 
-const std::string& KeyBinder::key_at(const void* target) const
+const KeyBinder::Bound& KeyBinder::bound_at(const void* target) const
 {
-  for (const auto& [address, key] : bound_)
-    if (address == target) return key;
+  for (const Bound& b : bound_)
+    if (b.target == target) return b;
   throw std::logic_error("KeyBinder: no key is bound to this target");
+}
+
+const Config& KeyBinder::holder(const Bound& bound) const
+{
+  if (!bound.config) throw std::logic_error("KeyBinder: a key's Config while declaring a schema");
+  return *bound.config;
+}
+
+void KeyBinder::adopt(KeyBinder&& element_binder, std::shared_ptr<const Config> element)
+{
+  for (Bound& b : element_binder.bound_) bound_.push_back(std::move(b));
+  for (auto& kept : element_binder.elements_) elements_.push_back(std::move(kept));
+  elements_.push_back(std::move(element));
 }
 
 KeyBuilder KeyBinder::scratch()
@@ -144,15 +152,15 @@ KeyBuilder KeyBinder::strings(std::string_view key, std::string doc, std::vector
   return schema_->add_string_list(full(key), std::move(doc));
 }
 
-KeyBuilder KeyBinder::tables(std::string_view key, const Schema& element, std::string doc,
-                             std::vector<Config>& target)
+KeyBuilder KeyBinder::named_reals(std::string_view key, std::string doc,
+                                  std::vector<std::pair<std::string, double>>& target)
 {
   bound(key, &target);
   if (reading()) {
-    if (config_->has(full(key))) target = config_->tables(full(key));
+    if (config_->has(full(key))) target = config_->named_reals(full(key));
     return scratch();
   }
-  return schema_->add_table_list(full(key), element, std::move(doc));
+  return schema_->add_real_table(full(key), std::move(doc));
 }
 
 } // namespace ibvalve::io

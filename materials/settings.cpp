@@ -58,6 +58,77 @@ std::string format(double x)
   return os.str();
 }
 
+/// The built-in laws' parameters, one key each (C10, k1, ...): a preset supplies those the case leaves
+/// out; the recommended law's are the skeleton's examples.
+void bind_law_parameters(io::KeyBinder& keys, MaterialKeys& k, const std::string& p,
+                         const MaterialRecommendation& recommended)
+{
+  const std::string preset_key = keys.full(p + "preset");
+  const auto names = all_parameters();
+  k.parameters.assign(names.size(), 0.0); // bound in place below: not resized after
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const auto& [name, info] = names[i];
+    std::string used_by;
+    for (const LawInfo& law : all_laws())
+      for (const ParameterInfo& q : law.parameters)
+        if (q.name == name) used_by += (used_by.empty() ? "" : ", ") + law.name;
+    const std::string parameter = name;
+    auto key =
+        keys.real(p + name, info->doc + " (" + used_by + ")", k.parameters[i])
+            .non_negative()
+            .preset(preset_key, [parameter](const std::string& preset_name) -> std::optional<io::Value> {
+              const Preset* preset = find_preset(preset_name);
+              if (!preset) return std::nullopt;
+              const auto& parameters = law_info(preset->law).parameters;
+              for (std::size_t i = 0; i < parameters.size() && i < preset->values.size(); ++i)
+                if (parameters[i].name == parameter) // the run's value, in CGS
+                  return preset->values[i] * (parameters[i].is_modulus ? units::kPa : 1.0);
+              return std::nullopt;
+            });
+    if (info->is_modulus) key.unit("kPa");
+    if (info->upper < 1e300) key.at_most(info->upper);
+    for (const auto& [given, value] : recommended.parameters)
+      if (given == name) key.example(value);
+  }
+}
+
+/// How the law is applied: its fibers under compression, its reference state, its isotropic invariant and
+/// its volumetric penalty.
+void bind_options(io::KeyBinder& keys, MaterialKeys& k, const std::string& p,
+                  const MaterialRecommendation& recommended)
+{
+  keys.choice(p + "fiber_compression",
+              "\"off\": a fiber family carries no load when shortened (I4 < 1); \"on\": the law as written",
+              k.options.fiber_compression,
+              {{"off", FiberCompression::excluded}, {"on", FiberCompression::included}})
+      .defaults(std::string("off"));
+  keys.choice(p + "reference_state",
+              "\"pressure-like\": adds -2 dW/dI1(I) ln J so that P(I) = 0; \"as-written\": the law alone",
+              k.options.reference_state,
+              {{"pressure-like", ReferenceState::pressure_like}, {"as-written", ReferenceState::as_written}})
+      .defaults(std::string("pressure-like"));
+  keys.choice(p + "isotropic_invariant",
+              "\"I1\": the isotropic part reads tr C, as the law is written; \"isochoric\": it reads "
+              "J^(-2/3) tr C (the same for incompressible tissue; resists the collapse of an element "
+              "corner, docs/materials.md)",
+              k.options.isotropic_invariant,
+              {{"I1", IsotropicInvariant::I1}, {"isochoric", IsotropicInvariant::isochoric}})
+      .defaults(recommended.isotropic_invariant);
+  std::vector<std::pair<std::string, PenaltyKind>> penalties;
+  for (const auto kind :
+       {PenaltyKind::none, PenaltyKind::log, PenaltyKind::quadratic_log, PenaltyKind::quadratic})
+    penalties.emplace_back(penalty_name(kind), kind);
+  keys.choice(p + "penalty",
+              "volumetric penalty: log = kappa/2 (ln J)^2, quadratic-log = kappa/4 (J^2-1-2 ln J), "
+              "quadratic = kappa/2 (J-1)^2, none",
+              k.penalty, penalties)
+      .defaults(std::string("log"));
+  keys.real(p + "bulk_modulus", "bulk modulus kappa of the volumetric penalty", k.bulk_modulus)
+      .unit("kPa")
+      .non_negative()
+      .defaults(1000.0);
+}
+
 } // namespace
 
 std::span<const Preset> presets()
@@ -90,20 +161,20 @@ std::vector<double> to_user_units(LawKind law, std::span<const double> cgs_value
   return out;
 }
 
-io::Schema material_schema(const std::string& prefix, const MaterialRecommendation& recommended)
+void bind(io::KeyBinder& keys, MaterialKeys& k, const std::string& prefix,
+          const MaterialRecommendation& recommended)
 {
-  io::Schema schema;
   const std::string p = prefix.empty() ? "" : prefix + ".";
   std::vector<std::string> law_choices, preset_choices;
   for (const LawInfo& law : all_laws()) law_choices.push_back(law.name);
   law_choices.push_back(expression_law_name);
   for (const Preset& preset : presets()) preset_choices.push_back(preset.name);
   // Keys left out take the preset's values (config.toml writes them out, naming the preset).
-  const std::string preset_key = p + "preset";
-  auto law = schema
-                 .add_string(p + "law",
-                             "constitutive law (" + law_names() +
-                                 ", or expression: a formula in `energy`); implied by `preset` when omitted")
+  const std::string preset_key = keys.full(p + "preset");
+  auto law = keys.string(p + "law",
+                         "constitutive law (" + law_names() +
+                             ", or expression: a formula in `energy`); implied by `preset` when omitted",
+                         k.law)
                  .choices(law_choices)
                  .preset(preset_key, [](const std::string& name) -> std::optional<io::Value> {
                    const Preset* preset = find_preset(name);
@@ -112,76 +183,24 @@ io::Schema material_schema(const std::string& prefix, const MaterialRecommendati
                  });
   // A case needs a law or a preset: the skeleton of `ibvalve keys --format toml` starts from the
   // recommended one.
-  auto preset =
-      schema
-          .add_string(p + "preset", "named parameter set; explicit parameter keys override its values (with "
-                                    "law = \"expression\": its "
-                                    "law's formula and parameters, which `energy` and `parameters` override)")
-          .choices(preset_choices);
+  auto preset = keys.string(p + "preset",
+                            "named parameter set; explicit parameter keys override its values (with "
+                            "law = \"expression\": its "
+                            "law's formula and parameters, which `energy` and `parameters` override)",
+                            k.preset)
+                    .choices(preset_choices);
   if (!recommended.preset.empty()) preset.example(recommended.preset);
   if (!recommended.law.empty()) law.example(recommended.law);
-  for (const auto& [name, info] : all_parameters()) {
-    std::string used_by;
-    for (const LawInfo& law : all_laws())
-      for (const ParameterInfo& q : law.parameters)
-        if (q.name == name) used_by += (used_by.empty() ? "" : ", ") + law.name;
-    const std::string parameter = name;
-    auto key =
-        schema.add_real(p + name, info->doc + " (" + used_by + ")")
-            .non_negative()
-            .preset(preset_key, [parameter](const std::string& preset_name) -> std::optional<io::Value> {
-              const Preset* preset = find_preset(preset_name);
-              if (!preset) return std::nullopt;
-              const auto& parameters = law_info(preset->law).parameters;
-              for (std::size_t i = 0; i < parameters.size() && i < preset->values.size(); ++i)
-                if (parameters[i].name == parameter) // the run's value, in CGS
-                  return preset->values[i] * (parameters[i].is_modulus ? units::kPa : 1.0);
-              return std::nullopt;
-            });
-    if (info->is_modulus) key.unit("kPa");
-    if (info->upper < 1e300) key.at_most(info->upper);
-    for (const auto& [given, value] : recommended.parameters)
-      if (given == name) key.example(value);
-  }
-  schema.add_string(p + "energy",
-                    "law expression: the strain energy as a formula of I1, I1bar, I2, I4, I6, I8, J and the "
-                    "parameters (docs/materials.md)");
-  schema.add_real_table(p + "parameters", "law expression: the formula's parameters, { name = value, ... }");
-  schema.add_string_list(p + "moduli",
-                         "law expression: the parameters given in kPa (the others are dimensionless)");
-  schema
-      .add_string(
-          p + "fiber_compression",
-          "\"off\": a fiber family carries no load when shortened (I4 < 1); \"on\": the law as written")
-      .choices({"off", "on"})
-      .defaults(std::string("off"));
-  schema
-      .add_string(p + "reference_state",
-                  "\"pressure-like\": adds -2 dW/dI1(I) ln J so that P(I) = 0; \"as-written\": the law alone")
-      .choices({"pressure-like", "as-written"})
-      .defaults(std::string("pressure-like"));
-  schema
-      .add_string(p + "isotropic_invariant",
-                  "\"I1\": the isotropic part reads tr C, as the law is written; \"isochoric\": it reads "
-                  "J^(-2/3) tr C (the same for incompressible tissue; resists the collapse of an element "
-                  "corner, docs/materials.md)")
-      .choices({"I1", "isochoric"})
-      .defaults(recommended.isotropic_invariant);
-  std::vector<std::string> penalty_choices;
-  for (const auto kind :
-       {PenaltyKind::none, PenaltyKind::log, PenaltyKind::quadratic_log, PenaltyKind::quadratic})
-    penalty_choices.push_back(penalty_name(kind));
-  schema
-      .add_string(p + "penalty",
-                  "volumetric penalty: log = kappa/2 (ln J)^2, quadratic-log = kappa/4 (J^2-1-2 ln J), "
-                  "quadratic = kappa/2 (J-1)^2, none")
-      .choices(penalty_choices)
-      .defaults(std::string("log"));
-  schema.add_real(p + "bulk_modulus", "bulk modulus kappa of the volumetric penalty")
-      .unit("kPa")
-      .non_negative()
-      .defaults(1000.0);
-  return schema;
+  bind_law_parameters(keys, k, p, recommended);
+  keys.string(p + "energy",
+              "law expression: the strain energy as a formula of I1, I1bar, I2, I4, I6, I8, J and the "
+              "parameters (docs/materials.md)",
+              k.energy);
+  keys.named_reals(p + "parameters", "law expression: the formula's parameters, { name = value, ... }",
+                   k.formula_parameters);
+  keys.strings(p + "moduli", "law expression: the parameters given in kPa (the others are dimensionless)",
+               k.moduli);
+  bind_options(keys, k, p, recommended);
 }
 
 namespace {
@@ -200,12 +219,14 @@ std::string at_character(std::size_t position)
 }
 
 /// The built-in law's parameters: from the preset, overridden by explicit keys.
-void read_builtin_law(const io::Config& config, const std::string& p, const Preset* preset,
+void read_builtin_law(const io::KeyBinder& keys, const MaterialKeys& k, const Preset* preset,
                       MaterialSettings& s)
 {
-  for (const char* key : {"energy", "parameters", "moduli"})
-    if (config.has(p + key))
-      config.fail(p + key, "only for law = \"expression\" (law " + law_info(s.law).name + " is built in)");
+  const std::string only_expression =
+      "only for law = \"expression\" (law " + law_info(s.law).name + " is built in)";
+  if (keys.has(k.energy)) keys.fail(k.energy, only_expression);
+  if (keys.has(k.formula_parameters)) keys.fail(k.formula_parameters, only_expression);
+  if (keys.has(k.moduli)) keys.fail(k.moduli, only_expression);
   const LawInfo& info = law_info(s.law);
   if (preset) {
     s.preset = preset->name;
@@ -214,22 +235,22 @@ void read_builtin_law(const io::Config& config, const std::string& p, const Pres
     s.parameters.assign(info.parameters.size(), -1.0);
   }
   // Explicit parameters: each must belong to the law; each of the law's must be known.
-  for (const auto& [name, spec] : all_parameters()) {
-    const std::string key = p + name;
-    if (!config.has(key)) continue;
+  const auto names = all_parameters();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!keys.has(k.parameters[i])) continue;
     const auto it = std::find_if(info.parameters.begin(), info.parameters.end(),
-                                 [&](const ParameterInfo& q) { return q.name == name; });
+                                 [&](const ParameterInfo& q) { return q.name == names[i].first; });
     if (it == info.parameters.end()) {
       std::string own;
       for (const auto& q : info.parameters) own += (own.empty() ? "" : ", ") + q.name;
-      config.fail(key, "not a parameter of law " + info.name + " (its parameters: " + own + ")");
+      keys.fail(k.parameters[i], "not a parameter of law " + info.name + " (its parameters: " + own + ")");
     }
-    s.parameters[static_cast<std::size_t>(it - info.parameters.begin())] = config.real(key);
+    s.parameters[static_cast<std::size_t>(it - info.parameters.begin())] = k.parameters[i];
   }
   for (std::size_t i = 0; i < s.parameters.size(); ++i)
     if (s.parameters[i] < 0.0)
-      config.fail(p + "law", "law " + info.name + " needs parameter " + info.parameters[i].name +
-                                 " (give it, or a preset)");
+      keys.fail(k.law, "law " + info.name + " needs parameter " + info.parameters[i].name +
+                           " (give it, or a preset)");
 }
 
 /// A preset's parameters as a formula's (CGS; the law's moduli are the preset's kPa values).
@@ -245,40 +266,30 @@ std::vector<ExpressionParameter> preset_parameters(const Preset& preset)
   return out;
 }
 
-/// law = "expression": the formula and its parameters, parsed and checked (expression_checks.hpp).
-/// With a preset, its law's formula and parameters are the defaults (`energy` and `parameters`
-/// entries override them) and `moduli` defaults to the law's moduli.
-void read_expression_law(const io::Config& config, const std::string& p, const Preset* preset,
-                         MaterialSettings& s)
+/// law = "expression": the formula and its parameters, the preset's law's where the keys leave them out:
+/// `energy` and the `parameters` entries override them, and `moduli` defaults to the law's moduli.
+ExpressionDefinition expression_definition(const io::KeyBinder& keys, const MaterialKeys& k,
+                                           const Preset* preset, std::vector<std::string>& moduli)
 {
-  for (const auto& [name, spec] : all_parameters())
-    if (config.has(p + name))
-      config.fail(p + name, "not a key of law expression (its parameters go in `parameters = { ... }`)");
-  if (!config.has(p + "energy") && !preset)
-    config.fail(p + "law",
-                "law expression needs `energy`, a formula of the invariants, and its `parameters` (or a "
-                "preset, whose law's formula it takes)");
+  // A named number of `parameters`: its key, "...material.parameters.<name>", for messages about it.
+  const auto fail_parameter = [&](const std::string& name, const std::string& message) {
+    keys.config_of(k.formula_parameters).fail(keys.key_of(k.formula_parameters) + "." + name, message);
+  };
   ExpressionDefinition definition;
-  definition.energy = config.has(p + "energy") ? config.string(p + "energy") : law_info(preset->law).energy;
-  std::vector<std::string> moduli;
-  if (config.has(p + "moduli")) {
-    moduli = config.strings(p + "moduli");
+  definition.energy = keys.has(k.energy) ? k.energy : law_info(preset->law).energy;
+  if (keys.has(k.moduli)) {
+    moduli = k.moduli;
   } else if (preset) {
     for (const ParameterInfo& q : law_info(preset->law).parameters)
       if (q.is_modulus) moduli.push_back(q.name);
   }
-  if (preset) {
-    s.preset = preset->name;
-    definition.parameters = preset_parameters(*preset);
-  }
-  const auto given_parameters = config.named_reals(p + "parameters");
-  for (const auto& [name, value] : given_parameters) {
-    const std::string key = p + "parameters." + name;
+  if (preset) definition.parameters = preset_parameters(*preset);
+  for (const auto& [name, value] : k.formula_parameters) {
     if (!is_identifier(name))
-      config.fail(key, "a parameter's name is a letter or _ followed by letters, digits or _");
+      fail_parameter(name, "a parameter's name is a letter or _ followed by letters, digits or _");
     if (std::find(expression_invariants.begin(), expression_invariants.end(), name) !=
         expression_invariants.end())
-      config.fail(key, "'" + name + "' is an invariant, not a parameter");
+      fail_parameter(name, "'" + name + "' is an invariant, not a parameter");
     const bool modulus = std::find(moduli.begin(), moduli.end(), name) != moduli.end();
     const ExpressionParameter given{name, modulus ? value * units::kPa : value, modulus};
     const auto same = std::find_if(definition.parameters.begin(), definition.parameters.end(),
@@ -288,30 +299,47 @@ void read_expression_law(const io::Config& config, const std::string& p, const P
     else
       definition.parameters.push_back(given);
   }
+  return definition;
+}
+
+/// law = "expression": the formula and its parameters, parsed and checked (expression_checks.hpp).
+void read_expression_law(const io::KeyBinder& keys, const MaterialKeys& k, const Preset* preset,
+                         MaterialSettings& s)
+{
+  for (const double& parameter : k.parameters)
+    if (keys.has(parameter))
+      keys.fail(parameter, "not a key of law expression (its parameters go in `parameters = { ... }`)");
+  if (!keys.has(k.energy) && !preset)
+    keys.fail(k.law, "law expression needs `energy`, a formula of the invariants, and its `parameters` (or a "
+                     "preset, whose law's formula it takes)");
+  std::vector<std::string> moduli;
+  ExpressionDefinition definition = expression_definition(keys, k, preset, moduli);
+  if (preset) s.preset = preset->name;
   std::string names;
   for (const ExpressionParameter& q : definition.parameters) names += (names.empty() ? "" : ", ") + q.name;
   for (const std::string& name : moduli)
-    if (config.has(p + "moduli") &&
-        std::none_of(definition.parameters.begin(), definition.parameters.end(),
-                     [&](const ExpressionParameter& q) { return q.name == name; }))
-      config.fail(p + "moduli", "'" + name + "' is not one of the parameters (" + names + ")");
+    if (keys.has(k.moduli) && std::none_of(definition.parameters.begin(), definition.parameters.end(),
+                                           [&](const ExpressionParameter& q) { return q.name == name; }))
+      keys.fail(k.moduli, "'" + name + "' is not one of the parameters (" + names + ")");
   const auto fail_at = [&](std::size_t position, const std::string& message) {
-    config.fail(p + "energy", at_character(position) + message);
+    keys.fail(k.energy, at_character(position) + message);
   };
   try {
     const ExpressionLaw law(definition.energy, definition.parameters, s.options);
     for (std::size_t i = 0; i < definition.parameters.size(); ++i)
       if (!law.formula().uses(static_cast<int>(expression_invariants.size() + i))) {
         const std::string& name = definition.parameters[i].name;
-        if (std::any_of(given_parameters.begin(), given_parameters.end(),
+        if (std::any_of(k.formula_parameters.begin(), k.formula_parameters.end(),
                         [&](const auto& given) { return given.first == name; }))
-          config.fail(p + "parameters." + name, "not used in the energy");
-        config.fail(p + "energy",
-                    "parameter " + name + " of preset \"" + preset->name + "\" is not used in the energy");
+          keys.config_of(k.formula_parameters)
+              .fail(keys.key_of(k.formula_parameters) + "." + name, "not used in the energy");
+        keys.fail(k.energy,
+                  "parameter " + name + " of preset \"" + preset->name + "\" is not used in the energy");
       }
     if (const auto problem = check_expression_law(law)) fail_at(problem->position, problem->message);
+    const std::string energy_key = keys.key_of(k.energy);
     for (const std::string& warning : convexity_warnings(law))
-      s.warnings.push_back(config.where(p + "energy") + ": " + p + "energy: " + warning);
+      s.warnings.push_back(keys.config_of(k.energy).where(energy_key) + ": " + energy_key + ": " + warning);
   } catch (const FormulaError& e) {
     fail_at(e.position(), e.what());
   }
@@ -320,42 +348,34 @@ void read_expression_law(const io::Config& config, const std::string& p, const P
 
 } // namespace
 
-MaterialSettings read_material(const io::Config& config, const std::string& prefix)
+MaterialSettings material_settings(const io::KeyBinder& keys, const MaterialKeys& k)
 {
-  const std::string p = prefix.empty() ? "" : prefix + ".";
   MaterialSettings s;
-  s.options.fiber_compression = config.string(p + "fiber_compression") == "on" ? FiberCompression::included
-                                                                               : FiberCompression::excluded;
-  s.options.reference_state = config.string(p + "reference_state") == "as-written"
-                                  ? ReferenceState::as_written
-                                  : ReferenceState::pressure_like;
-  s.options.isotropic_invariant = config.string(p + "isotropic_invariant") == "isochoric"
-                                      ? IsotropicInvariant::isochoric
-                                      : IsotropicInvariant::I1;
-  s.penalty = *find_penalty(config.string(p + "penalty"));
-  s.bulk_modulus = config.real(p + "bulk_modulus");
+  s.options = k.options;
+  s.penalty = k.penalty;
+  s.bulk_modulus = k.bulk_modulus;
 
-  const Preset* preset = config.has(p + "preset") ? find_preset(config.string(p + "preset")) : nullptr;
-  if (config.has(p + "law") && config.string(p + "law") == expression_law_name) {
-    read_expression_law(config, p, preset, s);
+  const Preset* preset = keys.has(k.preset) ? find_preset(k.preset) : nullptr;
+  if (keys.has(k.law) && k.law == expression_law_name) {
+    read_expression_law(keys, k, preset, s);
     return s;
   }
-  if (config.has(p + "law")) {
-    s.law = *find_law(config.string(p + "law"));
+  if (keys.has(k.law)) {
+    s.law = *find_law(k.law);
     if (preset && preset->law != s.law)
-      config.fail(p + "preset", "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
-                                    ", not " + law_info(s.law).name);
+      keys.fail(k.preset, "preset \"" + preset->name + "\" is for law " + law_info(preset->law).name +
+                              ", not " + law_info(s.law).name);
   } else if (preset) {
     s.law = preset->law;
   } else {
-    config.fail(p + "law", "give a law (" + law_names() + ", expression) or a preset");
+    keys.fail(k.law, "give a law (" + law_names() + ", expression) or a preset");
   }
-  read_builtin_law(config, p, preset, s);
+  read_builtin_law(keys, k, preset, s);
   return s;
 }
 
-void check_fiber_families(const MaterialSettings& material, int families, const io::Config& config,
-                          const std::string& prefix)
+void check_fiber_families(const MaterialSettings& material, int families, const io::KeyBinder& keys,
+                          const MaterialKeys& k)
 {
   if (!material.expression) return;
   const ExpressionLaw law = material.expression_law();
@@ -364,11 +384,9 @@ void check_fiber_families(const MaterialSettings& material, int families, const 
   std::size_t first = std::string::npos;
   for (int symbol = families == 0 ? 3 : 4; symbol <= 5; ++symbol)
     first = std::min(first, law.formula().first_use(symbol));
-  const std::string p = prefix.empty() ? "" : prefix + ".";
-  config.fail(p + "energy",
-              at_character(first) + "the energy reads " +
-                  (families == 0 ? "a fiber invariant, but this part has no fibers"
-                                 : "a second fiber family (I6 or I8), but this part has one (I4)"));
+  keys.fail(k.energy, at_character(first) + "the energy reads " +
+                          (families == 0 ? "a fiber invariant, but this part has no fibers"
+                                         : "a second fiber family (I6 or I8), but this part has one (I4)"));
 }
 
 std::string MaterialSettings::describe() const

@@ -24,9 +24,10 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
-#include "io/config.hpp"
+#include "io/key_binder.hpp"
 #include "materials/expression_law.hpp"
 #include "materials/law.hpp"
 #include "materials/material.hpp"
@@ -59,16 +60,32 @@ struct MaterialRecommendation {
   std::string isotropic_invariant = "I1";
 };
 
-/// The keys of a material table under `prefix` (e.g. "leaflet.material"), for the case schema.
-io::Schema material_schema(const std::string& prefix, const MaterialRecommendation& recommended = {});
+/// A material table's keys as the case gives them (io/key_binder.hpp), before material_settings resolves
+/// the law they describe. A key without a default that the case leaves out has no value (KeyBinder::has).
+struct MaterialKeys {
+  std::string law, preset, energy;
+  /// One per name of every built-in law's parameters (the keys `C10`, `k1`, ...), CGS.
+  std::vector<double> parameters;
+  /// law expression: the formula's `parameters = { name = value, ... }`, as written.
+  std::vector<std::pair<std::string, double>> formula_parameters;
+  std::vector<std::string> moduli;
+  LawOptions options;
+  PenaltyKind penalty = PenaltyKind::log;
+  double bulk_modulus = 0.0; ///< dyn/cm^2
+};
 
-/// Everything a material table resolves to.
+/// Declares (a Schema binder) or reads (a Config binder) the keys of a material table under `prefix`
+/// (e.g. "leaflet.material"); `recommended` is where the case skeleton starts from.
+void bind(io::KeyBinder& keys, MaterialKeys& k, const std::string& prefix,
+          const MaterialRecommendation& recommended = {});
+
 /// The law = "expression" part of a material: the formula and its named parameters (CGS).
 struct ExpressionDefinition {
   std::string energy;
   std::vector<ExpressionParameter> parameters;
 };
 
+/// Everything a material table resolves to.
 struct MaterialSettings {
   LawKind law = LawKind::neo_hookean; ///< the built-in law, unless `expression` is set
   std::vector<double> parameters;     ///< CGS
@@ -91,15 +108,15 @@ struct MaterialSettings {
   std::string describe_options() const;
 };
 
-/// Reads the material table under `prefix` of a validated case (schema from material_schema).
-/// Errors (no law, a parameter of another law, a preset of another law, a missing parameter) name
+/// Everything a material table resolves to: the keys `keys` read into `k` (bind), the law resolved from
+/// them. Errors (no law, a parameter of another law, a preset of another law, a missing parameter) name
 /// the file, line and key.
-MaterialSettings read_material(const io::Config& config, const std::string& prefix);
+MaterialSettings material_settings(const io::KeyBinder& keys, const MaterialKeys& k);
 
 /// Checks that an expression law reads no more fiber families than the part has (0, 1 or 2): an energy
 /// reading I4 where there are no fibers, or I6/I8 with one family, is an input error naming the
-/// `energy` key and the character where the invariant is first read.
-void check_fiber_families(const MaterialSettings& material, int families, const io::Config& config,
-                          const std::string& prefix);
+/// `energy` key of the table `k` and the character where the invariant is first read.
+void check_fiber_families(const MaterialSettings& material, int families, const io::KeyBinder& keys,
+                          const MaterialKeys& k);
 
 } // namespace ibvalve::materials

@@ -54,7 +54,7 @@ void check(const io::KeyBinder& keys, const WindkesselKeys& k)
   const WindkesselParameters& p = k.parameters;
   for (const double* value :
        {&p.proximal_resistance, &p.distal_resistance, &p.compliance, &p.distal_pressure, &p.initial_pressure})
-    if (!keys.config().has(keys.key_of(*value)))
+    if (!keys.has(*value))
       keys.fail(*value, "missing (no preset given: set " + keys.key_of(k.preset) + " or this key)");
 }
 
@@ -78,41 +78,6 @@ void bind(io::KeyBinder& keys, WaveformKeys& k, const std::string& prefix, const
 PeriodicWaveform load_waveform(const WaveformKeys& k, double value_factor)
 {
   return PeriodicWaveform::from_csv(k.file, k.time_column, k.value_column, value_factor, k.interpolation);
-}
-
-// The sections as a schema and a reader of a whole Config, for callers without a binder of their own.
-
-void add_schema(io::Schema& schema, const std::string& prefix)
-{
-  io::KeyBinder keys(schema);
-  WindkesselKeys unused;
-  windkessel::bind(keys, unused, prefix);
-}
-
-WindkesselParameters parameters_from_config(const io::Config& config, const std::string& prefix)
-{
-  io::KeyBinder keys(config);
-  WindkesselKeys k;
-  windkessel::bind(keys, k, prefix);
-  check(keys, k);
-  return k.parameters;
-}
-
-void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc,
-                         bool file_required)
-{
-  io::KeyBinder keys(schema);
-  WaveformKeys unused;
-  windkessel::bind(keys, unused, prefix, doc, file_required);
-}
-
-PeriodicWaveform waveform_from_config(const io::Config& config, const std::string& prefix,
-                                      double value_factor)
-{
-  io::KeyBinder keys(config);
-  WaveformKeys k;
-  windkessel::bind(keys, k, prefix, std::string(), true);
-  return load_waveform(k, value_factor);
 }
 
 } // namespace ibvalve::windkessel

@@ -11,8 +11,6 @@
 #include <string_view>
 #include <vector>
 
-#include "io/config.hpp"
-
 namespace ibvalve::windkessel {
 
 enum class Interpolation { linear, monotone_cubic };
@@ -53,13 +51,5 @@ class PeriodicWaveform {
   std::vector<double> slopes_;
   Interpolation interpolation_;
 };
-
-/// The keys of windkessel/keys.hpp's bind(KeyBinder&, WaveformKeys&, ...) as a schema, and the waveform
-/// they name in a whole Config (values in the table's unit times `value_factor`): for a caller without a
-/// binder of its own. Defined in windkessel/keys.cpp.
-void add_waveform_schema(io::Schema& schema, const std::string& prefix, const std::string& doc,
-                         bool file_required = true);
-PeriodicWaveform waveform_from_config(const io::Config& config, const std::string& prefix,
-                                      double value_factor);
 
 } // namespace ibvalve::windkessel

@@ -15,8 +15,6 @@
 #include <string_view>
 #include <vector>
 
-#include "io/config.hpp"
-
 namespace ibvalve::windkessel {
 
 /// Parameters in CGS.
@@ -84,11 +82,5 @@ class ThreeElementWindkessel {
   WindkesselParameters parameters_;
   WindkesselState state_;
 };
-
-/// The keys of windkessel/keys.hpp's bind(KeyBinder&, WindkesselKeys&, prefix) as a schema, and read
-/// from a whole Config (CGS; InputError when a value is missing without a preset): for a caller that
-/// binds its keys without a binder of its own. Defined in windkessel/keys.cpp.
-void add_schema(io::Schema& schema, const std::string& prefix);
-WindkesselParameters parameters_from_config(const io::Config& config, const std::string& prefix);
 
 } // namespace ibvalve::windkessel

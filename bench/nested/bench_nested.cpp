@@ -25,7 +25,7 @@
 #include "fluid/composite_poisson.hpp"
 #include "fluid/navier_stokes.hpp"
 #include "fluid/nested_navier_stokes.hpp"
-#include "io/config.hpp"
+#include "io/key_binder.hpp"
 #include "io/petsc_check.hpp"
 
 using namespace ibvalve;
@@ -201,10 +201,17 @@ int main(int argc, char** argv)
     box.cells = {20 / divisor, 20 / divisor, 32 / divisor};
     box.periodic = {false, false, false};
     const std::string text = fmt::format("[nested]\nratios = [4]\nmargins = [{}]\n", 4 / divisor);
+    io::Schema schema;
+    io::KeyBinder declaring(schema);
+    NestedKeys unused;
+    fluid::bind(declaring, unused);
     const io::Config config = io::Config::validate(
-        toml::parse(std::string_view{text}, std::string_view{"bench.toml"}), "bench.toml", nested_schema());
+        toml::parse(std::string_view{text}, std::string_view{"bench.toml"}), "bench.toml", schema);
+    io::KeyBinder keys(config);
+    NestedKeys k;
+    fluid::bind(keys, k);
     const GridHierarchy nested =
-        read_hierarchy(config, box, PhysicalBox{{-1.4, -1.4, -1.0}, {1.4, 1.4, 1.2}});
+        read_hierarchy(keys, k, box, PhysicalBox{{-1.4, -1.4, -1.0}, {1.4, 1.4, 1.2}});
     if (rank == 0) {
       const IndexBox& fine = nested.boxes(1)[0];
       std::printf(

@@ -6,7 +6,7 @@
 
 #include "base/errors.hpp"
 #include "fluid/hierarchy.hpp"
-#include "io/config.hpp"
+#include "io/key_binder.hpp"
 
 namespace ibvalve::fluid {
 namespace {
@@ -26,9 +26,16 @@ const PhysicalBox valve{{-1.4, -1.4, -1.0}, {1.4, 1.4, 1.2}};
 
 GridHierarchy read(const std::string& text, std::optional<PhysicalBox> structure = std::nullopt)
 {
+  io::Schema schema;
+  io::KeyBinder declaring(schema);
+  NestedKeys unused;
+  bind(declaring, unused);
   const io::Config config = io::Config::validate(
-      toml::parse(std::string_view{text}, std::string_view{"case.toml"}), "case.toml", nested_schema());
-  return read_hierarchy(config, study_box(), structure, "leaflets.mesh");
+      toml::parse(std::string_view{text}, std::string_view{"case.toml"}), "case.toml", schema);
+  io::KeyBinder keys(config);
+  NestedKeys k;
+  bind(keys, k);
+  return read_hierarchy(keys, k, study_box(), structure, "leaflets.mesh");
 }
 
 std::string error_of(const std::string& text, std::optional<PhysicalBox> structure = std::nullopt)

@@ -13,12 +13,24 @@
 namespace ibvalve::materials {
 namespace {
 
+/// A case holding one material table, leaflet.material, validated against the keys its bind declares.
+io::Config material_case(const std::string& toml_text)
+{
+  io::Schema schema;
+  io::KeyBinder declaring(schema);
+  MaterialKeys unused;
+  bind(declaring, unused, "leaflet.material");
+  return io::Config::validate(toml::parse(std::string_view{toml_text}, std::string_view{"case.toml"}),
+                              "case.toml", schema);
+}
+
 MaterialSettings read(const std::string& toml_text)
 {
-  const io::Schema schema = material_schema("leaflet.material");
-  const io::Config config = io::Config::validate(
-      toml::parse(std::string_view{toml_text}, std::string_view{"case.toml"}), "case.toml", schema);
-  return read_material(config, "leaflet.material");
+  const io::Config config = material_case(toml_text);
+  io::KeyBinder keys(config);
+  MaterialKeys k;
+  bind(keys, k, "leaflet.material");
+  return material_settings(keys, k);
 }
 
 std::string error_of(const std::string& toml_text)
@@ -248,13 +260,14 @@ TEST(MaterialSettings, APresetsFormulaTakesParametersAndAnEnergyThatOverrideIt)
 TEST(MaterialSettings, AnExpressionReadingFibersThePartLacksIsAnInputError)
 {
   const std::string text = w1_formula;
-  const io::Schema schema = material_schema("leaflet.material");
-  const io::Config config = io::Config::validate(
-      toml::parse(std::string_view{text}, std::string_view{"case.toml"}), "case.toml", schema);
-  const MaterialSettings s = read_material(config, "leaflet.material");
-  EXPECT_NO_THROW(check_fiber_families(s, 1, config, "leaflet.material"));
+  const io::Config config = material_case(text);
+  io::KeyBinder keys(config);
+  MaterialKeys k;
+  bind(keys, k, "leaflet.material");
+  const MaterialSettings s = material_settings(keys, k);
+  EXPECT_NO_THROW(check_fiber_families(s, 1, keys, k));
   try {
-    check_fiber_families(s, 0, config, "leaflet.material");
+    check_fiber_families(s, 0, keys, k);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "case.toml:3: leaflet.material.energy: character 50: the energy reads a fiber "

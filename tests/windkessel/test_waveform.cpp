@@ -13,6 +13,7 @@
 
 #include "base/errors.hpp"
 #include "base/units.hpp"
+#include "windkessel/keys.hpp"
 #include "windkessel/waveform.hpp"
 
 namespace wk = ibvalve::windkessel;
@@ -222,9 +223,16 @@ TEST(Waveform, CaseKeysNameTheTableRelativeToTheCaseFile)
       << "[drive]\nfile = \"p.csv\"\ntime_column = \"seconds\"\nvalue_column = \"kPa\"\n"
          "interpolation = \"linear\"\n";
   ibvalve::io::Schema schema;
-  wk::add_waveform_schema(schema, "drive", "a test waveform");
-  const auto w = wk::waveform_from_config(ibvalve::io::Config::load(dir / "case.toml", schema), "drive",
-                                          ibvalve::units::kPa);
+  {
+    ibvalve::io::KeyBinder declaring(schema);
+    wk::WaveformKeys unused;
+    wk::bind(declaring, unused, "drive", "a test waveform");
+  }
+  const ibvalve::io::Config config = ibvalve::io::Config::load(dir / "case.toml", schema);
+  ibvalve::io::KeyBinder keys(config);
+  wk::WaveformKeys k;
+  wk::bind(keys, k, "drive", "a test waveform");
+  const auto w = wk::load_waveform(k, ibvalve::units::kPa);
   EXPECT_NEAR(w.period(), 1.0, 1e-15);
   EXPECT_NEAR(w(0.25), 1.5 * ibvalve::units::kPa, 1e-9);
   std::ofstream(dir / "case.toml") << "[drive]\nfile = \"missing.csv\"\n";

@@ -161,7 +161,20 @@ TEST(Windkessel, StableAndConsistentForHugeSteps)
 TEST(Windkessel, CaseKeysInUserUnitsOverrideThePreset)
 {
   ibvalve::io::Schema schema;
-  wk::add_schema(schema, "windkessel");
+  {
+    ibvalve::io::KeyBinder declaring(schema);
+    wk::WindkesselKeys unused;
+    wk::bind(declaring, unused, "windkessel");
+  }
+  // The parameters a case gives, each over the preset's, checked as a model that uses them checks them.
+  const auto parameters = [&](const std::filesystem::path& file) {
+    const ibvalve::io::Config config = ibvalve::io::Config::load(file, schema);
+    ibvalve::io::KeyBinder keys(config);
+    wk::WindkesselKeys k;
+    wk::bind(keys, k, "windkessel");
+    wk::check(keys, k);
+    return k.parameters;
+  };
   const auto dir = std::filesystem::temp_directory_path() / "ibvalve_test_windkessel";
   std::filesystem::create_directories(dir);
   const auto file = dir / "case.toml";
@@ -169,7 +182,7 @@ TEST(Windkessel, CaseKeysInUserUnitsOverrideThePreset)
     std::ofstream out(file);
     out << "[windkessel]\ncompliance = 2.0\ninitial_pressure = 80\n";
   }
-  auto p = wk::parameters_from_config(ibvalve::io::Config::load(file, schema), "windkessel");
+  auto p = parameters(file);
   EXPECT_NEAR(p.compliance, 2.0 / units::mmHg, 1e-15);
   EXPECT_NEAR(p.initial_pressure, 80.0 * units::mmHg, 1e-9);
   EXPECT_NEAR(p.distal_resistance, 0.79 * units::mmHg, 1e-9);
@@ -177,8 +190,7 @@ TEST(Windkessel, CaseKeysInUserUnitsOverrideThePreset)
     std::ofstream out(file);
     out << "[windkessel]\npreset = \"none\"\ncompliance = 2.0\n";
   }
-  EXPECT_THROW(wk::parameters_from_config(ibvalve::io::Config::load(file, schema), "windkessel"),
-               ibvalve::InputError);
+  EXPECT_THROW(parameters(file), ibvalve::InputError);
   {
     std::ofstream out(file);
     out << "[windkessel]\ncompliance = -1.0\n";
