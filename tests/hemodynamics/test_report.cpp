@@ -704,7 +704,8 @@ TEST(Report, EveryCyclesPageHasItsPlotsOrWithCyclePlotsOffOnlyTheReportedCyclesP
   write_cycles(run, 3, 300.0, 5.0, 0.0);
   hd::ReportOptions options; // plots on: one Python draws the three cycles' pages
   const hd::ReportFiles files = hd::write_report(run, options);
-  const std::vector<std::string> images{"flow.png", "pressures.png", "pressure_difference.png", "orifice_area.png"};
+  const std::vector<std::string> images{"flow.png", "pressures.png", "pressure_difference.png",
+                                        "orifice_area.png"};
   for (int c = 1; c <= 3; ++c)
     for (const std::string& image : images)
       EXPECT_TRUE(fs::exists(run / "report" / ("cycle_" + std::to_string(c)) / image)) << c << " " << image;
