@@ -16,10 +16,15 @@ namespace ibvalve::hemodynamics {
 
 namespace fs = std::filesystem;
 
+void remove_plots(const fs::path& folder, std::span<const PlotCaption> expected)
+{
+  for (const PlotCaption& plot : expected) fs::remove(folder / plot.file);
+}
+
 DrawnPlots draw_plots(bool draw, const std::string& python, const std::vector<std::string>& script_arguments,
                       const fs::path& folder, std::span<const PlotCaption> expected)
 {
-  for (const PlotCaption& plot : expected) fs::remove(folder / plot.file);
+  remove_plots(folder, expected);
   DrawnPlots out;
   if (!draw) return out;
   const fs::path script = folder / "plot_report.py";
@@ -39,8 +44,7 @@ std::vector<DrawnPlots> draw_page_plots(bool draw, const std::string& python, co
                                         std::span<const PlotCaption> expected)
 {
   std::vector<DrawnPlots> out(folders.size());
-  for (const fs::path& folder : folders)
-    for (const PlotCaption& plot : expected) fs::remove(folder / plot.file);
+  for (const fs::path& folder : folders) remove_plots(folder, expected);
   if (!draw || folders.empty()) return out;
   std::vector<std::string> args{python, "-I", fs::absolute(folders.front() / "plot_report.py").string(),
                                 fs::absolute(series).string()};

@@ -38,6 +38,9 @@ struct DrawnPlots {
 DrawnPlots draw_plots(bool draw, const std::string& python, const std::vector<std::string>& script_arguments,
                       const std::filesystem::path& folder, std::span<const PlotCaption> expected);
 
+/// Removes `expected`'s images from `folder`, so that none is left from an earlier drawing.
+void remove_plots(const std::filesystem::path& folder, std::span<const PlotCaption> expected);
+
 /// A report's pages drawn by one Python (matplotlib imported and the series read once): `expected`'s
 /// images removed from every folder, then, with `draw`, plot_report.py written into each (to draw that
 /// page again by hand) and run as draw_plots runs it, on `series` and each folder's metrics.json, its log

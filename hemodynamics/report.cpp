@@ -512,7 +512,7 @@ ReportFiles write_report(const fs::path& run_directory, const ReportOptions& opt
   };
   for (std::size_t i = 0; i < pages.size(); ++i) {
     if (!options.cycle_plots && page_folders[i] != reported_folder)
-      draw_page_plots(false, options.python, series_file, std::span(&page_folders[i], 1), report_plots());
+      remove_plots(page_folders[i], report_plots()); // an earlier report's images of this cycle
     render_page(pages[i].second, page_folders[i], drawn_in(page_folders[i]), templates, "../");
     files.cycle_pages.push_back(page_folders[i] / "report.html");
   }
