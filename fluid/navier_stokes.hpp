@@ -60,6 +60,8 @@ class NavierStokes final : public FlowSolver {
   void add_to_state(Vec increment);
 
   double time() const override { return time_; }
+  /// The length of the last step (0 before the first; restored by load()).
+  double last_step() const { return last_dt_; }
   PetscInt steps_taken() const override { return steps_; }
   /// The state as a local vector: face slots u^n (ghosts filled, boundary conditions applied), cell
   /// slots p^{n-1/2} (ghosts filled). Read-only for callers; valid until the next step().

@@ -84,6 +84,8 @@ class NestedNavierStokes final : public FlowSolver {
 
   void step(double dt) override;
   double time() const override { return time_; }
+  /// The length of the last step (0 before the first; restored by load()).
+  double last_step() const { return last_dt_; }
   double pressure_time() const override { return pressure_time_; }
   PetscInt steps_taken() const override { return stats_.steps; }
   /// Composite face velocity u^n (normal components) and composite cell pressure p^{n-1/2}.

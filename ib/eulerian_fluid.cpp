@@ -48,6 +48,10 @@ double UniformFluid::time() const
 {
   return fluid_.time();
 }
+double UniformFluid::last_step() const
+{
+  return fluid_.last_step();
+}
 double UniformFluid::density() const
 {
   return fluid_.settings().rho;
@@ -96,6 +100,10 @@ void NestedFluid::copy_velocity()
 double NestedFluid::time() const
 {
   return fluid_.time();
+}
+double NestedFluid::last_step() const
+{
+  return fluid_.last_step();
 }
 double NestedFluid::density() const
 {

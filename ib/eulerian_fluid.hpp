@@ -43,6 +43,8 @@ class EulerianFluid {
   /// Advances the fluid from time() to time() + dt with the body force of apply_force().
   virtual void step(double dt) = 0;
   virtual double time() const = 0;
+  /// The length of the last step (0 before the first): the one the fluid's solvers are set up for.
+  virtual double last_step() const = 0;
   virtual double density() const = 0;
   virtual double viscosity() const = 0;
   /// RunError when a node of the structure (current positions) lies where the IB cannot follow it: on
@@ -75,6 +77,7 @@ class UniformFluid final : public EulerianFluid {
   void apply_force() override {} // the spreading wrote the body force itself
   void step(double dt) override;
   double time() const override;
+  double last_step() const override;
   double density() const override;
   double viscosity() const override;
   void require_inside(std::span<const Vec3>, int) const override {}
@@ -104,6 +107,7 @@ class NestedFluid final : public EulerianFluid {
   void apply_force() override;
   void step(double dt) override;
   double time() const override;
+  double last_step() const override;
   double density() const override;
   double viscosity() const override;
   /// RunError naming the first node (by index) outside the finest level's box less `reach` cells, the
