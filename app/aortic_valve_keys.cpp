@@ -73,6 +73,14 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(0.8)
       .positive()
       .at_most(2.0);
+  keys.integer("time.estimate_iterations",
+               "with " + adaptive +
+                   ": power iterations of the structure's stability estimate at each interval's start, each "
+                   "from the last one's mode (docs/ib.md, \"The coupled estimate\")",
+               k.adaptive_step.estimate_iterations)
+      .defaults(std::int64_t{6})
+      .at_least(1)
+      .at_most(100);
   keys.real("time.cfl", "with " + adaptive + ": the largest advective CFL number max|u| dt / h of a sub-step",
             k.adaptive_step.cfl)
       .defaults(0.5)

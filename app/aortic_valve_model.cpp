@@ -361,7 +361,8 @@ class AorticValveRun : public PreparedRun {
     loop.advance = [&, this, coupled_step](std::int64_t n) {
       const double interval = schedule_.step(n);
       if (!adaptive_step_) return coupled_step(n, interval);
-      record.structure_dt = ibfe.coupled_stability_estimate().dt;
+      record.structure_dt =
+          ibfe.coupled_stability_estimate(static_cast<int>(k_.adaptive_step.estimate_iterations)).dt;
       // The semi-implicit coupling is not bound by the explicit estimate (kept in diagnostics.csv).
       const bool bound = ibfe.settings().coupling == ib::CouplingKind::explicit_midpoint;
       const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
