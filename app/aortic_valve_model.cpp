@@ -547,6 +547,18 @@ class AorticValveRun : public PreparedRun {
   void read_end()
   {
     const long every = static_cast<long>(k_.every);
+    // The report reads the valve's opening, closing and ejection window from the rows: a closure takes
+    // about 50 ms (RESULTS.md's T_close), so rows further apart than 5 ms blur them. With time.adaptive
+    // output.every counts intervals, so a case written for fixed steps (every 40 steps of 4e-5 s) writes
+    // a row every 64 ms.
+    const double row_spacing = static_cast<double>(every) * period_ / static_cast<double>(steps_per_cycle_);
+    if (row_spacing > 5e-3)
+      base::Logger::global().warn(fmt::format(
+          "{}: a time-series row every {:g} ms ({} {} of {:g} s): the report's ejection window, volumes "
+          "and opening and closing times are read from the rows, and a valve closure (about 50 ms) spans "
+          "fewer than 10 of them; a smaller {} (the fixed-step cases write a row every 1.6 ms)",
+          keys_.key_of(k_.every), row_spacing * 1e3, every, adaptive_step_ ? "intervals" : "steps",
+          period_ / static_cast<double>(steps_per_cycle_), keys_.key_of(k_.every)));
     steps_ = static_cast<long>(k_.cycles) * steps_per_cycle_;
     if (!k_.end) return;
     steps_ = std::max<long>(1, static_cast<long>(schedule_.steps_to(*k_.end)));
