@@ -16,7 +16,7 @@ namespace ibvalve::app {
 struct AdaptiveStepSettings {
   double interval = 1e-3;               ///< s: the loop's step
   double largest = 1e-4;                ///< s: no sub-step longer
-  double safety = 0.8;                  ///< the fraction of the structure's estimate a sub-step may take
+  double safety = 0.9;                  ///< the fraction of the structure's estimate a sub-step may take
   double cfl = 0.5;                     ///< the largest advective CFL number max|u| dt / h
   double grow = 1.2;                    ///< the factor the allowed step must grow by before m falls
   std::int64_t estimate_iterations = 6; ///< power iterations of the structure's estimate an interval

@@ -67,10 +67,10 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
       .positive();
   keys.real("time.safety",
             "with " + adaptive +
-                ": the fraction of the structure's stability estimate a sub-step may take (the estimate lies "
-                "5-10 % above the true limit, and falls within an interval as the leaflets load: docs/ib.md)",
+                ": the fraction of the structure's stability estimate a sub-step may take (0.8 with "
+                "ib.stability_estimate = response, which lies 5-10 % above the true limit: docs/ib.md)",
             k.adaptive_step.safety)
-      .defaults(0.8)
+      .defaults(0.9)
       .positive()
       .at_most(2.0);
   keys.integer("time.estimate_iterations",

@@ -82,9 +82,16 @@ struct SemiImplicitSettings {
   int newton_iterations = 2; ///< the second takes the stable step from 2 to 3 estimates (docs/ib.md)
 };
 
+/// The fluid's part of the coupled stability estimate's operator (docs/ib.md, "The coupled estimate").
+enum class StabilityEstimateKind {
+  acceleration,   ///< the spread force's bare acceleration f / rho: below the true limit
+  fluid_response, ///< the fluid's one-step response R / dt (its pressure projection): sharp, slower to track
+};
+
 struct IbfeSettings {
   KernelKind kernel = default_kernel;
   CouplingKind coupling = CouplingKind::explicit_midpoint;
+  StabilityEstimateKind stability_estimate = StabilityEstimateKind::acceleration;
   SemiImplicitSettings semi_implicit{};
   fe::MassKind velocity_projection = fe::MassKind::consistent;
   fe::MassKind force_projection = fe::MassKind::consistent;

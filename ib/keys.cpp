@@ -25,6 +25,16 @@ void bind(io::KeyBinder& keys, IbfeSettings& settings, double default_point_spac
               settings.coupling,
               {{"explicit", CouplingKind::explicit_midpoint}, {"semi-implicit", CouplingKind::semi_implicit}})
       .defaults(std::string("explicit"));
+  keys.choice(prefix + ".stability_estimate",
+              "the fluid's part of the coupled stability estimate that the adaptive step follows: "
+              "acceleration (the spread force's f / rho, 1.3-1.6 times below the true limit on loaded "
+              "leaflets) or response (the fluid's one-step response with its pressure projection, 5-10 % "
+              "above it, and slower to catch a mode that emerges within an interval; docs/ib.md, \"The "
+              "coupled estimate\")",
+              settings.stability_estimate,
+              {{"acceleration", StabilityEstimateKind::acceleration},
+               {"response", StabilityEstimateKind::fluid_response}})
+      .defaults(std::string("acceleration"));
   keys.real(prefix + ".implicit_tolerance",
             "with the semi-implicit coupling: the relative residual each Newton iteration's GMRES solve on "
             "the structure stops at",

@@ -71,7 +71,8 @@ struct StretchedBlock {
   std::unique_ptr<ib::IbfeIntegrator> ibfe;
 
   explicit StretchedBlock(MPI_Comm comm, ib::CouplingKind coupling = ib::CouplingKind::explicit_midpoint,
-                          double tolerance = 1e-3)
+                          double tolerance = 1e-3,
+                          ib::StabilityEstimateKind estimate = ib::StabilityEstimateKind::acceleration)
   {
     fluid = periodic_fluid(comm, 16, 1.0, 0.1);
     fe::BodyPart part;
@@ -85,6 +86,7 @@ struct StretchedBlock {
     ib::IbfeSettings settings;
     settings.tethers.push_back({"body", 1e5, 0.0});
     settings.coupling = coupling;
+    settings.stability_estimate = estimate;
     settings.semi_implicit.tolerance = tolerance;
     ibfe = std::make_unique<ib::IbfeIntegrator>(*fluid, *solid, settings);
     std::vector<double> u(solid->num_dofs());
