@@ -551,14 +551,15 @@ class AorticValveRun : public PreparedRun {
     // about 50 ms (RESULTS.md's T_close), so rows further apart than 5 ms blur them. With time.adaptive
     // output.every counts intervals, so a case written for fixed steps (every 40 steps of 4e-5 s) writes
     // a row every 64 ms.
-    const double row_spacing = static_cast<double>(every) * period_ / static_cast<double>(steps_per_cycle_);
+    const double mean_step = period_ / static_cast<double>(steps_per_cycle_);
+    const double row_spacing = static_cast<double>(every) * mean_step;
     if (row_spacing > 5e-3)
       base::Logger::global().warn(fmt::format(
           "{}: a time-series row every {:g} ms ({} {} of {:g} s): the report's ejection window, volumes "
           "and opening and closing times are read from the rows, and a valve closure (about 50 ms) spans "
           "fewer than 10 of them; a smaller {} (the fixed-step cases write a row every 1.6 ms)",
-          keys_.key_of(k_.every), row_spacing * 1e3, every, adaptive_step_ ? "intervals" : "steps",
-          period_ / static_cast<double>(steps_per_cycle_), keys_.key_of(k_.every)));
+          keys_.key_of(k_.every), row_spacing * 1e3, every, adaptive_step_ ? "intervals" : "steps", mean_step,
+          keys_.key_of(k_.every)));
     steps_ = static_cast<long>(k_.cycles) * steps_per_cycle_;
     if (!k_.end) return;
     steps_ = std::max<long>(1, static_cast<long>(schedule_.steps_to(*k_.end)));

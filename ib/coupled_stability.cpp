@@ -59,18 +59,16 @@ std::vector<double> IbfeIntegrator::coupled_operator(const std::vector<double>& 
   // iterations catch a stiff mode that emerges within an interval (the response's lagged on the
   // 1/16 cm grid's first loading: docs/ib.md).
   const double dt = fluid_.last_step();
-  std::vector<double> response;
-  if (settings_.stability_estimate == StabilityEstimateKind::fluid_response && fluid_.has_stokes_response() &&
-      dt > 0.0) {
+  const bool with_response = settings_.stability_estimate == StabilityEstimateKind::fluid_response &&
+                             fluid_.has_stokes_response() && dt > 0.0;
+  if (with_response) {
     if (!probe_velocity_) probe_velocity_ = fluid_.grid().create_local();
     fluid_.stokes_response(probe_force_, dt, probe_velocity_);
-    // P_h J: interpolated at the same points and projected to the nodes.
-    response = project_velocity(probe_velocity_, 5);
-    for (double& r : response) r /= dt;
-  } else {
-    response = project_velocity(probe_force_, 5);
-    for (double& r : response) r /= fluid_.density();
   }
+  // P_h J: interpolated at the same points and projected to the nodes.
+  std::vector<double> response = project_velocity(with_response ? probe_velocity_ : probe_force_, 5);
+  const double divisor = with_response ? dt : fluid_.density();
+  for (double& r : response) r /= divisor;
   return response;
 }
 

@@ -270,8 +270,8 @@ class IbfeIntegrator {
   petsc::OwnedVec velocity_old_, velocity_mid_;
   IbfeTimings timings_;
   PetscInt projection_iterations_ = 0; // of the step being taken
-  /// A = P_h J (R / dt) S M^{-1} K applied to `mode` (coupled_stability_estimate); R / dt = 1 / rho for
-  /// a fluid without stokes_response() and before the first step.
+  /// A = P_h J (R / dt) S M^{-1} K applied to `mode` (coupled_stability_estimate); R / dt = 1 / rho unless
+  /// ib.stability_estimate is the response, the fluid has stokes_response() and a step has been taken.
   std::vector<double> coupled_operator(const std::vector<double>& mode);
   /// P_h J u with u the fluid's Stokes response over one step of dt (EulerianFluid::stokes_response)
   /// to the force density S M^{-1} F: the nodes' velocity change that the forces F give in one step.

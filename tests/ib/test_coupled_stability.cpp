@@ -3,12 +3,11 @@
 // is where the explicit midpoint step stops being stable, dt = 2/omega (the leapfrog bound of
 // d^2 chi/dt^2 = -A chi). R is the fluid's response to a force over one step (ib.stability_estimate =
 // "response"); by default, and before the first step, the estimate takes the bare acceleration
-// R / dt = 1 / rho instead, which leaves out the pressure
-// projection and so lies below the true limit. A stretched neo-Hookean block (its volumetric penalty
-// integrated at the element centre, as the valve's parts) relaxing in a periodic box: steps up to 0.9
-// times the estimate relax it quietly, 1.25 times it blows up (measured: the block holds at 0.9 and
-// blows up at 0.95 times it, a margin the adaptive step's time.safety = 0.8 covers; with the
-// acceleration alone it held up to between 1.3 and 1.6 times the estimate).
+// R / dt = 1 / rho instead, which leaves out the pressure projection and so lies below the true limit. A
+// stretched neo-Hookean block (its volumetric penalty integrated at the element centre, as the valve's parts)
+// relaxing in a periodic box: steps up to 0.9 times the estimate relax it quietly, 1.25 times it blows up
+// (measured: the block holds at 0.9 and blows up at 0.95 times it, a margin the adaptive step's time.safety =
+// 0.8 covers; with the acceleration alone it held up to between 1.3 and 1.6 times the estimate).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
