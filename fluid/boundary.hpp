@@ -76,6 +76,11 @@ class BoundaryConditions {
   /// Whether the point x of side s carries a traction (a traction side, not walled there).
   bool traction_at(int s, const Real3& x) const;
 
+  /// Rigid walls inside the box (fluid/solid_cells.hpp): the cells whose centre `region` holds are
+  /// blocked, the fluid at rest in them. Only the Krylov solver on one grid takes them. Empty = none.
+  void set_solid(PointSet region) { solid_ = std::move(region); }
+  const PointSet& solid() const { return solid_; }
+
   /// The backflow pressure drop beta rho/2 (u.n)_-^2 of side s at each of its boundary faces (box
   /// cells of the side's plane, index c * n_b + b with b = (a + 1) % 3, c = (a + 2) % 3 for the side's
   /// direction a), subtracted from the side's pressure by pressure(). Set by the integrator from its
@@ -88,6 +93,7 @@ class BoundaryConditions {
   std::array<BoundarySide, 6> sides_{};
   std::array<std::vector<double>, 6> backflow_drop_{};
   BoxGeometry drop_box_{};
+  PointSet solid_;
 };
 
 /// Sets the normal velocity on the boundary faces of velocity sides (and of the walled parts of traction

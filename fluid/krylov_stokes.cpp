@@ -47,7 +47,8 @@ void for_owned_cells(const StaggeredGrid& grid, F&& f)
 
 KrylovStokesSolver::KrylovStokesSolver(const StaggeredGrid& grid, const BoundaryConditions& bc,
                                        const FluidSettings& settings)
-    : grid_(grid), bc_(bc), settings_(settings), pressure_has_constant_(!bc.any_traction())
+    : grid_(grid), bc_(bc), settings_(settings), pressure_has_constant_(!bc.any_traction()), solid_(grid, bc),
+      transforms_used_(settings.subsolver == SubsolverKind::fft && solid_.empty())
 {
 }
 
@@ -56,7 +57,8 @@ void KrylovStokesSolver::destroy()
   for (petsc::OwnedMat* m : {&A_, &H_, &G_, &Dn_, &K_}) m->reset();
   for (petsc::OwnedIS* is : {&is_u_, &is_p_}) is->reset();
   for (petsc::OwnedKSP* k : {&ksp_, &ksp_h_, &ksp_k_}) k->reset();
-  for (petsc::OwnedVec* v : {&x_, &b_, &r_p_, &phi_, &gphi_, &x_u_, &y_u_, &x_p_, &y_p_}) v->reset();
+  for (petsc::OwnedVec* v : {&x_, &b_, &r_p_, &phi_, &gphi_, &x_u_, &y_u_, &x_p_, &y_p_, &fluid_cells_})
+    v->reset();
 }
 
 bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, double t_half,
@@ -65,6 +67,10 @@ bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, do
   entries.clear();
   constant = 0.0;
   const PetscInt n_d = grid_.cells(d);
+  if (solid_.face(d, idx)) { // a face of a blocked cell: u = 0
+    entries.push_back({face_stencil(d, idx), 1.0});
+    return true;
+  }
   if (grid_.is_boundary_face(d, idx[d])) {
     const int s = side_index(d, idx[d] == 0 ? 0 : 1);
     const Real3 x = grid_.face_position(d, idx[0], idx[1], idx[2]);
@@ -105,6 +111,11 @@ bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, do
           continue;
         }
       }
+      if (e != d && solid_.wall_beyond(d, idx, e, sign)) {
+        // A wall half a cell beyond: the odd ghost -u_0 (the neighbour face is blocked, u = 0 there).
+        diagonal += half_mu * c;
+        continue;
+      }
       entries.push_back({face_stencil(d, nb), -half_mu * c});
     }
   }
@@ -130,8 +141,12 @@ bool KrylovStokesSolver::velocity_row(int d, const Index3& idx, double t_new, do
 
 void KrylovStokesSolver::pressure_row(const Index3& idx, std::vector<Entry>& entries) const
 {
-  // -D u: -(u(idx + e_d) - u(idx)) / h_d.
+  // -D u: -(u(idx + e_d) - u(idx)) / h_d; a blocked cell's pressure is decoupled, p = 0.
   entries.clear();
+  if (solid_.cell(idx)) {
+    entries.push_back({cell_stencil(idx), 1.0});
+    return;
+  }
   for (int d = 0; d < 3; ++d) {
     Index3 up = idx;
     up[d] += 1;
@@ -172,15 +187,19 @@ void KrylovStokesSolver::assemble(Mat matrix) const
 namespace {
 
 /// Constant pressure is in the kernel of the coupled operator `A` (a vector shaped as `x`, the pressure
-/// unknowns `is_p`) and of the pressure Poisson operator `K`: their null spaces say so.
-void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat K)
+/// unknowns `is_p`) and of the pressure Poisson operator `K`: their null spaces say so. With blocked cells
+/// the constant lives on the fluid cells only (`fluid_cells`, the pressure block's indicator; null: all).
+void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat K, Vec fluid_cells)
 {
   petsc::OwnedVec constant;
   PETSC_CHECK(VecDuplicate(x, constant.out()));
   PETSC_CHECK(VecZeroEntries(constant));
   Vec constant_p;
   PETSC_CHECK(VecGetSubVector(constant, is_p, &constant_p));
-  PETSC_CHECK(VecSet(constant_p, 1.0));
+  if (fluid_cells)
+    PETSC_CHECK(VecCopy(fluid_cells, constant_p));
+  else
+    PETSC_CHECK(VecSet(constant_p, 1.0));
   PETSC_CHECK(VecRestoreSubVector(constant, is_p, &constant_p));
   PETSC_CHECK(VecNormalize(constant, nullptr));
   const Vec basis = constant.get();
@@ -188,7 +207,16 @@ void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat 
   PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &basis, space.out()));
   PETSC_CHECK(MatSetNullSpace(A, space));
   petsc::OwnedMatNullSpace k_space;
-  PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, k_space.out()));
+  if (fluid_cells) {
+    petsc::OwnedVec k_basis;
+    PETSC_CHECK(VecDuplicate(fluid_cells, k_basis.out()));
+    PETSC_CHECK(VecCopy(fluid_cells, k_basis));
+    PETSC_CHECK(VecNormalize(k_basis, nullptr));
+    const Vec k_vector = k_basis.get();
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_FALSE, 1, &k_vector, k_space.out()));
+  } else {
+    PETSC_CHECK(MatNullSpaceCreate(comm, PETSC_TRUE, 0, nullptr, k_space.out()));
+  }
   PETSC_CHECK(MatSetNullSpace(K, k_space));
 }
 
@@ -235,10 +263,38 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   PETSC_CHECK(MatCreateVecs(G_, nullptr, gphi_.out()));
   PETSC_CHECK(MatCreateVecs(H_, x_u_.out(), y_u_.out()));
   PETSC_CHECK(MatCreateVecs(K_, x_p_.out(), y_p_.out()));
+  if (!solid_.empty()) {
+    // Blocked cells: K = -D G has empty rows there (their faces are identity rows); an identity makes it
+    // regular, and the preconditioner returns p = x_p on them (apply_projection).
+    PETSC_CHECK(VecDuplicate(x_p_, fluid_cells_.out()));
+    Vec whole;
+    PETSC_CHECK(DMGetGlobalVector(grid_.dm(), &whole));
+    PETSC_CHECK(VecSet(whole, 0.0));
+    {
+      petsc::OwnedVec local = grid_.create_local();
+      {
+        StagArray a(grid_, local);
+        for_owned_cells(grid_, [&](const Index3& idx) {
+          a(idx[0], idx[1], idx[2], grid_.pressure_slot()) = solid_.cell(idx) ? 0.0 : 1.0;
+        });
+      }
+      PETSC_CHECK(DMLocalToGlobal(grid_.dm(), local, INSERT_VALUES, whole));
+    }
+    PETSC_CHECK(VecISCopy(whole, is_p_, SCATTER_REVERSE, fluid_cells_));
+    PETSC_CHECK(DMRestoreGlobalVector(grid_.dm(), &whole));
+    petsc::OwnedVec blocked;
+    PETSC_CHECK(VecDuplicate(fluid_cells_, blocked.out()));
+    PETSC_CHECK(VecSet(blocked, 1.0));
+    PETSC_CHECK(VecAXPY(blocked, -1.0, fluid_cells_));
+    // The product has no entry in the blocked rows: let the diagonal be inserted there (once per setup).
+    PETSC_CHECK(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    PETSC_CHECK(MatDiagonalSet(K_, blocked, ADD_VALUES));
+  }
 
-  if (pressure_has_constant_) set_constant_pressure_null_space(comm, x_, is_p_, A_, K_);
+  if (pressure_has_constant_)
+    set_constant_pressure_null_space(comm, x_, is_p_, A_, K_, fluid_cells_ ? fluid_cells_.get() : nullptr);
 
-  const bool transforms = settings_.subsolver == SubsolverKind::fft;
+  const bool transforms = transforms_used_;
   if (transforms && !transforms_)
     transforms_ = std::make_unique<TransformSubsolvers>(grid_, bc_, is_u_, is_p_);
   // With the transform sub-solves, a Helmholtz operator whose diagonal dominates (fluid/jacobi.hpp) is
@@ -247,7 +303,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   // transforms); the other -fluid_helmholtz_ options override the choice.
   PetscReal limit = jacobi_ratio_limit;
   PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
-  helmholtz_by_jacobi_ = transforms && jacobi_ratio(H_) <= limit;
+  helmholtz_by_jacobi_ = (transforms || !solid_.empty()) && jacobi_ratio(H_) <= limit;
   using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
   auto make_sub_ksp = [&](petsc::OwnedKSP& ksp, Mat op, const char* prefix, ShellApply transform) {
     PETSC_CHECK(KSPCreate(comm, ksp.out()));
@@ -310,12 +366,19 @@ PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
   PetscCall(MatMult(self->Dn_, y_u, self->r_p_)); // r = -D u* - g
   PetscCall(VecAXPY(self->r_p_, -1.0, self->x_p_));
   if (self->pressure_has_constant_) {
-    // Keep the Poisson right side in the range of K (zero mean).
-    PetscScalar sum;
-    PetscInt n;
-    PetscCall(VecSum(self->r_p_, &sum));
-    PetscCall(VecGetSize(self->r_p_, &n));
-    PetscCall(VecShift(self->r_p_, -sum / static_cast<double>(n)));
+    // Keep the Poisson right side in the range of K (zero mean over the fluid cells).
+    if (self->fluid_cells_) {
+      PetscScalar sum, n;
+      PetscCall(VecDot(self->r_p_, self->fluid_cells_, &sum));
+      PetscCall(VecSum(self->fluid_cells_, &n));
+      PetscCall(VecAXPY(self->r_p_, -sum / n, self->fluid_cells_));
+    } else {
+      PetscScalar sum;
+      PetscInt n;
+      PetscCall(VecSum(self->r_p_, &sum));
+      PetscCall(VecGetSize(self->r_p_, &n));
+      PetscCall(VecShift(self->r_p_, -sum / static_cast<double>(n)));
+    }
   }
   PetscCall(KSPSolve(self->ksp_k_, self->r_p_, self->phi_)); // phi = K^-1 r
   PetscCall(MatMult(self->G_, self->phi_, self->gphi_));     // u = u* - G phi
@@ -323,6 +386,12 @@ PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)
   // p = rho/dt phi + mu/2 r
   PetscCall(VecAXPBYPCZ(y_p, self->parameters_.rho / self->parameters_.dt, 0.5 * self->parameters_.mu, 0.0,
                         self->phi_, self->r_p_));
+  if (self->fluid_cells_) {
+    // Blocked cells' identity rows: p = x_p there, y_p = f y_p + (1 - f) x_p with the fluid indicator f.
+    PetscCall(VecAXPY(y_p, -1.0, self->x_p_));
+    PetscCall(VecPointwiseMult(y_p, y_p, self->fluid_cells_));
+    PetscCall(VecAXPY(y_p, 1.0, self->x_p_));
+  }
   const double t2 = MPI_Wtime();
   self->helmholtz_seconds_ += t1 - t0;
   self->poisson_seconds_ += t2 - t1;
@@ -382,6 +451,7 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
       double& value = r(idx[0], idx[1], idx[2], grid_.face_slot(d));
       value = dirichlet ? constant : value + constant;
     });
+  zero_blocked_rows(rhs);
   if (!pressure_has_constant_) return;
   // Without a traction side the boundary velocity must carry zero net flux for the system to have a
   // solution. Remove the discrete net outflow of the data (an O(h^2) change for smooth data that is
@@ -407,8 +477,19 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
   for_boundary_faces([&](double& un, double outward, double) { un -= outward * c * std::abs(un); });
 }
 
+void KrylovStokesSolver::zero_blocked_rows(Vec rhs) const
+{
+  if (solid_.empty()) return;
+  zero_blocked_faces(solid_, grid_, rhs);
+  StagArray r(grid_, rhs);
+  for_owned_cells(grid_, [&](const Index3& idx) {
+    if (solid_.cell(idx)) r(idx[0], idx[1], idx[2], grid_.pressure_slot()) = 0.0;
+  });
+}
+
 void KrylovStokesSolver::set_homogeneous_boundary_rows(Vec rhs)
 {
+  zero_blocked_rows(rhs);
   StagArray r(grid_, rhs);
   std::vector<Entry> entries;
   double constant = 0.0;

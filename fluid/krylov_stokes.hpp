@@ -13,13 +13,16 @@
 // components the same ghost with g = 0 (no slip). Options prefixes: fluid_stokes_ (FGMRES), fluid_helmholtz_
 // and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each; with settings.subsolver = fft the
 // FFTW transform solves of fluid/transform_subsolvers.hpp, exact for K, a spectrally equivalent
-// preconditioner for H when a velocity component has a tangential wall).
+// preconditioner for H when a velocity component has a tangential wall). Blocked cells of a solid region
+// (fluid/solid_cells.hpp) are identity rows; with them the Poisson sub-solve is BoomerAMG (the transforms
+// know only the box) and the Helmholtz sub-solve Jacobi sweeps or BoomerAMG.
 #include <memory>
 #include <vector>
 
 #include <petscksp.h>
 
 #include "fluid/settings.hpp"
+#include "fluid/solid_cells.hpp"
 #include "fluid/stokes_solver.hpp"
 #include "fluid/transform_subsolvers.hpp"
 
@@ -41,7 +44,9 @@ class KrylovStokesSolver : public StokesSolver {
   void set_homogeneous_boundary_rows(Vec rhs) override;
   std::string name() const override
   {
-    return settings_.subsolver == SubsolverKind::fft ? "krylov (fft sub-solves)" : "krylov";
+    return transforms_used_ ? "krylov (fft sub-solves)"
+           : solid_.empty() ? "krylov"
+                            : "krylov (blocked cells)";
   }
 
   /// With transform sub-solves the Helmholtz block is solved by `jacobi_sweeps` Jacobi sweeps when
@@ -61,7 +66,9 @@ class KrylovStokesSolver : public StokesSolver {
   KSP poisson_ksp() const { return ksp_k_; }
   IS velocity_set() const { return is_u_; }
   IS pressure_set() const { return is_p_; }
-  /// The transform sub-solvers (null unless settings.subsolver is fft).
+  /// The blocked cells of the solid region (empty without one).
+  const SolidCells& solid() const { return solid_; }
+  /// The transform sub-solvers (null unless settings.subsolver is fft and no cell is blocked).
   const TransformSubsolvers* transforms() const { return transforms_.get(); }
 
  private:
@@ -75,6 +82,8 @@ class KrylovStokesSolver : public StokesSolver {
                     double& constant) const;
   void pressure_row(const Index3& idx, std::vector<Entry>& entries) const;
   void assemble(Mat matrix) const;
+  /// Sets the right side's rows of blocked faces and cells to 0 (their identity rows hold u = 0, p = 0).
+  void zero_blocked_rows(Vec rhs) const;
   void destroy();
   static PetscErrorCode apply_projection(PC pc, Vec x, Vec y);
   static PetscErrorCode apply_helmholtz_transform(PC pc, Vec x, Vec y);
@@ -85,11 +94,14 @@ class KrylovStokesSolver : public StokesSolver {
   FluidSettings settings_;
   StokesParameters parameters_{};
   bool pressure_has_constant_ = true;
+  SolidCells solid_;
+  bool transforms_used_ = false; // the transform sub-solves (settings.subsolver fft, no blocked cell)
   petsc::OwnedMat A_, H_, G_, Dn_, K_;
   petsc::OwnedIS is_u_, is_p_;
   petsc::OwnedKSP ksp_, ksp_h_, ksp_k_;
   petsc::OwnedVec x_, b_, r_p_, phi_, gphi_;
   petsc::OwnedVec x_u_, y_u_, x_p_, y_p_; // the preconditioner's blocks
+  petsc::OwnedVec fluid_cells_; // pressure block: 1 on fluid cells, 0 on blocked ones (with a solid)
   double helmholtz_seconds_ = 0.0, poisson_seconds_ = 0.0;
   bool helmholtz_by_jacobi_ = false;
   // Built once (FFTW plans, scatters): they depend on the grid and the side kinds, not on dt.
