@@ -222,8 +222,40 @@ void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat 
 
 } // namespace
 
+bool KrylovStokesSolver::change_step(const StokesParameters& parameters)
+{
+  // Only rho/dt moves, and it sits on the diagonal of the velocity rows: A and H take their new diagonal
+  // in place, and K = -D G (independent of dt) keeps its sub-solver's setup (BoomerAMG's is the dear
+  // part). The diagonal is the one a fresh assembly computes, bit for bit, so a run that changes its
+  // step and a run restarted at the new step solve the same system.
+  if (!A_ || parameters.rho != parameters_.rho || parameters.mu != parameters_.mu) return false;
+  parameters_ = parameters;
+  std::vector<Entry> entries;
+  double constant = 0.0;
+  for (int d = 0; d < 3; ++d)
+    for_owned_faces(grid_, d, [&](const Index3& idx) {
+      if (velocity_row(d, idx, 0.0, 0.0, entries, constant)) return; // identity rows keep their 1
+      const DMStagStencil self = face_stencil(d, idx);
+      for (const Entry& e : entries)
+        if (e.column.loc == self.loc && e.column.i == self.i && e.column.j == self.j && e.column.k == self.k)
+          PETSC_CHECK(DMStagMatSetValuesStencil(grid_.dm(), A_, 1, &self, 1, &self, &e.value, INSERT_VALUES));
+    });
+  PETSC_CHECK(MatAssemblyBegin(A_, MAT_FINAL_ASSEMBLY));
+  PETSC_CHECK(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY));
+  Mat h = H_.get();
+  PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_u_, MAT_REUSE_MATRIX, &h));
+  PetscReal limit = jacobi_ratio_limit;
+  PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
+  const bool by_jacobi = (transforms_used_ || !solid_.empty()) && jacobi_ratio(H_) <= limit;
+  if (by_jacobi != helmholtz_by_jacobi_) return false; // the sub-solver changes kind: build anew
+  PETSC_CHECK(KSPSetOperators(ksp_h_, H_, H_));
+  PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
+  return true;
+}
+
 void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
 {
+  if (change_step(parameters)) return;
   destroy();
   parameters_ = parameters;
   const MPI_Comm comm = grid_.comm();
@@ -286,9 +318,16 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
     PETSC_CHECK(VecDuplicate(fluid_cells_, blocked.out()));
     PETSC_CHECK(VecSet(blocked, 1.0));
     PETSC_CHECK(VecAXPY(blocked, -1.0, fluid_cells_));
-    // The product has no entry in the blocked rows: let the diagonal be inserted there (once per setup).
-    PETSC_CHECK(MatSetOption(K_, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-    PETSC_CHECK(MatDiagonalSet(K_, blocked, ADD_VALUES));
+    // The product has no entry in the blocked rows: add a diagonal matrix (MatAXPY merges the patterns
+    // with a preallocation; inserting into K_ entry by entry would move its storage each time).
+    PetscInt rows, global_rows;
+    PETSC_CHECK(VecGetLocalSize(blocked, &rows));
+    PETSC_CHECK(VecGetSize(blocked, &global_rows));
+    petsc::OwnedMat diagonal;
+    PETSC_CHECK(
+        MatCreateAIJ(comm, rows, rows, global_rows, global_rows, 1, nullptr, 0, nullptr, diagonal.out()));
+    PETSC_CHECK(MatDiagonalSet(diagonal, blocked, INSERT_VALUES));
+    PETSC_CHECK(MatAXPY(K_, 1.0, diagonal, DIFFERENT_NONZERO_PATTERN));
   }
 
   if (pressure_has_constant_)

@@ -82,6 +82,10 @@ class KrylovStokesSolver : public StokesSolver {
                     double& constant) const;
   void pressure_row(const Index3& idx, std::vector<Entry>& entries) const;
   void assemble(Mat matrix) const;
+  /// A new dt with the same rho and mu: the operators' diagonals updated in place (true), or false when
+  /// they must be built anew (nothing built yet, rho or mu changed, or the Helmholtz sub-solver changes
+  /// kind).
+  bool change_step(const StokesParameters& parameters);
   /// Sets the right side's rows of blocked faces and cells to 0 (their identity rows hold u = 0, p = 0).
   void zero_blocked_rows(Vec rhs) const;
   void destroy();

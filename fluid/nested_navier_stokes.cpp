@@ -249,6 +249,7 @@ NestedNavierStokes::NestedNavierStokes(MPI_Comm comm, const GridHierarchy& hiera
 {
   if (!(settings.rho > 0.0) || !(settings.mu >= 0.0))
     throw std::invalid_argument("nested Navier-Stokes: rho must be positive and mu non-negative");
+  if (bc_.solid()) throw std::invalid_argument("nested Navier-Stokes: blocked cells need one grid");
   for (int side = 0; side < 6; ++side)
     if (bc_.side(side).kind == SideKind::periodic)
       throw std::invalid_argument("nested Navier-Stokes: side " + side_name(side) +
