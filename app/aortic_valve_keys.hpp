@@ -38,6 +38,7 @@ struct AorticValveKeys {
   double backflow = 0;
   ValveMeshKeys mesh;
   materials::MaterialKeys leaflets_material, tube_material;
+  bool tube_wall = false; // tube.model = "wall": blocked fluid cells outside the lumen, no tube elements
   fibers::FiberRule rule = fibers::FiberRule::FD1;
   std::vector<std::string> tube_surfaces;
   double tube_stiffness = 0, tube_damping = 0, attachment_stiffness = 0, attachment_damping = 0;

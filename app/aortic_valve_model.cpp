@@ -95,8 +95,9 @@ class AorticValveRun : public PreparedRun {
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
     tube_material_ = part_material(keys_, k.tube_material, 0);
     ib_ = k.coupling;
-    for (const std::string& surface : k.tube_surfaces)
-      ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});
+    if (!k.tube_wall)
+      for (const std::string& surface : k.tube_surfaces)
+        ib_.tethers.push_back({surface, k.tube_stiffness, k.tube_damping});
     for (int n = 1; n <= leaflet_count; ++n)
       ib_.tethers.push_back({leaflet(n) + "_attachment", k.attachment_stiffness, k.attachment_damping});
 
@@ -151,7 +152,12 @@ class AorticValveRun : public PreparedRun {
     near_lv_z_ = nadir - k.probe_offset;
     near_ao_z_ = top + k.probe_offset;
     k_.checkpoints.case_record = io::case_record(config);
-    if (!k.nested.ratios.empty()) read_levels(config);
+    if (!k.nested.ratios.empty()) {
+      if (k.tube_wall)
+        keys_.fail(k.tube_wall, "\"wall\" needs one grid: nested levels (" + keys_.key_of(k.nested.ratios) +
+                                    ") do not take blocked cells");
+      read_levels(config);
+    }
     compute_leaflet_fibers(); // the last check: it solves a Laplace problem per leaflet
   }
 
@@ -233,8 +239,9 @@ class AorticValveRun : public PreparedRun {
       parts.push_back(
           fe::material_part(leaflet(k), elements, leaflet_material_.build(), volumetric_integration));
     }
-    parts.push_back(fe::material_part("tube", mesh_.group("tube").elements, tube_material_.build(),
-                                      volumetric_integration));
+    if (!k_.tube_wall)
+      parts.push_back(fe::material_part("tube", mesh_.group("tube").elements, tube_material_.build(),
+                                        volumetric_integration));
     return parts;
   }
 
@@ -261,6 +268,11 @@ class AorticValveRun : public PreparedRun {
       bc.side(2, 0).wall = [rin](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rin; };
     if (k_.outlet_walled)
       bc.side(2, 1).wall = [rout](const fluid::Real3& x) { return std::hypot(x[0], x[1]) >= rout; };
+    if (k_.tube_wall) {
+      // The tube as a rigid wall the fluid holds: every cell whose centre lies outside the lumen.
+      const double lumen = k_.mesh.geometry.tube_radius;
+      bc.set_solid([lumen](const fluid::Real3& x) { return std::hypot(x[0], x[1]) > lumen; });
+    }
     return bc;
   }
 
@@ -511,20 +523,26 @@ class AorticValveRun : public PreparedRun {
         keys_.fail(m.file, m.file.string() + ": tetrahedra; a valve run needs hexahedra (docs/own-valve.md)");
       check_size(static_cast<double>(mesh_.num_nodes()), static_cast<double>(mesh_.num_elements()),
                  keys_.key_of(m.file));
+      if (k_.tube_wall && mesh_.has_group("tube"))
+        keys_.fail(k_.tube_wall, m.file.string() +
+                                     " has a tube: with \"wall\" the mesh holds the leaflets only "
+                                     "(ibvalve mesh aortic-valve --no-tube)");
     } else {
       try {
         fe::check(m.geometry);
       } catch (const std::invalid_argument& e) {
         config_.fail("mesh", e.what());
       }
-      const GeneratedSize size = generated_size(m.geometry, leaflet_count);
+      fe::ValveMeshParameters geometry = m.geometry;
+      geometry.include_tube = !k_.tube_wall;
+      const GeneratedSize size = generated_size(geometry, leaflet_count);
       check_size(size.nodes, size.elements,
                  size.tube_dominates ? keys_.key_of(m.geometry.tube_around)
                                      : keys_.key_of(m.geometry.leaflet_across));
-      mesh_ = fe::aortic_valve_mesh(m.geometry);
+      mesh_ = fe::aortic_valve_mesh(geometry);
     }
     const std::string missing =
-        missing_groups(mesh_, required_valve_groups(leaflet_count, k_.rule, k_.tube_surfaces,
+        missing_groups(mesh_, required_valve_groups(leaflet_count, k_.rule, !k_.tube_wall, k_.tube_surfaces,
                                                     keys_.key_of(k_.tube_surfaces)));
     if (!missing.empty())
       keys_.fail(m.file, (m.file.empty() ? "the generated mesh" : m.file.string()) + ": " + missing);

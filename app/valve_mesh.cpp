@@ -84,7 +84,7 @@ void bind(io::KeyBinder& keys, ValveMeshKeys& k)
       .unused_with(file);
 }
 
-std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule,
+std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule, bool tube,
                                                   const std::vector<std::string>& tethered,
                                                   const std::string& tethered_key)
 {
@@ -99,6 +99,7 @@ std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRul
       groups.push_back({leaflet + "_n2", false, "FD1's point u = 0, the other end"});
     }
   }
+  if (!tube) return groups;
   groups.push_back({"tube", true, "the tube's elements: tube.material"});
   for (const std::string& surface : tethered)
     groups.push_back({surface, false, "held in place: " + tethered_key});
@@ -128,9 +129,9 @@ GeneratedSize generated_size(const fe::ValveMeshParameters& g, int leaflets)
 {
   // Hexahedra of the leaflets and the tube, one layer through each (two layers of nodes).
   const double leaflet = static_cast<double>(leaflets) * g.leaflet_across * g.leaflet_radial,
-               tube = static_cast<double>(g.tube_around) * g.tube_along;
+               tube = g.include_tube ? static_cast<double>(g.tube_around) * g.tube_along : 0.0;
   const double nodes = 2.0 * (leaflets * (g.leaflet_across + 1.0) * (g.leaflet_radial + 1.0) +
-                              g.tube_around * (g.tube_along + 1.0));
+                              (g.include_tube ? g.tube_around * (g.tube_along + 1.0) : 0.0));
   return {leaflet + tube, nodes, tube > leaflet};
 }
 
@@ -154,7 +155,7 @@ std::string describe_valve_mesh(const ValveMeshKeys& keys, const fe::Mesh& mesh,
   return fmt::format("mesh: {} ({} {}, {} in the leaflets, {} in the tube; {} nodes)", source,
                      mesh.num_elements(),
                      mesh.shape() == fe::CellShape::hexahedron ? "hexahedra" : "tetrahedra", in_leaflets,
-                     mesh.group("tube").elements.size(), mesh.num_nodes());
+                     mesh.has_group("tube") ? mesh.group("tube").elements.size() : 0, mesh.num_nodes());
 }
 
 } // namespace ibvalve::app

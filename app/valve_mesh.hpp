@@ -38,8 +38,9 @@ struct ValveMeshGroup {
 };
 
 /// The groups the aortic-valve model needs in a mesh of `leaflets` leaflets whose fibers follow `rule`,
-/// with the tube's surfaces `tethered` held (named by the key `tethered_key`).
-std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule,
+/// with the tube's surfaces `tethered` held (named by the key `tethered_key`); without `tube` (tube.model =
+/// "wall") neither the tube's volume nor its surfaces.
+std::vector<ValveMeshGroup> required_valve_groups(int leaflets, fibers::FiberRule rule, bool tube,
                                                   const std::vector<std::string>& tethered,
                                                   const std::string& tethered_key);
 
