@@ -155,12 +155,13 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
   tube.law = "neo-hookean";
   tube.parameters = {{"mu", 100.0}}; // kPa
   materials::bind(keys, k.leaflets_material, "leaflets.material", leaflets);
-  keys.choice("tube.model",
-              "the tube: immersed (an elastic hexahedral wall coupled to the fluid like the leaflets: "
-              "tube.material, tether.tube_*) or wall (rigid: the fluid's cells outside the lumen, r > "
-              "mesh.tube_radius, are blocked, docs/fluid.md; no tube elements, so no explicit step limit "
-              "from the tube's stiffness and no coupling points in it; one grid only)",
-              k.tube_wall, {{"immersed", false}, {"wall", true}})
+  keys.choice(
+          "tube.model",
+          "the tube: immersed (an elastic hexahedral wall coupled to the fluid like the leaflets: "
+          "tube.material, tether.tube_*) or wall (rigid: the fluid's cells beyond the tube's inner radius "
+          "are blocked, docs/fluid.md; no tube elements, so no explicit step limit "
+          "from the tube's stiffness and no coupling points in it; one grid only)",
+          k.tube_wall, {{"immersed", false}, {"wall", true}})
       .defaults(std::string("immersed"));
   materials::bind(keys, k.tube_material, "tube.material", tube);
   keys.paths("leaflets.fit_data",

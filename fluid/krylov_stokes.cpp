@@ -253,6 +253,63 @@ bool KrylovStokesSolver::change_step(const StokesParameters& parameters)
   return true;
 }
 
+void KrylovStokesSolver::regularise_blocked_cells()
+{
+  const MPI_Comm comm = grid_.comm();
+  // Blocked cells: K = -D G has empty rows there (their faces are identity rows); an identity makes it
+  // regular, and the preconditioner returns p = x_p on them (apply_projection).
+  PETSC_CHECK(VecDuplicate(x_p_, fluid_cells_.out()));
+  Vec whole;
+  PETSC_CHECK(DMGetGlobalVector(grid_.dm(), &whole));
+  PETSC_CHECK(VecSet(whole, 0.0));
+  {
+    petsc::OwnedVec local = grid_.create_local();
+    {
+      StagArray a(grid_, local);
+      for_owned_cells(grid_, [&](const Index3& idx) {
+        a(idx[0], idx[1], idx[2], grid_.pressure_slot()) = solid_.cell(idx) ? 0.0 : 1.0;
+      });
+    }
+    PETSC_CHECK(DMLocalToGlobal(grid_.dm(), local, INSERT_VALUES, whole));
+  }
+  PETSC_CHECK(VecISCopy(whole, is_p_, SCATTER_REVERSE, fluid_cells_));
+  PETSC_CHECK(DMRestoreGlobalVector(grid_.dm(), &whole));
+  petsc::OwnedVec blocked;
+  PETSC_CHECK(VecDuplicate(fluid_cells_, blocked.out()));
+  PETSC_CHECK(VecSet(blocked, 1.0));
+  PETSC_CHECK(VecAXPY(blocked, -1.0, fluid_cells_));
+  // The product has no entry in the blocked rows: add a diagonal matrix (MatAXPY merges the patterns
+  // with a preallocation; inserting into K_ entry by entry would move its storage each time).
+  PetscInt rows, global_rows;
+  PETSC_CHECK(VecGetLocalSize(blocked, &rows));
+  PETSC_CHECK(VecGetSize(blocked, &global_rows));
+  petsc::OwnedMat diagonal;
+  PETSC_CHECK(
+      MatCreateAIJ(comm, rows, rows, global_rows, global_rows, 1, nullptr, 0, nullptr, diagonal.out()));
+  PETSC_CHECK(MatDiagonalSet(diagonal, blocked, INSERT_VALUES));
+  PETSC_CHECK(MatAXPY(K_, 1.0, diagonal, DIFFERENT_NONZERO_PATTERN));
+}
+
+void KrylovStokesSolver::make_outer_solver()
+{
+  const MPI_Comm comm = grid_.comm();
+  PETSC_CHECK(KSPCreate(comm, ksp_.out()));
+  PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
+  PETSC_CHECK(KSPSetType(ksp_, KSPFGMRES));
+  PETSC_CHECK(KSPGMRESSetRestart(ksp_, 50));
+  PETSC_CHECK(
+      KSPSetTolerances(ksp_, settings_.rtol, settings_.atol, PETSC_DEFAULT, settings_.max_iterations));
+  PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
+  PC pc;
+  PETSC_CHECK(KSPGetPC(ksp_, &pc));
+  PETSC_CHECK(PCSetType(pc, PCSHELL));
+  PETSC_CHECK(PCShellSetContext(pc, this));
+  PETSC_CHECK(PCShellSetApply(pc, &KrylovStokesSolver::apply_projection));
+  PETSC_CHECK(PCShellSetName(pc, "projection (Griffith 2009)"));
+  PETSC_CHECK(KSPSetOptionsPrefix(ksp_, "fluid_stokes_"));
+  PETSC_CHECK(KSPSetFromOptions(ksp_));
+}
+
 void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
 {
   if (change_step(parameters)) return;
@@ -295,40 +352,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   PETSC_CHECK(MatCreateVecs(G_, nullptr, gphi_.out()));
   PETSC_CHECK(MatCreateVecs(H_, x_u_.out(), y_u_.out()));
   PETSC_CHECK(MatCreateVecs(K_, x_p_.out(), y_p_.out()));
-  if (!solid_.empty()) {
-    // Blocked cells: K = -D G has empty rows there (their faces are identity rows); an identity makes it
-    // regular, and the preconditioner returns p = x_p on them (apply_projection).
-    PETSC_CHECK(VecDuplicate(x_p_, fluid_cells_.out()));
-    Vec whole;
-    PETSC_CHECK(DMGetGlobalVector(grid_.dm(), &whole));
-    PETSC_CHECK(VecSet(whole, 0.0));
-    {
-      petsc::OwnedVec local = grid_.create_local();
-      {
-        StagArray a(grid_, local);
-        for_owned_cells(grid_, [&](const Index3& idx) {
-          a(idx[0], idx[1], idx[2], grid_.pressure_slot()) = solid_.cell(idx) ? 0.0 : 1.0;
-        });
-      }
-      PETSC_CHECK(DMLocalToGlobal(grid_.dm(), local, INSERT_VALUES, whole));
-    }
-    PETSC_CHECK(VecISCopy(whole, is_p_, SCATTER_REVERSE, fluid_cells_));
-    PETSC_CHECK(DMRestoreGlobalVector(grid_.dm(), &whole));
-    petsc::OwnedVec blocked;
-    PETSC_CHECK(VecDuplicate(fluid_cells_, blocked.out()));
-    PETSC_CHECK(VecSet(blocked, 1.0));
-    PETSC_CHECK(VecAXPY(blocked, -1.0, fluid_cells_));
-    // The product has no entry in the blocked rows: add a diagonal matrix (MatAXPY merges the patterns
-    // with a preallocation; inserting into K_ entry by entry would move its storage each time).
-    PetscInt rows, global_rows;
-    PETSC_CHECK(VecGetLocalSize(blocked, &rows));
-    PETSC_CHECK(VecGetSize(blocked, &global_rows));
-    petsc::OwnedMat diagonal;
-    PETSC_CHECK(
-        MatCreateAIJ(comm, rows, rows, global_rows, global_rows, 1, nullptr, 0, nullptr, diagonal.out()));
-    PETSC_CHECK(MatDiagonalSet(diagonal, blocked, INSERT_VALUES));
-    PETSC_CHECK(MatAXPY(K_, 1.0, diagonal, DIFFERENT_NONZERO_PATTERN));
-  }
+  if (!solid_.empty()) regularise_blocked_cells();
 
   if (pressure_has_constant_)
     set_constant_pressure_null_space(comm, x_, is_p_, A_, K_, fluid_cells_ ? fluid_cells_.get() : nullptr);
@@ -371,21 +395,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   make_sub_ksp(ksp_h_, H_, "fluid_helmholtz_", &KrylovStokesSolver::apply_helmholtz_transform);
   make_sub_ksp(ksp_k_, K_, "fluid_poisson_", &KrylovStokesSolver::apply_poisson_transform);
 
-  PETSC_CHECK(KSPCreate(comm, ksp_.out()));
-  PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
-  PETSC_CHECK(KSPSetType(ksp_, KSPFGMRES));
-  PETSC_CHECK(KSPGMRESSetRestart(ksp_, 50));
-  PETSC_CHECK(
-      KSPSetTolerances(ksp_, settings_.rtol, settings_.atol, PETSC_DEFAULT, settings_.max_iterations));
-  PETSC_CHECK(KSPSetInitialGuessNonzero(ksp_, PETSC_TRUE));
-  PC pc;
-  PETSC_CHECK(KSPGetPC(ksp_, &pc));
-  PETSC_CHECK(PCSetType(pc, PCSHELL));
-  PETSC_CHECK(PCShellSetContext(pc, this));
-  PETSC_CHECK(PCShellSetApply(pc, &KrylovStokesSolver::apply_projection));
-  PETSC_CHECK(PCShellSetName(pc, "projection (Griffith 2009)"));
-  PETSC_CHECK(KSPSetOptionsPrefix(ksp_, "fluid_stokes_"));
-  PETSC_CHECK(KSPSetFromOptions(ksp_));
+  make_outer_solver();
 }
 
 PetscErrorCode KrylovStokesSolver::apply_projection(PC pc, Vec x, Vec y)

@@ -82,6 +82,11 @@ class KrylovStokesSolver : public StokesSolver {
                     double& constant) const;
   void pressure_row(const Index3& idx, std::vector<Entry>& entries) const;
   void assemble(Mat matrix) const;
+  /// Blocked cells: K = -D G has empty rows there (their faces are identity rows); adds an identity to K
+  /// there and makes fluid_cells_, the pressure block's indicator of the fluid cells.
+  void regularise_blocked_cells();
+  /// The outer FGMRES with the projection preconditioner (options prefix fluid_stokes_).
+  void make_outer_solver();
   /// A new dt with the same rho and mu: the operators' diagonals updated in place (true), or false when
   /// they must be built anew (nothing built yet, rho or mu changed, or the Helmholtz sub-solver changes
   /// kind).
