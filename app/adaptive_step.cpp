@@ -25,6 +25,16 @@ double AdaptiveStep::allowed_step(double structure_dt, double speed_over_h) cons
   return step;
 }
 
+StepLimits extrapolated_limits(const StepLimits& now, const StepLimits& before)
+{
+  StepLimits end = now;
+  if (before.structure_dt > 0.0 && now.structure_dt < before.structure_dt)
+    end.structure_dt = now.structure_dt * (now.structure_dt / before.structure_dt);
+  if (before.speed_over_h > 0.0 && now.speed_over_h > before.speed_over_h)
+    end.speed_over_h = now.speed_over_h * (now.speed_over_h / before.speed_over_h);
+  return end;
+}
+
 std::int64_t AdaptiveStep::substeps(double interval, double structure_dt, double speed_over_h,
                                     std::int64_t previous) const
 {

@@ -7,8 +7,11 @@
 //
 // dt_structure the structure's stability estimate at its current deformation (ib/ibfe.hpp: the
 // exponential fiber laws stiffen as the leaflets load, so the limit moves through the cycle) and the
-// last term the fluid's advective limit. A changed step costs the fluid a new operator (its set-up),
-// so m falls only when the allowed step has grown by `grow` or more; it rises at once.
+// last term the fluid's advective limit. Both are taken at the interval's start, but the step holds to
+// its end: a limit that moved the wrong way since the interval before is extrapolated by that change
+// (extrapolated_limits), so a closure whose estimate falls by a third an interval is met where it will
+// be, not where it was. m falls only when the allowed step has grown by `grow` or more (fewer changes of
+// the Adams-Bashforth ratio); it rises at once.
 #include <cstdint>
 
 namespace ibvalve::app {
@@ -21,6 +24,18 @@ struct AdaptiveStepSettings {
   double grow = 1.2;                    ///< the factor the allowed step must grow by before m falls
   std::int64_t estimate_iterations = 6; ///< power iterations of the structure's estimate an interval
 };
+
+/// The two state-dependent limits at an interval's start.
+struct StepLimits {
+  double structure_dt = 0.0; ///< s: the structure's stability estimate
+  double speed_over_h = 0.0; ///< 1/s: the fluid's largest speed over its smallest spacing
+};
+
+/// The limits `now` carried to the interval's end by their change since `before` (the last interval's
+/// start; a zero there: none known): a falling structure estimate is multiplied by now/before, a rising
+/// speed likewise; a limit moving the safe way is taken as it is (one interval's change, no more, so
+/// that a quiet state does not pay).
+StepLimits extrapolated_limits(const StepLimits& now, const StepLimits& before);
 
 class AdaptiveStep {
  public:

@@ -217,6 +217,7 @@ class AorticValveRun : public PreparedRun {
     double inlet_flow = 0.0, outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
     std::int64_t substeps = 0;
     double structure_dt = 0.0; // the structure's estimate for the interval under way
+    double speed_over_h = 0.0; // the fluid's max|u| / h at that interval's start
   };
 
   /// Where the run measures: the valve's section, the inlet and outlet disks (half a level-0 cell inside
@@ -373,13 +374,16 @@ class AorticValveRun : public PreparedRun {
     loop.advance = [&, this, coupled_step](std::int64_t n) {
       const double interval = schedule_.step(n);
       if (!adaptive_step_) return coupled_step(n, interval);
+      const StepLimits before{record.structure_dt, record.speed_over_h};
       record.structure_dt =
           ibfe.coupled_stability_estimate(static_cast<int>(k_.adaptive_step.estimate_iterations)).dt;
+      const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
+      record.speed_over_h = fluid.max_velocity() / h;
+      const StepLimits limits = extrapolated_limits({record.structure_dt, record.speed_over_h}, before);
       // The semi-implicit coupling is not bound by the explicit estimate (kept in diagnostics.csv).
       const bool bound = ibfe.settings().coupling == ib::CouplingKind::explicit_midpoint;
-      const double h = std::min({box_.spacing(0), box_.spacing(1), box_.spacing(2)});
-      record.substeps = adaptive_step_->substeps(interval, bound ? record.structure_dt : HUGE_VAL,
-                                                 fluid.max_velocity() / h, record.substeps);
+      record.substeps = adaptive_step_->substeps(interval, bound ? limits.structure_dt : HUGE_VAL,
+                                                 limits.speed_over_h, record.substeps);
       for (std::int64_t m = 0; m < record.substeps; ++m)
         coupled_step(n, interval / static_cast<double>(record.substeps));
     };
@@ -434,8 +438,12 @@ class AorticValveRun : public PreparedRun {
       drivers::save_number(h5, "aortic_valve", "largest_area", record.largest_area);
       drivers::save_number(h5, "aortic_valve", "smallest_area", record.smallest_area);
       // The adaptive step's last choice: the next interval's depends on it.
-      if (adaptive_step_)
+      if (adaptive_step_) {
         drivers::save_number(h5, "aortic_valve", "substeps", static_cast<double>(record.substeps));
+        // The limits at the last interval's start: the next interval's extrapolation starts from them.
+        drivers::save_number(h5, "aortic_valve", "structure_dt", record.structure_dt);
+        drivers::save_number(h5, "aortic_valve", "speed_over_h", record.speed_over_h);
+      }
     };
     loop.restore = [this, &record, restore_coupled = loop.restore](const io::Hdf5File& h5) {
       drivers_->restore(h5); // before the fluid: its boundary ghosts are refilled with their pressures
@@ -445,6 +453,10 @@ class AorticValveRun : public PreparedRun {
       record.smallest_area = drivers::read_number(h5, "aortic_valve", "smallest_area");
       if (h5.has("aortic_valve/substeps"))
         record.substeps = static_cast<std::int64_t>(drivers::read_number(h5, "aortic_valve", "substeps"));
+      if (h5.has("aortic_valve/structure_dt")) {
+        record.structure_dt = drivers::read_number(h5, "aortic_valve", "structure_dt");
+        record.speed_over_h = drivers::read_number(h5, "aortic_valve", "speed_over_h");
+      }
       restore_coupled(h5);
     };
   }

@@ -49,6 +49,33 @@ TEST(AdaptiveStep, MoreSubStepsAtOnceFewerOnlyWhenTheStepGrowsEnough)
   EXPECT_EQ(a.substeps(1.6e-3, 6e-5 / 0.9, 0.0, 36), 27);
 }
 
+TEST(AdaptiveStep, ALimitMovingTheWrongWayIsCarriedToTheIntervalsEnd)
+{
+  using ibvalve::app::extrapolated_limits;
+  using ibvalve::app::StepLimits;
+  // The closure with the tube as a wall: the estimate 1.32e-4 s, a third lower than the interval
+  // before's: taken at 1.32e-4 * (1.32 / 1.6) = 1.089e-4 s.
+  const StepLimits falling = extrapolated_limits({1.32e-4, 0.0}, {1.6e-4, 0.0});
+  EXPECT_DOUBLE_EQ(falling.structure_dt, 1.32e-4 * (1.32e-4 / 1.6e-4));
+  // The jet as the valve opens: max|u| / h up 1.5 times since the interval before: 1.5 times again.
+  const StepLimits speeding = extrapolated_limits({1e-3, 3e3}, {1e-3, 2e3});
+  EXPECT_DOUBLE_EQ(speeding.speed_over_h, 4.5e3);
+  EXPECT_DOUBLE_EQ(speeding.structure_dt, 1e-3);
+  // A limit moving the safe way, or none known before (the run's start, an old checkpoint), as it is.
+  const StepLimits easing = extrapolated_limits({2e-4, 1e3}, {1e-4, 2e3});
+  EXPECT_DOUBLE_EQ(easing.structure_dt, 2e-4);
+  EXPECT_DOUBLE_EQ(easing.speed_over_h, 1e3);
+  const StepLimits first = extrapolated_limits({1e-4, 1e3}, {});
+  EXPECT_DOUBLE_EQ(first.structure_dt, 1e-4);
+  EXPECT_DOUBLE_EQ(first.speed_over_h, 1e3);
+  // What the choice then gives, at the next interval of that closure (9.03e-5 s after 1.32e-4): 0.9 x
+  // 6.18e-5 s over 1.6 ms is 29 sub-steps, where the estimate as it was gave 20.
+  const AdaptiveStep a = chooser();
+  const StepLimits next = extrapolated_limits({9.03e-5, 0.0}, {1.32e-4, 0.0});
+  EXPECT_EQ(a.substeps(1.6e-3, 9.03e-5, 0.0, 0), 20);
+  EXPECT_EQ(a.substeps(1.6e-3, next.structure_dt, 0.0, 0), 29);
+}
+
 TEST(AdaptiveStep, BadSettingsAndStatesAreRefused)
 {
   EXPECT_THROW(AdaptiveStep(AdaptiveStepSettings{0.0, 1e-4, 0.9, 0.5, 1.2}), std::invalid_argument);
