@@ -222,6 +222,14 @@ void set_constant_pressure_null_space(MPI_Comm comm, Vec x, IS is_p, Mat A, Mat 
 
 } // namespace
 
+bool KrylovStokesSolver::helmholtz_wants_jacobi() const
+{
+  // Why and when: set_parameters; with blocked cells the sweeps stand in for BoomerAMG.
+  PetscReal limit = jacobi_ratio_limit;
+  PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
+  return (transforms_used_ || !solid_.empty()) && jacobi_ratio(H_) <= limit;
+}
+
 bool KrylovStokesSolver::change_step(const StokesParameters& parameters)
 {
   // Only rho/dt moves, and it sits on the diagonal of the velocity rows: A and H take their new diagonal
@@ -244,10 +252,7 @@ bool KrylovStokesSolver::change_step(const StokesParameters& parameters)
   PETSC_CHECK(MatAssemblyEnd(A_, MAT_FINAL_ASSEMBLY));
   Mat h = H_.get();
   PETSC_CHECK(MatCreateSubMatrix(A_, is_u_, is_u_, MAT_REUSE_MATRIX, &h));
-  PetscReal limit = jacobi_ratio_limit;
-  PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
-  const bool by_jacobi = (transforms_used_ || !solid_.empty()) && jacobi_ratio(H_) <= limit;
-  if (by_jacobi != helmholtz_by_jacobi_) return false; // the sub-solver changes kind: build anew
+  if (helmholtz_wants_jacobi() != helmholtz_by_jacobi_) return false; // the sub-solver changes kind
   PETSC_CHECK(KSPSetOperators(ksp_h_, H_, H_));
   PETSC_CHECK(KSPSetOperators(ksp_, A_, A_));
   return true;
@@ -364,9 +369,7 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   // inverted by two Jacobi sweeps, exact to q^2, for one matrix product, where the three transforms cost
   // several (docs/fluid.md). -fluid_helmholtz_jacobi_limit sets the limit on q (0: always the
   // transforms); the other -fluid_helmholtz_ options override the choice.
-  PetscReal limit = jacobi_ratio_limit;
-  PETSC_CHECK(PetscOptionsGetReal(nullptr, "fluid_helmholtz_", "-jacobi_limit", &limit, nullptr));
-  helmholtz_by_jacobi_ = (transforms || !solid_.empty()) && jacobi_ratio(H_) <= limit;
+  helmholtz_by_jacobi_ = helmholtz_wants_jacobi();
   using ShellApply = PetscErrorCode (*)(PC, Vec, Vec);
   auto make_sub_ksp = [&](petsc::OwnedKSP& ksp, Mat op, const char* prefix, ShellApply transform) {
     PETSC_CHECK(KSPCreate(comm, ksp.out()));
@@ -500,7 +503,7 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
       double& value = r(idx[0], idx[1], idx[2], grid_.face_slot(d));
       value = dirichlet ? constant : value + constant;
     });
-  zero_blocked_rows(rhs);
+  solid_.zero_rows(rhs);
   if (!pressure_has_constant_) return;
   // Without a traction side the boundary velocity must carry zero net flux for the system to have a
   // solution. Remove the discrete net outflow of the data (an O(h^2) change for smooth data that is
@@ -526,19 +529,9 @@ void KrylovStokesSolver::add_boundary_terms(Vec rhs, double t_new, double t_half
   for_boundary_faces([&](double& un, double outward, double) { un -= outward * c * std::abs(un); });
 }
 
-void KrylovStokesSolver::zero_blocked_rows(Vec rhs) const
-{
-  if (solid_.empty()) return;
-  zero_blocked_faces(solid_, grid_, rhs);
-  StagArray r(grid_, rhs);
-  for_owned_cells(grid_, [&](const Index3& idx) {
-    if (solid_.cell(idx)) r(idx[0], idx[1], idx[2], grid_.pressure_slot()) = 0.0;
-  });
-}
-
 void KrylovStokesSolver::set_homogeneous_boundary_rows(Vec rhs)
 {
-  zero_blocked_rows(rhs);
+  solid_.zero_rows(rhs);
   StagArray r(grid_, rhs);
   std::vector<Entry> entries;
   double constant = 0.0;

@@ -91,8 +91,8 @@ class KrylovStokesSolver : public StokesSolver {
   /// they must be built anew (nothing built yet, rho or mu changed, or the Helmholtz sub-solver changes
   /// kind).
   bool change_step(const StokesParameters& parameters);
-  /// Sets the right side's rows of blocked faces and cells to 0 (their identity rows hold u = 0, p = 0).
-  void zero_blocked_rows(Vec rhs) const;
+  /// Whether the Helmholtz block H (assembled) is to be inverted by Jacobi sweeps.
+  bool helmholtz_wants_jacobi() const;
   void destroy();
   static PetscErrorCode apply_projection(PC pc, Vec x, Vec y);
   static PetscErrorCode apply_helmholtz_transform(PC pc, Vec x, Vec y);

@@ -124,7 +124,7 @@ NavierStokes::NavierStokes(MPI_Comm comm, const BoxGeometry& box, BoundaryCondit
     }
     grid_ = std::make_unique<StaggeredGrid>(comm, box, decomposition, width);
     auto krylov = std::make_unique<KrylovStokesSolver>(*grid_, bc_, settings);
-    wall_ghosts_ = krylov->solid().wall_ghosts();
+    solid_ = &krylov->solid();
     solver_ = std::move(krylov);
   }
   state_ = grid_->create_local();
@@ -152,7 +152,7 @@ void NavierStokes::set_initial_condition(const VelocityFunction& velocity, const
           a(i, j, k, grid_->pressure_slot()) = pressure ? pressure(grid_->cell_center(i, j, k), t) : 0.0;
   }
   set_boundary_normal_velocity(*grid_, bc_, state_, t);
-  zero_blocked_faces(SolidCells(*grid_, bc_), *grid_, state_);
+  if (solid_) solid_->zero_faces(state_);
   time_ = t;
   pressure_time_ = t;
   steps_ = 0;
@@ -244,10 +244,11 @@ void NavierStokes::explicit_rhs(Vec convection_half, double dt)
   }
   // A wall half a cell beyond a tangential neighbour (blocked cells): that neighbour, 0, becomes the
   // ghost -u_0, as in the implicit half (fluid/krylov_stokes.cpp).
-  for (const WallGhost& g : wall_ghosts_) {
-    const PetscInt s = grid_->face_slot(g.d);
-    r(g.face[0], g.face[1], g.face[2], s) -= half_mu * inv_h2[g.e] * u(g.face[0], g.face[1], g.face[2], s);
-  }
+  if (solid_)
+    for (const WallGhost& g : solid_->wall_ghosts()) {
+      const PetscInt s = grid_->face_slot(g.d);
+      r(g.face[0], g.face[1], g.face[2], s) -= half_mu * inv_h2[g.e] * u(g.face[0], g.face[1], g.face[2], s);
+    }
   for (PetscInt k = grid_->begin(2); k < grid_->begin(2) + grid_->count(2); ++k)
     for (PetscInt j = grid_->begin(1); j < grid_->begin(1) + grid_->count(1); ++j)
       for (PetscInt i = grid_->begin(0); i < grid_->begin(0) + grid_->count(0); ++i)

@@ -108,8 +108,7 @@ class NavierStokes final : public FlowSolver {
   FluidSettings settings_;
   std::unique_ptr<StaggeredGrid> grid_;
   std::unique_ptr<StokesSolver> solver_;
-  std::vector<WallGhost>
-      wall_ghosts_; // the explicit Laplacian's ghosts at blocked cells (fluid/solid_cells.hpp)
+  const SolidCells* solid_ = nullptr; // the Krylov solver's blocked cells (fluid/solid_cells.hpp)
   petsc::OwnedVec state_, force_, rhs_, response_rhs_;
   petsc::OwnedVec convection_, convection_old_, convection_half_, saved_;
   double time_ = 0.0, pressure_time_ = 0.0, last_dt_ = 0.0;

@@ -25,7 +25,8 @@ struct WallGhost {
 
 class SolidCells {
  public:
-  /// No solid region in `bc`: empty() and every query false.
+  /// No solid region in `bc`: empty() and every query false. Otherwise the owned blocked entries and the
+  /// wall ghosts are listed once here, so that the steps do not evaluate the region again.
   SolidCells(const StaggeredGrid& grid, const BoundaryConditions& bc);
 
   bool empty() const { return !region_; }
@@ -38,16 +39,20 @@ class SolidCells {
   bool wall_beyond(int d, const Index3& idx, int e, int sign) const;
 
   /// The owned fluid faces with a wall beyond a tangential neighbour, one entry per such neighbour.
-  std::vector<WallGhost> wall_ghosts() const;
-  /// The blocked cells of the whole box (collective).
-  PetscInt blocked_cells() const;
+  const std::vector<WallGhost>& wall_ghosts() const { return wall_ghosts_; }
+  /// Sets the owned blocked faces of a local vector of this grid to 0 (a velocity state).
+  void zero_faces(Vec local) const;
+  /// Sets the owned blocked faces and cells of a local vector to 0 (a right side: their identity rows).
+  void zero_rows(Vec local) const;
 
  private:
+  /// Sets the entries at `offsets` (from the local array's first ghosted element) to 0.
+  void zero(Vec local, const std::vector<PetscInt>& offsets) const;
+
   const StaggeredGrid& grid_;
   PointSet region_;
+  std::vector<PetscInt> blocked_faces_, blocked_cells_; // owned entries, offsets in a local vector
+  std::vector<WallGhost> wall_ghosts_;
 };
-
-/// Sets every owned blocked face of `local` to 0 (a velocity state or a right side's Dirichlet rows).
-void zero_blocked_faces(const SolidCells& solid, const StaggeredGrid& grid, Vec local);
 
 } // namespace ibvalve::fluid
