@@ -54,6 +54,7 @@ KrylovStokesSolver::KrylovStokesSolver(const StaggeredGrid& grid, const Boundary
 
 void KrylovStokesSolver::destroy()
 {
+  axial_.reset();
   for (petsc::OwnedMat* m : {&A_, &H_, &G_, &Dn_, &K_}) m->reset();
   for (petsc::OwnedIS* is : {&is_u_, &is_p_}) is->reset();
   for (petsc::OwnedKSP* k : {&ksp_, &ksp_h_, &ksp_k_}) k->reset();
@@ -365,6 +366,13 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
   const bool transforms = transforms_used_;
   if (transforms && !transforms_)
     transforms_ = std::make_unique<TransformSubsolvers>(grid_, bc_, is_u_, is_p_);
+  // Blocked cells the same in every z-plane: the exact axial solve, unless the options database names
+  // another preconditioner (-fluid_poisson_pc_type hypre: BoomerAMG, as for any other region).
+  if (!solid_.empty() && !axial_) {
+    PetscBool other = PETSC_FALSE;
+    PETSC_CHECK(PetscOptionsHasName(nullptr, "fluid_poisson_", "-pc_type", &other));
+    if (!other) axial_ = AxialPoisson::make(grid_, K_, is_p_);
+  }
   // With the transform sub-solves, a Helmholtz operator whose diagonal dominates (fluid/jacobi.hpp) is
   // inverted by two Jacobi sweeps, exact to q^2, for one matrix product, where the three transforms cost
   // several (docs/fluid.md). -fluid_helmholtz_jacobi_limit sets the limit on q (0: always the
@@ -382,6 +390,11 @@ void KrylovStokesSolver::set_parameters(const StokesParameters& parameters)
       PETSC_CHECK(KSPSetNormType(ksp, KSP_NORM_NONE));
       PETSC_CHECK(KSPSetTolerances(ksp, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, jacobi_sweeps));
       PETSC_CHECK(PCSetType(pc, PCJACOBI));
+    } else if (axial_ && op == K_.get()) {
+      PETSC_CHECK(PCSetType(pc, PCSHELL));
+      PETSC_CHECK(PCShellSetContext(pc, this));
+      PETSC_CHECK(PCShellSetApply(pc, &KrylovStokesSolver::apply_axial_poisson));
+      PETSC_CHECK(PCShellSetName(pc, "axial Poisson solve (z modes, a Cholesky factor a plane)"));
     } else if (transforms) {
       PETSC_CHECK(PCSetType(pc, PCSHELL));
       PETSC_CHECK(PCShellSetContext(pc, this));
@@ -475,6 +488,19 @@ PetscErrorCode KrylovStokesSolver::apply_poisson_transform(PC pc, Vec x, Vec y)
   auto* self = static_cast<KrylovStokesSolver*>(context);
   try {
     self->transforms_->solve_poisson(x, y);
+  } catch (const std::exception& e) {
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode KrylovStokesSolver::apply_axial_poisson(PC pc, Vec x, Vec y)
+{
+  PetscFunctionBeginUser;
+  void* context = nullptr;
+  PetscCall(PCShellGetContext(pc, &context));
+  try {
+    static_cast<KrylovStokesSolver*>(context)->axial_->solve(x, y);
   } catch (const std::exception& e) {
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "%s", e.what());
   }

@@ -14,13 +14,16 @@
 // and fluid_poisson_ (default: one hypre BoomerAMG V-cycle each; with settings.subsolver = fft the
 // FFTW transform solves of fluid/transform_subsolvers.hpp, exact for K, a spectrally equivalent
 // preconditioner for H when a velocity component has a tangential wall). Blocked cells of a solid region
-// (fluid/solid_cells.hpp) are identity rows; with them the Poisson sub-solve is BoomerAMG (the transforms
-// know only the box) and the Helmholtz sub-solve Jacobi sweeps or BoomerAMG.
+// (fluid/solid_cells.hpp) are identity rows; with them the Poisson sub-solve is the exact axial solve of
+// fluid/axial_poisson.hpp where the blocked cells are the same in every z-plane (-fluid_poisson_pc_type
+// hypre: BoomerAMG), BoomerAMG otherwise (the transforms know only the box), and the Helmholtz sub-solve
+// Jacobi sweeps or BoomerAMG.
 #include <memory>
 #include <vector>
 
 #include <petscksp.h>
 
+#include "fluid/axial_poisson.hpp"
 #include "fluid/settings.hpp"
 #include "fluid/solid_cells.hpp"
 #include "fluid/stokes_solver.hpp"
@@ -46,6 +49,7 @@ class KrylovStokesSolver : public StokesSolver {
   {
     return transforms_used_ ? "krylov (fft sub-solves)"
            : solid_.empty() ? "krylov"
+           : axial_         ? "krylov (blocked cells, axial Poisson)"
                             : "krylov (blocked cells)";
   }
 
@@ -70,6 +74,8 @@ class KrylovStokesSolver : public StokesSolver {
   const SolidCells& solid() const { return solid_; }
   /// The transform sub-solvers (null unless settings.subsolver is fft and no cell is blocked).
   const TransformSubsolvers* transforms() const { return transforms_.get(); }
+  /// The exact axial Poisson solve, when the blocked cells allow it (else nullptr).
+  const AxialPoisson* axial_poisson() const { return axial_.get(); }
 
  private:
   struct Entry {
@@ -97,6 +103,7 @@ class KrylovStokesSolver : public StokesSolver {
   static PetscErrorCode apply_projection(PC pc, Vec x, Vec y);
   static PetscErrorCode apply_helmholtz_transform(PC pc, Vec x, Vec y);
   static PetscErrorCode apply_poisson_transform(PC pc, Vec x, Vec y);
+  static PetscErrorCode apply_axial_poisson(PC pc, Vec x, Vec y);
 
   const StaggeredGrid& grid_;
   const BoundaryConditions& bc_;
@@ -115,6 +122,8 @@ class KrylovStokesSolver : public StokesSolver {
   bool helmholtz_by_jacobi_ = false;
   // Built once (FFTW plans, scatters): they depend on the grid and the side kinds, not on dt.
   std::unique_ptr<TransformSubsolvers> transforms_;
+  // Blocked cells the same in every z-plane: the exact Poisson solve (built with K).
+  std::unique_ptr<AxialPoisson> axial_;
 };
 
 } // namespace ibvalve::fluid
