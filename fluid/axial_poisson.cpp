@@ -13,7 +13,8 @@ namespace ibvalve::fluid {
 namespace {
 
 /// Each pressure unknown's cell as i + nx (j + ny k), gathered onto every rank in K's numbering.
-std::vector<PetscInt> cells_of_rows(const StaggeredGrid& grid, IS is_p, Vec layout)
+std::vector<PetscInt> cells_of_rows(const StaggeredGrid& grid, IS is_p, Vec layout, VecScatter to_all,
+                                    Vec all)
 {
   petsc::OwnedVec local = grid.create_local(), whole = grid.create_global();
   const PetscInt nx = grid.cells(0), ny = grid.cells(1);
@@ -25,11 +26,9 @@ std::vector<PetscInt> cells_of_rows(const StaggeredGrid& grid, IS is_p, Vec layo
           a(i, j, k, grid.pressure_slot()) = static_cast<double>(i + nx * (j + ny * k));
   }
   PETSC_CHECK(DMLocalToGlobal(grid.dm(), local, INSERT_VALUES, whole));
-  petsc::OwnedVec codes, all;
+  petsc::OwnedVec codes;
   PETSC_CHECK(VecDuplicate(layout, codes.out()));
   PETSC_CHECK(VecISCopy(whole, is_p, SCATTER_REVERSE, codes));
-  petsc::OwnedVecScatter to_all;
-  PETSC_CHECK(VecScatterCreateToAll(codes, to_all.out(), all.out()));
   PETSC_CHECK(VecScatterBegin(to_all, codes, all, INSERT_VALUES, SCATTER_FORWARD));
   PETSC_CHECK(VecScatterEnd(to_all, codes, all, INSERT_VALUES, SCATTER_FORWARD));
   PetscInt n = 0;
@@ -161,9 +160,12 @@ std::unique_ptr<AxialPoisson> AxialPoisson::make(const StaggeredGrid& grid, Mat 
 {
   const PetscInt plane = grid.cells(0) * grid.cells(1), nz = grid.cells(2);
   if (grid.periodic(2)) return nullptr;
-  petsc::OwnedVec layout;
+  // One gather onto every rank serves the cells' labels here and each solve's right side.
+  petsc::OwnedVec layout, all;
+  petsc::OwnedVecScatter to_all;
   PETSC_CHECK(MatCreateVecs(K, layout.out(), nullptr));
-  const std::vector<PetscInt> cell = cells_of_rows(grid, is_p, layout);
+  PETSC_CHECK(VecScatterCreateToAll(layout, to_all.out(), all.out()));
+  const std::vector<PetscInt> cell = cells_of_rows(grid, is_p, layout, to_all, all);
   // The whole of K on every rank (one sequential copy each): every rank decides alike.
   int size = 1;
   MPI_Comm_size(grid.comm(), &size);
@@ -198,6 +200,8 @@ std::unique_ptr<AxialPoisson> AxialPoisson::make(const StaggeredGrid& grid, Mat 
   std::vector<double> diagonal(cell.size());
   for (std::size_t r = 0; r < cell.size(); ++r) diagonal[r] = row[static_cast<std::size_t>(cell[r])].diagonal;
   solver->place_rows(K, row_of, diagonal);
+  solver->to_all_ = std::move(to_all);
+  solver->all_ = std::move(all);
   return solver;
 }
 
@@ -221,9 +225,6 @@ void AxialPoisson::place_rows(Mat K, const std::vector<PetscInt>& row_of, const 
       blocked_row_.push_back(r);
       blocked_diagonal_.push_back(diagonal[static_cast<std::size_t>(r)]);
     }
-  petsc::OwnedVec layout;
-  PETSC_CHECK(MatCreateVecs(K, layout.out(), nullptr));
-  PETSC_CHECK(VecScatterCreateToAll(layout, to_all_.out(), all_.out()));
   work_.resize(nz, nf);
   coefficients_.resize(nz, nf);
 }
