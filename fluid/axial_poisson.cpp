@@ -177,23 +177,28 @@ std::unique_ptr<AxialPoisson> AxialPoisson::make(const StaggeredGrid& grid, Mat 
   if (!s.separable) return nullptr;
 
   std::unique_ptr<AxialPoisson> solver(new AxialPoisson());
-  // T_z = Q diag(lambda) Q^T; a factor of L_xy + lambda_k I for each mode.
+  // T_z = Q diag(lambda) Q^T; a factor of L_xy + lambda_k I for each of this rank's modes.
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(s.tz);
   solver->modes_ = eigen.eigenvectors();
   solver->eigenvalues_ = eigen.eigenvalues();
   // A zero mode along z (no open end) leaves L_xy, closed by walls, singular: multigrid keeps it.
   if (solver->eigenvalues_.minCoeff() <= 1e-10 * scale) return nullptr;
-  const auto nf = static_cast<PetscInt>(s.plane_of.size());
+  solver->plane_of_ = std::move(s.plane_of);
+  const auto nf = static_cast<PetscInt>(solver->plane_of_.size());
+  solver->share_modes(grid.comm());
   Eigen::SparseMatrix<double> l(nf, nf), identity(nf, nf);
   l.setFromTriplets(s.lxy.begin(), s.lxy.end());
   identity.setIdentity();
-  for (PetscInt k = 0; k < nz; ++k) {
+  int failed = 0;
+  for (PetscInt k = solver->mode_begin_; k < solver->mode_end_ && !failed; ++k) {
     auto factor = std::make_unique<Factor>();
     factor->compute(l + solver->eigenvalues_(k) * identity);
-    if (factor->info() != Eigen::Success) return nullptr;
+    failed = factor->info() != Eigen::Success;
     solver->factors_.push_back(std::move(factor));
   }
-  solver->plane_of_ = std::move(s.plane_of);
+  // Every rank decides alike: a factor that fails on one rank fails the choice on all.
+  MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, grid.comm());
+  if (failed) return nullptr;
   std::vector<PetscInt> row_of(cell.size());
   for (std::size_t r = 0; r < cell.size(); ++r)
     row_of[static_cast<std::size_t>(cell[r])] = static_cast<PetscInt>(r);
@@ -203,6 +208,24 @@ std::unique_ptr<AxialPoisson> AxialPoisson::make(const StaggeredGrid& grid, Mat 
   solver->to_all_ = std::move(to_all);
   solver->all_ = std::move(all);
   return solver;
+}
+
+void AxialPoisson::share_modes(MPI_Comm comm)
+{
+  comm_ = comm;
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const auto nz = static_cast<PetscInt>(eigenvalues_.size()), nf = static_cast<PetscInt>(plane_of_.size());
+  const auto first = [&](int p) { return nz * p / size; };
+  mode_begin_ = first(rank);
+  mode_end_ = first(rank + 1);
+  gather_counts_.resize(static_cast<std::size_t>(size));
+  gather_offsets_.resize(static_cast<std::size_t>(size));
+  for (int p = 0; p < size; ++p) {
+    gather_offsets_[static_cast<std::size_t>(p)] = static_cast<int>(first(p) * nf);
+    gather_counts_[static_cast<std::size_t>(p)] = static_cast<int>((first(p + 1) - first(p)) * nf);
+  }
 }
 
 void AxialPoisson::place_rows(Mat K, const std::vector<PetscInt>& row_of, const std::vector<double>& diagonal)
@@ -215,18 +238,45 @@ void AxialPoisson::place_rows(Mat K, const std::vector<PetscInt>& row_of, const 
       fluid_row_[static_cast<std::size_t>(k * nf + m)] =
           row_of[static_cast<std::size_t>(plane_of_[static_cast<std::size_t>(m)] + plane * k)];
   PETSC_CHECK(MatGetOwnershipRange(K, &owned_begin_, &owned_end_));
-  owned_slot_.assign(static_cast<std::size_t>(owned_end_ - owned_begin_), -1);
+  // The planes and plane cells this rank owns: the back transform computes their product only.
+  std::vector<PetscInt> slot_of(static_cast<std::size_t>(owned_end_ - owned_begin_), -1);
+  std::vector<char> plane_owned(static_cast<std::size_t>(nz), 0),
+      column_owned(static_cast<std::size_t>(nf), 0);
   for (PetscInt slot = 0; slot < nz * nf; ++slot) {
     const PetscInt r = fluid_row_[static_cast<std::size_t>(slot)];
-    if (r >= owned_begin_ && r < owned_end_) owned_slot_[static_cast<std::size_t>(r - owned_begin_)] = slot;
+    if (r < owned_begin_ || r >= owned_end_) continue;
+    slot_of[static_cast<std::size_t>(r - owned_begin_)] = slot;
+    plane_owned[static_cast<std::size_t>(slot / nf)] = column_owned[static_cast<std::size_t>(slot % nf)] = 1;
   }
-  for (PetscInt r = owned_begin_; r < owned_end_; ++r)
-    if (owned_slot_[static_cast<std::size_t>(r - owned_begin_)] < 0) {
+  std::vector<PetscInt> plane_index(static_cast<std::size_t>(nz), -1),
+      column_index(static_cast<std::size_t>(nf), -1);
+  for (PetscInt k = 0; k < nz; ++k)
+    if (plane_owned[static_cast<std::size_t>(k)]) {
+      plane_index[static_cast<std::size_t>(k)] = static_cast<PetscInt>(owned_planes_.size());
+      owned_planes_.push_back(k);
+    }
+  for (PetscInt m = 0; m < nf; ++m)
+    if (column_owned[static_cast<std::size_t>(m)]) {
+      column_index[static_cast<std::size_t>(m)] = static_cast<PetscInt>(owned_columns_.size());
+      owned_columns_.push_back(m);
+    }
+  const auto columns = static_cast<PetscInt>(owned_columns_.size());
+  owned_slot_.assign(slot_of.size(), -1);
+  for (PetscInt r = owned_begin_; r < owned_end_; ++r) {
+    const PetscInt slot = slot_of[static_cast<std::size_t>(r - owned_begin_)];
+    if (slot >= 0) {
+      owned_slot_[static_cast<std::size_t>(r - owned_begin_)] =
+          plane_index[static_cast<std::size_t>(slot / nf)] * columns +
+          column_index[static_cast<std::size_t>(slot % nf)];
+    } else {
       blocked_row_.push_back(r);
       blocked_diagonal_.push_back(diagonal[static_cast<std::size_t>(r)]);
     }
+  }
   work_.resize(nz, nf);
   coefficients_.resize(nz, nf);
+  owned_values_.resize(static_cast<Eigen::Index>(owned_planes_.size()), columns);
+  plane_.resize(nf);
 }
 
 void AxialPoisson::solve(Vec r, Vec phi) const
@@ -241,19 +291,26 @@ void AxialPoisson::solve(Vec r, Vec phi) const
       for (PetscInt m = 0; m < nf; ++m) work_(k, m) = b[fluid_row_[static_cast<std::size_t>(k * nf + m)]];
     PETSC_CHECK(VecRestoreArrayRead(all_, &b));
   }
-  coefficients_.noalias() = modes_.transpose() * work_; // along z into T_z's modes
-  for (PetscInt k = 0; k < nz; ++k) {
-    Eigen::VectorXd plane = coefficients_.row(k).transpose();
-    coefficients_.row(k) = factors_[static_cast<std::size_t>(k)]->solve(plane).transpose();
+  // Along z into this rank's modes, each mode's plane solved, then every rank's modes to every rank.
+  const PetscInt mine = mode_end_ - mode_begin_;
+  coefficients_.middleRows(mode_begin_, mine).noalias() =
+      modes_.middleCols(mode_begin_, mine).transpose() * work_;
+  for (PetscInt k = mode_begin_; k < mode_end_; ++k) {
+    plane_ = factors_[static_cast<std::size_t>(k - mode_begin_)]->solve(coefficients_.row(k).transpose());
+    coefficients_.row(k) = plane_.transpose();
   }
-  work_.noalias() = modes_ * coefficients_; // back along z
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, coefficients_.data(), gather_counts_.data(),
+                 gather_offsets_.data(), MPI_DOUBLE, comm_);
+  // Back along z, on the planes and plane cells this rank owns.
+  owned_values_.noalias() = modes_(owned_planes_, Eigen::all) * coefficients_(Eigen::all, owned_columns_);
   PetscScalar* x = nullptr;
   const PetscScalar* b = nullptr;
   PETSC_CHECK(VecGetArray(phi, &x));
   PETSC_CHECK(VecGetArrayRead(r, &b));
+  const auto columns = static_cast<PetscInt>(owned_columns_.size());
   for (PetscInt o = 0; o < owned_end_ - owned_begin_; ++o) {
     const PetscInt slot = owned_slot_[static_cast<std::size_t>(o)];
-    if (slot >= 0) x[o] = work_(slot / nf, slot % nf);
+    if (slot >= 0) x[o] = owned_values_(slot / columns, slot % columns);
   }
   for (std::size_t n = 0; n < blocked_row_.size(); ++n) {
     const PetscInt o = blocked_row_[n] - owned_begin_;

@@ -7,7 +7,8 @@
 //    (no open end) it is not chosen, and BoomerAMG keeps the Poisson part;
 //  - the Stokes step with it equals the step with BoomerAMG (-fluid_poisson_pc_type hypre) to the
 //    Krylov tolerance, in no more FGMRES iterations;
-//  - on 2 ranks (the test's own), each rank holding the whole problem.
+//  - on 2 ranks (the test's own), the ranks sharing the modes: each factors and solves its own, and
+//    together they hold every mode once.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,6 +104,18 @@ TEST(AxialPoisson, ATubeAlongZIsSolvedToRounding)
               static_cast<int>(solver.axial_poisson()->plane_cells()),
               static_cast<int>(solver.axial_poisson()->planes()), backward);
   EXPECT_LT(backward, 1e3 * std::numeric_limits<double>::epsilon());
+
+  int rank = 0, size = 1;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const AxialPoisson& axial = *solver.axial_poisson();
+  int shares[2] = {static_cast<int>(axial.mode_count()), static_cast<int>(axial.first_mode())};
+  int modes = 0, next = 0;
+  MPI_Allreduce(&shares[0], &modes, 1, MPI_INT, MPI_SUM, PETSC_COMM_WORLD);
+  MPI_Exscan(&shares[0], &next, 1, MPI_INT, MPI_SUM, PETSC_COMM_WORLD);
+  EXPECT_EQ(modes, axial.planes());
+  EXPECT_EQ(shares[1], rank == 0 ? 0 : next);
+  EXPECT_GE(shares[0], axial.planes() / size);
 }
 
 TEST(AxialPoisson, WhereTheSeparationFailsMultigridStays)
