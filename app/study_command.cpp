@@ -15,11 +15,14 @@
 //   [[uncertainty]]                  # optional: a source of numerical uncertainty
 //   name = "time step"
 //   set = ["time.step=2e-5"]         # every case runs again with these overrides after its own
+//   shared = true                    # optional: the source's error is common to the cases
 //
 // Each source runs every case once more in <output>/uncertainty/<source>/<case>; a metric's standard
 // uncertainty from a source is |variant - case| (the change a second step, grid, kernel or partition
 // makes: docs/runs.md, "Studies"), combined over the sources as sqrt(sum u_s^2) and written to
-// <output>/<case>/uncertainty.json, which the case's report (rewritten) and the comparison read.
+// <output>/<case>/uncertainty.json, which the case's report (rewritten) and the comparison read. A shared
+// source also keeps its signed shift, variant - case, so that the comparison judges a difference between
+// two cases by how much the source changes the difference itself (docs/hemodynamics.md, "Comparison").
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
@@ -61,6 +64,7 @@ struct StudyCase {
 struct UncertaintySource {
   std::string name;
   std::vector<std::string> overrides;
+  bool shared = false; // the error is common to the cases: their shifts are kept signed
 };
 
 struct Study {
@@ -104,6 +108,7 @@ struct CaseKeys {
 struct SourceKeys {
   std::string name;
   std::vector<std::string> set;
+  bool shared = false;
 };
 
 /// A study file's keys (io/key_binder.hpp).
@@ -128,6 +133,12 @@ void bind(io::KeyBinder& keys, SourceKeys& u)
   keys.string("name", "the source's name (\"time step\", \"grid\"): its folder and its label", u.name)
       .required();
   keys.strings("set", "overrides of the variant every case runs again with, after its own", u.set).required();
+  keys.boolean("shared",
+               "the source's error is common to the cases (a second grid or step applied to all): each "
+               "metric keeps its signed shift, variant - case, and the comparison judges a difference "
+               "between two cases by how much the source changes that difference; false = independent",
+               u.shared)
+      .defaults(false);
 }
 
 void bind(io::KeyBinder& keys, StudyKeys& k)
@@ -197,7 +208,7 @@ Study read_study(const StudyOptions& options)
   for (const CaseKeys& c : k.cases) study.cases.push_back(study_case(keys, k, c, names));
   std::set<std::string> sources;
   for (const SourceKeys& u : k.sources) {
-    UncertaintySource source{u.name, u.set};
+    UncertaintySource source{u.name, u.set, u.shared};
     if (source.name.empty()) keys.fail(u.name, "must not be empty");
     if (const std::string why = io::folder_name_problem(variant_folder_name(source)); !why.empty())
       keys.fail(u.name, why);
@@ -270,6 +281,7 @@ void combine_uncertainties(const Study& study)
         const auto a = value(nominal.metrics), b = value(variant.metrics);
         if (!a || !b) continue;
         out[key]["sources"][source.name] = std::abs(*b - *a);
+        if (source.shared) out[key]["shared"][source.name] = *b - *a;
       }
     }
     for (auto& [key, entry] : out.items()) {

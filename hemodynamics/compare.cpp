@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 
@@ -136,6 +137,26 @@ double metric_uncertainty(const CaseResult& c, const std::string& key)
   return u->get<double>();
 }
 
+/// The signed shifts of the metric's sources common to the cases ("uncertainty_shared"), by source.
+std::map<std::string, double> metric_shared_shifts(const CaseResult& c, const std::string& key)
+{
+  std::map<std::string, double> shifts;
+  const Json* shared = metric_field(c, key, "uncertainty_shared");
+  if (!shared || shared->is_null()) return shifts;
+  if (!shared->is_object())
+    throw InputError(
+        fmt::format("{}: metric {}: \"uncertainty_shared\" must be an object of signed shifts, not {}",
+                    (c.run_directory / "report" / "metrics.json").string(), key, shared->dump()));
+  for (const auto& [name, value] : shared->items()) {
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+      throw InputError(fmt::format("{}: metric {}: uncertainty_shared.{} must be a finite number, not {}",
+                                   (c.run_directory / "report" / "metrics.json").string(), key, name,
+                                   value.dump()));
+    shifts[name] = value.get<double>();
+  }
+  return shifts;
+}
+
 /// The text `field` of metric `key` in the first case that has it, else empty.
 std::string first_text(std::span<const CaseResult> cases, const std::string& key, const char* field)
 {
@@ -181,10 +202,36 @@ std::vector<double> scaled(const std::vector<double>& values, bool higher_is_bet
   return scores;
 }
 
-/// The values with each chain of indistinguishable ones (sorted neighbours within tie_coverage
-/// combined standard uncertainties) replaced by the chain's mean.
-std::vector<double> tied(const std::vector<double>& values, const std::vector<double>& uncertainties)
+/// One case's value of a criterion and its standard uncertainty, split into the part of its own
+/// (independent) sources and the signed shifts of the sources common to the cases.
+struct UncertainValue {
+  double value = 0.0;
+  double independent = 0.0;
+  std::map<std::string, double> shared;
+};
+
+/// The standard uncertainty of the difference a - b: the independent parts add in quadrature, and a
+/// source common to both contributes the change it makes to the difference, shift_a - shift_b (a
+/// source that moves both cases alike leaves their difference as it is).
+double difference_uncertainty(const UncertainValue& a, const UncertainValue& b)
 {
+  double sum = a.independent * a.independent + b.independent * b.independent;
+  auto shift = [](const UncertainValue& v, const std::string& name) {
+    const auto it = v.shared.find(name);
+    return it == v.shared.end() ? 0.0 : it->second;
+  };
+  for (const auto& [name, unused] : a.shared) sum += std::pow(shift(a, name) - shift(b, name), 2);
+  for (const auto& [name, unused] : b.shared)
+    if (!a.shared.contains(name)) sum += std::pow(shift(b, name), 2);
+  return std::sqrt(sum);
+}
+
+/// The values with each chain of indistinguishable ones (sorted neighbours whose difference is within
+/// tie_coverage of its standard uncertainty) replaced by the chain's mean.
+std::vector<double> tied(const std::vector<UncertainValue>& uncertain)
+{
+  std::vector<double> values;
+  for (const auto& v : uncertain) values.push_back(v.value);
   std::vector<std::size_t> order(values.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return values[a] < values[b]; });
@@ -193,7 +240,7 @@ std::vector<double> tied(const std::vector<double>& values, const std::vector<do
     std::size_t last = first;
     while (last + 1 < order.size() &&
            values[order[last + 1]] - values[order[last]] <=
-               tie_coverage * std::hypot(uncertainties[order[last + 1]], uncertainties[order[last]]))
+               tie_coverage * difference_uncertainty(uncertain[order[last + 1]], uncertain[order[last]]))
       ++last;
     double mean = 0.0;
     for (std::size_t p = first; p <= last; ++p) mean += values[order[p]];
@@ -219,6 +266,56 @@ std::vector<int> ranks_of(const std::vector<double>& totals)
   return ranks;
 }
 
+/// The ranking's stability, into r.rows[].rank_held and r.order_held: every uncertain value drawn about
+/// itself, the cases scored and ranked as if the draw were exact. A rank shared by m tied cases claims no
+/// order among them: a case keeps it when its drawn rank is any of its m places. A source common to the
+/// cases is one draw z_s per ranking, every case and criterion moved by z_s times its own shift.
+void estimate_rank_stability(const std::vector<std::vector<UncertainValue>>& values,
+                             const std::vector<std::size_t>& used, const std::vector<int>& ranks, Ranking& r)
+{
+  const auto& criteria = ranking_criteria();
+  const std::size_t n = ranks.size();
+  std::vector<std::string> shared_sources;
+  for (const std::size_t k : used)
+    for (const auto& v : values[k])
+      for (const auto& [name, shift] : v.shared)
+        if (std::find(shared_sources.begin(), shared_sources.end(), name) == shared_sources.end())
+          shared_sources.push_back(name);
+  std::vector<int> sharing(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) sharing[i] += ranks[j] == ranks[i] ? 1 : 0;
+  std::mt19937_64 generator(20261205);
+  std::normal_distribution<double> normal;
+  std::vector<long> held(n, 0);
+  long order_held = 0;
+  std::map<std::string, double> z;
+  for (int draw = 0; draw < rank_stability_draws; ++draw) {
+    for (const auto& name : shared_sources) z[name] = normal(generator);
+    std::vector<double> drawn_totals(n, 0.0);
+    for (const std::size_t k : used) {
+      std::vector<double> drawn(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const UncertainValue& v = values[k][i];
+        drawn[i] = v.value + v.independent * normal(generator);
+        for (const auto& [name, shift] : v.shared) drawn[i] += z[name] * shift;
+      }
+      const std::vector<double> scores = scaled(drawn, criteria[k].higher_is_better);
+      for (std::size_t i = 0; i < n; ++i) drawn_totals[i] += scores[i];
+    }
+    const std::vector<int> drawn_ranks = ranks_of(drawn_totals);
+    bool all = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool same = drawn_ranks[i] >= ranks[i] && drawn_ranks[i] < ranks[i] + sharing[i];
+      held[i] += same ? 1 : 0;
+      all = all && same;
+    }
+    order_held += all ? 1 : 0;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    r.rows[i].rank_held = static_cast<double>(held[i]) / rank_stability_draws;
+  r.order_held = static_cast<double>(order_held) / rank_stability_draws;
+}
+
 } // namespace
 
 std::string check_criteria(std::span<const std::string> keys)
@@ -241,7 +338,7 @@ Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::strin
   for (std::size_t i = 0; i < cases.size(); ++i) r.rows[i].name = cases[i].name;
   // Per used criterion: the cases' values and standard uncertainties.
   std::vector<std::size_t> used;
-  std::vector<std::vector<double>> values(criteria.size()), uncertainties(criteria.size());
+  std::vector<std::vector<UncertainValue>> values(criteria.size());
   auto leave = [&](std::size_t k, const std::string& why) {
     r.used[k] = false;
     r.left_out.push_back(fmt::format("{} ({})", criteria[k].key, why));
@@ -256,17 +353,24 @@ Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::strin
     for (const auto& c : cases) {
       const auto v = metric_value(c, criteria[k].key);
       if (!v) missing.push_back(c.name);
-      values[k].push_back(v.value_or(0.0));
-      uncertainties[k].push_back(v ? metric_uncertainty(c, criteria[k].key) : 0.0);
+      UncertainValue value{v.value_or(0.0), 0.0, {}};
+      if (v) {
+        // What the shared shifts do not account for is the case's own.
+        const double u = metric_uncertainty(c, criteria[k].key);
+        value.shared = metric_shared_shifts(c, criteria[k].key);
+        double own = u * u;
+        for (const auto& [name, shift] : value.shared) own -= shift * shift;
+        value.independent = std::sqrt(std::max(own, 0.0));
+        r.uncertain = r.uncertain || u > 0.0;
+      }
+      values[k].push_back(std::move(value));
     }
     if (!missing.empty() || cases.empty()) {
       leave(k, fmt::format("missing for: {}", fmt::join(missing, ", ")));
       continue;
     }
     used.push_back(k);
-    for (double u : uncertainties[k]) r.uncertain = r.uncertain || u > 0.0;
-    const std::vector<double> scores =
-        scaled(tied(values[k], uncertainties[k]), criteria[k].higher_is_better);
+    const std::vector<double> scores = scaled(tied(values[k]), criteria[k].higher_is_better);
     for (std::size_t i = 0; i < cases.size(); ++i) {
       r.rows[i].scores.push_back(scores[i]);
       r.rows[i].total += scores[i];
@@ -281,36 +385,7 @@ Ranking rank_cases(std::span<const CaseResult> cases, std::span<const std::strin
   std::stable_sort(r.by_rank.begin(), r.by_rank.end(), [&](auto a, auto b) { return ranks[a] < ranks[b]; });
   if (!r.uncertain) return r;
 
-  // The ranking's stability: every uncertain value drawn about itself, the cases scored and ranked as
-  // if the draw were exact. A rank r shared by m tied cases claims no order among them: a case keeps
-  // it when its drawn rank is any of r .. r + m - 1.
-  std::vector<int> sharing(cases.size(), 0);
-  for (std::size_t i = 0; i < cases.size(); ++i)
-    for (std::size_t j = 0; j < cases.size(); ++j) sharing[i] += ranks[j] == ranks[i] ? 1 : 0;
-  std::mt19937_64 generator(20261205);
-  std::normal_distribution<double> normal;
-  std::vector<long> held(cases.size(), 0);
-  long order_held = 0;
-  for (int draw = 0; draw < rank_stability_draws; ++draw) {
-    std::vector<double> drawn_totals(cases.size(), 0.0);
-    for (const std::size_t k : used) {
-      std::vector<double> drawn(values[k]);
-      for (std::size_t i = 0; i < cases.size(); ++i) drawn[i] += uncertainties[k][i] * normal(generator);
-      const std::vector<double> scores = scaled(drawn, criteria[k].higher_is_better);
-      for (std::size_t i = 0; i < cases.size(); ++i) drawn_totals[i] += scores[i];
-    }
-    const std::vector<int> drawn_ranks = ranks_of(drawn_totals);
-    bool all = true;
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-      const bool same = drawn_ranks[i] >= ranks[i] && drawn_ranks[i] < ranks[i] + sharing[i];
-      held[i] += same ? 1 : 0;
-      all = all && same;
-    }
-    order_held += all ? 1 : 0;
-  }
-  for (std::size_t i = 0; i < cases.size(); ++i)
-    r.rows[i].rank_held = static_cast<double>(held[i]) / rank_stability_draws;
-  r.order_held = static_cast<double>(order_held) / rank_stability_draws;
+  estimate_rank_stability(values, used, ranks, r);
   return r;
 }
 

@@ -19,7 +19,11 @@
 // every uncertain metric from a normal distribution about its value, rank_stability_draws times
 // (fixed seed), and ranking each draw as if it were exact: how often each case keeps its rank, and how
 // often the whole order holds. A rank shared by m tied cases claims no order among them: a case keeps
-// it when it lands anywhere in the m places.
+// it when it lands anywhere in the m places. A metric may also carry "uncertainty_shared", the signed
+// shifts (variant - case) of sources common to the cases, such as a second grid applied to all: for two
+// cases such a source contributes the change it makes to their difference, shift_a - shift_b, in place
+// of sqrt(shift_a^2 + shift_b^2), and in the draws it is one normal factor for all cases and criteria,
+// each moved by that factor times its own shift.
 #include <filesystem>
 #include <optional>
 #include <span>

@@ -242,10 +242,12 @@ Json read_metrics_object(const fs::path& file)
   return doc;
 }
 
-/// Merges a run folder's uncertainty.json ({key: {"uncertainty": u, "sources": {name: u_s}}}, written
-/// by `ibvalve study` from its [[uncertainty]] variants) into the metrics it names: each gets
-/// "uncertainty" and "uncertainty_sources". Keys without such a metric are ignored; a value that is not
-/// a number >= 0 is an InputError naming the file and the key.
+/// Merges a run folder's uncertainty.json ({key: {"uncertainty": u, "sources": {name: u_s}, "shared":
+/// {name: signed shift}}}, written by `ibvalve study` from its [[uncertainty]] variants; "shared" only for
+/// the sources common to the cases) into the metrics it names: each gets "uncertainty",
+/// "uncertainty_sources" and, with shared sources, "uncertainty_shared". Keys without such a metric are
+/// ignored; a u that is not a number >= 0, or a shift that is not a finite number of one of the key's
+/// sources, is an InputError naming the file and the key.
 void add_uncertainties(const fs::path& file, Json& values, Json& notes)
 {
   if (!fs::exists(file)) return;
@@ -266,9 +268,20 @@ void add_uncertainties(const fs::path& file, Json& values, Json& notes)
       by_source[name] = standard(value, key + ".sources." + name);
       sources.insert(name);
     }
+    Json shared = Json::object();
+    const Json shifts = entry.value("shared", Json::object());
+    for (const auto& [name, value] : shifts.items()) {
+      if (!value.is_number() || !std::isfinite(value.get<double>()) || !by_source.contains(name))
+        throw InputError(
+            fmt::format("{}: {}.shared.{}: expected the finite signed shift of one of its sources, "
+                        "not {}",
+                        file.string(), key, name, value.dump()));
+      shared[name] = value.get<double>();
+    }
     if (!values.contains(key)) continue;
     values[key]["uncertainty"] = u;
     values[key]["uncertainty_sources"] = by_source;
+    if (!shared.empty()) values[key]["uncertainty_shared"] = shared;
   }
   notes.push_back(fmt::format("standard uncertainties from uncertainty.json (sources: {}): value ± u",
                               fmt::join(sources, ", ")));

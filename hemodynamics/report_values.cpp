@@ -52,7 +52,8 @@ data metric_row(const std::string& key, const Json& m)
   row.set("missing", !v.is_number());
   row.set("unit", text(m, "unit"));
   row.set("note", text(m, "note"));
-  // "± 0.91" and "time step 0.91, grid 0.3" when the metric carries an uncertainty, else empty.
+  // "± 0.91" and "time step 0.91, grid 0.3" when the metric carries an uncertainty, else empty; a source
+  // common to the cases shows its signed shift, "grid +0.3 (shared)".
   const auto u = m.find("uncertainty");
   // A section over an empty string is still rendered: an absent part is false, not "".
   if (u != m.end() && u->is_number())
@@ -61,8 +62,15 @@ data metric_row(const std::string& key, const Json& m)
     row.set("uncertainty", data(false));
   std::vector<std::string> sources;
   const Json by_source = m.value("uncertainty_sources", Json::object());
-  for (const auto& [name, value] : by_source.items())
-    sources.push_back(name + " " + format_value(number(value)));
+  const Json shared = m.value("uncertainty_shared", Json::object());
+  for (const auto& [name, value] : by_source.items()) {
+    const auto shift = shared.find(name);
+    if (shift != shared.end() && shift->is_number())
+      sources.push_back(fmt::format("{} {}{} (shared)", name, shift->get<double>() > 0.0 ? "+" : "",
+                                    format_value(shift->get<double>())));
+    else
+      sources.push_back(name + " " + format_value(number(value)));
+  }
   if (sources.empty())
     row.set("uncertainty_sources", data(false));
   else

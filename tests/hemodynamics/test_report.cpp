@@ -479,6 +479,57 @@ TEST(Compare, TheRankStabilityIsHowOftenEachCaseKeepsItsRankUnderTheUncertaintie
   fs::remove_all(out);
 }
 
+TEST(Compare, ASourceCommonToTheCasesJudgesADifferenceByHowMuchItChangesTheDifference)
+{
+  // V_F 80 and 83 mL, each with u = 5 mL from a second grid. Independent, the 3 mL difference is within
+  // 2 sqrt(5^2 + 5^2) = 14.1 and the two tie. Shared, with shifts +5 and +5.5 (the second grid moves
+  // both up and the difference by 0.5), the difference's uncertainty is 0.5: 3 > 2 x 0.5, they are
+  // scored apart, and a draw reverses them when 3 + 0.5 z < 0, z < -6: never in 10,000 draws.
+  auto with_shift = [](hd::CaseResult c, double shift) {
+    c.metrics["forward_volume"]["uncertainty_sources"] = hd::Json{{"grid", std::abs(shift)}};
+    c.metrics["forward_volume"]["uncertainty_shared"] = hd::Json{{"grid", shift}};
+    return c;
+  };
+  const std::size_t vf = criterion_index("forward_volume");
+  const hd::Ranking independent = hd::rank_cases(
+      std::vector<hd::CaseResult>{uncertain_case("a", 80, 5, 10, 0), uncertain_case("b", 83, 5, 10, 0)});
+  EXPECT_DOUBLE_EQ(*independent.rows[0].scores[vf], 1.0);
+  EXPECT_DOUBLE_EQ(*independent.rows[1].scores[vf], 1.0);
+  const hd::Ranking shared =
+      hd::rank_cases(std::vector<hd::CaseResult>{with_shift(uncertain_case("a", 80, 5, 10, 0), 5.0),
+                                                 with_shift(uncertain_case("b", 83, 5.5, 10, 0), 5.5)});
+  EXPECT_DOUBLE_EQ(*shared.rows[0].scores[vf], 0.0);
+  EXPECT_DOUBLE_EQ(*shared.rows[1].scores[vf], 1.0);
+  EXPECT_EQ(shared.rows[1].rank, 1);
+  EXPECT_DOUBLE_EQ(shared.order_held, 1.0);
+  // Opposite shifts, +5 and -5, change the difference by 10: 3 <= 2 x 10, a tie.
+  const hd::Ranking opposite =
+      hd::rank_cases(std::vector<hd::CaseResult>{with_shift(uncertain_case("a", 80, 5, 10, 0), 5.0),
+                                                 with_shift(uncertain_case("b", 83, 5, 10, 0), -5.0)});
+  EXPECT_DOUBLE_EQ(*opposite.rows[0].scores[vf], 1.0);
+  EXPECT_DOUBLE_EQ(*opposite.rows[1].scores[vf], 1.0);
+  // Apart by 9 mL with shifts +1 and +5 and no own part: the difference's uncertainty is 4 (9 > 2 x 4,
+  // scored apart), and a draw reverses the pair when 9 + 4 z < 0, z < -2.25: Phi(-2.25) = 1.22 % of
+  // draws (binomial standard error 0.11 %).
+  hd::Ranking drawn =
+      hd::rank_cases(std::vector<hd::CaseResult>{with_shift(uncertain_case("a", 80, 1, 10, 0), 1.0),
+                                                 with_shift(uncertain_case("b", 89, 5, 10, 0), 5.0)});
+  EXPECT_EQ(drawn.rows[1].rank, 1);
+  EXPECT_NEAR(drawn.order_held, 1.0 - 0.5 * std::erfc(2.25 / std::sqrt(2.0)), 0.004);
+  // A case's own part is what its shared shifts leave of u: u = 5 with a shift of 3 leaves 4, which adds
+  // in quadrature to the pair's 0 shared change: 3 <= 2 x 4, a tie.
+  const hd::Ranking own =
+      hd::rank_cases(std::vector<hd::CaseResult>{with_shift(uncertain_case("a", 80, 5, 10, 0), 3.0),
+                                                 with_shift(uncertain_case("b", 83, 3, 10, 0), 3.0)});
+  EXPECT_DOUBLE_EQ(*own.rows[0].scores[vf], 1.0);
+  EXPECT_DOUBLE_EQ(*own.rows[1].scores[vf], 1.0);
+  // A shift that is not a finite number is bad input.
+  std::vector<hd::CaseResult> bad{with_shift(uncertain_case("a", 80, 5, 10, 0), 5.0),
+                                  uncertain_case("b", 83, 5, 10, 0)};
+  bad[0].metrics["forward_volume"]["uncertainty_shared"]["grid"] = "up";
+  EXPECT_THROW(hd::rank_cases(bad), ibvalve::InputError);
+}
+
 TEST(Compare, AUsersTemplateLaysOutTheComparisonAndABrokenOneWritesNothing)
 {
   hd::CaseResult one;

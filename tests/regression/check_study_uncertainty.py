@@ -2,9 +2,11 @@
 """Checks the uncertainties `ibvalve study` leaves for a study with an [[uncertainty]] source.
   check_study_uncertainty.py STUDY_DIR SOURCE CASE...
 For every case: uncertainty.json holds, per metric, |variant - case| for the source (the variant's
-metrics read from <STUDY_DIR>/uncertainty/<source>/<case>/report/metrics.json) and their root-sum-square;
-the case's report/metrics.json carries them ("uncertainty", "uncertainty_sources") and report.md shows
-"value ± u"; the comparison shows the ± figures and how often each rank holds. Exits 1 on a failure.
+metrics read from <STUDY_DIR>/uncertainty/<source>/<case>/report/metrics.json) and their root-sum-square,
+and, the source being shared (common to the cases), the signed shift variant - case; the case's
+report/metrics.json carries them ("uncertainty", "uncertainty_sources", "uncertainty_shared") and
+report.md shows "value ± u" and the source's signed shift marked shared; the comparison shows the ±
+figures and how often each rank holds. Exits 1 on a failure.
 """
 import json
 import math
@@ -27,6 +29,10 @@ for name in names:
             failures.append(f"{name}: {key}: uncertainty.json says {stored[key]['sources'][source]}, |{b} - {a}| = {u}")
         if abs(metric.get("uncertainty", -1.0) - u) > 1e-12 * max(1.0, abs(a)):
             failures.append(f"{name}: {key}: metrics.json's uncertainty {metric.get('uncertainty')} is not {u}")
+        for where, shifts in (("uncertainty.json", stored[key].get("shared", {})),
+                              ("metrics.json", metric.get("uncertainty_shared", {}))):
+            if abs(shifts.get(source, float("nan")) - (b - a)) > 1e-12 * max(1.0, abs(a)):
+                failures.append(f"{name}: {key}: {where}'s shared shift {shifts.get(source)} is not {b} - {a}")
         checked += 1
     vf = case["forward_volume"]
     print(f"{name}: {checked} metrics with an uncertainty; V_F {vf['value']:.4f} ± {vf['uncertainty']:.3g} mL "
@@ -35,8 +41,11 @@ for name in names:
         failures.append(f"{name}: only {checked} metrics carry an uncertainty")
     if vf["uncertainty"] <= 0.0:
         failures.append(f"{name}: the variant did not change V_F: the source's overrides were not applied")
-    if " ± " not in (study / name / "report" / "report.md").read_text():
+    report = (study / name / "report" / "report.md").read_text()
+    if " ± " not in report:
         failures.append(f"{name}: report.md shows no ± figure")
+    if f"{source} " not in report or "(shared)" not in report:
+        failures.append(f"{name}: report.md does not show the source's signed shift marked (shared)")
 comparison = (study / "comparison" / "comparison.md").read_text()
 for text in (" ± ", "rank held", "the whole order holds in"):
     if text not in comparison:
