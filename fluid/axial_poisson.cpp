@@ -248,18 +248,18 @@ void AxialPoisson::place_rows(Mat K, const std::vector<PetscInt>& row_of, const 
     slot_of[static_cast<std::size_t>(r - owned_begin_)] = slot;
     plane_owned[static_cast<std::size_t>(slot / nf)] = column_owned[static_cast<std::size_t>(slot % nf)] = 1;
   }
-  std::vector<PetscInt> plane_index(static_cast<std::size_t>(nz), -1),
-      column_index(static_cast<std::size_t>(nf), -1);
-  for (PetscInt k = 0; k < nz; ++k)
-    if (plane_owned[static_cast<std::size_t>(k)]) {
-      plane_index[static_cast<std::size_t>(k)] = static_cast<PetscInt>(owned_planes_.size());
-      owned_planes_.push_back(k);
-    }
-  for (PetscInt m = 0; m < nf; ++m)
-    if (column_owned[static_cast<std::size_t>(m)]) {
-      column_index[static_cast<std::size_t>(m)] = static_cast<PetscInt>(owned_columns_.size());
-      owned_columns_.push_back(m);
-    }
+  // The owned ones listed in order into `list`; returned: each one's place in it, or -1.
+  auto number_owned = [](const std::vector<char>& owned, std::vector<PetscInt>& list) {
+    std::vector<PetscInt> index(owned.size(), -1);
+    for (std::size_t i = 0; i < owned.size(); ++i)
+      if (owned[i]) {
+        index[i] = static_cast<PetscInt>(list.size());
+        list.push_back(static_cast<PetscInt>(i));
+      }
+    return index;
+  };
+  const std::vector<PetscInt> plane_index = number_owned(plane_owned, owned_planes_),
+                              column_index = number_owned(column_owned, owned_columns_);
   const auto columns = static_cast<PetscInt>(owned_columns_.size());
   owned_slot_.assign(slot_of.size(), -1);
   for (PetscInt r = owned_begin_; r < owned_end_; ++r) {
