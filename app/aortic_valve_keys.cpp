@@ -35,7 +35,7 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
             "longest sub-step",
             k.step)
       .unit("s")
-      .defaults(3e-5)
+      .defaults(1e-4)
       .positive();
   keys.real("time.coaptation_step",
             "a finer step over the coaptation window of each cycle, where the leaflets meet and the "
@@ -55,7 +55,7 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
                "structure's current stability estimate and the fluid's advective limit (docs/runs.md, "
                "\"The adaptive step\"); false = one step as set throughout",
                k.adaptive)
-      .defaults(false);
+      .defaults(true);
   const std::string adaptive = keys.key_of(k.adaptive);
   keys.real("time.interval",
             "with " + adaptive +
@@ -63,7 +63,7 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
                 "holds a whole number), and the counts of its steps count them",
             k.adaptive_step.interval)
       .unit("s")
-      .defaults(1.6e-3)
+      .defaults(8e-4)
       .positive();
   keys.real("time.safety",
             "with " + adaptive +
@@ -101,7 +101,7 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
 void bind_fluid(io::KeyBinder& keys, AorticValveKeys& k)
 {
   bind_fields_interval(keys, k.fields_interval, 0.02, "fields_fluid.xdmf and fields_structure.xdmf");
-  bind_row_every(keys, k.every, 40);
+  bind_row_every(keys, k.every, 1); // with the adaptive step a row an interval
   bind_fluid_density(keys, k.fluid.rho, "blood density");
   keys.real("fluid.viscosity", "blood viscosity", k.fluid.mu)
       .unit("cP")
@@ -111,16 +111,19 @@ void bind_fluid(io::KeyBinder& keys, AorticValveKeys& k)
   keys.integers("fluid.cells", "grid cells in x, y, z", k.cells)
       .size(3)
       .at_most(max_grid_cells)
-      .defaults(std::vector<std::int64_t>{28, 28, 41});
-  // 0.125 cm cells around the default tube (mesh.tube_length), its ends half a cell inside the box.
+      .defaults(std::vector<std::int64_t>{26, 26, 43});
+  // 0.125 cm cells around the default tube (mesh.tube_length), its ends half a cell inside the box; across,
+  // the narrowest whole number of cells that holds the kernel's reach (2 cells) beyond the leaflets'
+  // attachment at r = 1.3 cm: the cells beyond the lumen are blocked (tube.model = "wall"), so a wider
+  // box solves the same problem (docs/convergence.md, "One lumen, each grid's narrowest box").
   keys.reals("fluid.lower", "lower corner of the box (the tube's axis is x = y = 0, inlet at z = 0)", k.lower)
       .unit("cm")
       .size(3)
-      .defaults(std::vector<double>{-1.75, -1.75, -0.0625});
+      .defaults(std::vector<double>{-1.625, -1.625, -0.0625});
   keys.reals("fluid.upper", "upper corner of the box", k.upper)
       .unit("cm")
       .size(3)
-      .defaults(std::vector<double>{1.75, 1.75, 5.0625});
+      .defaults(std::vector<double>{1.625, 1.625, 5.3125});
   keys.choice("fluid.subsolver",
               "sub-solves of the Krylov Stokes solver's preconditioner: fft (FFTW sine/cosine transforms) "
               "or amg (hypre BoomerAMG V-cycles)",
@@ -162,7 +165,7 @@ void bind_structure(io::KeyBinder& keys, AorticValveKeys& k)
           "are blocked, docs/fluid.md; no tube elements, so no explicit step limit "
           "from the tube's stiffness and no coupling points in it; one grid only)",
           k.tube_wall, {{"immersed", false}, {"wall", true}})
-      .defaults(std::string("immersed"));
+      .defaults(std::string("wall"));
   materials::bind(keys, k.tube_material, "tube.material", tube);
   keys.paths("leaflets.fit_data",
              "planar biaxial samples (CSV files with the columns of `ibvalve fit`) that the leaflet law with "

@@ -93,7 +93,7 @@ class AorticValveRun : public PreparedRun {
     // The leaflets carry one fiber family (fibers.rule), the tube none.
     leaflet_material_ = part_material(keys_, k.leaflets_material, 1);
     if (!k.fit_data.empty()) fit_error_ = leaflet_fit_error(leaflet_material_, k.fit_data);
-    tube_material_ = part_material(keys_, k.tube_material, 0);
+    if (!k.tube_wall) tube_material_ = part_material(keys_, k.tube_material, 0); // a wall has no elements
     ib_ = k.coupling;
     if (!k.tube_wall)
       for (const std::string& surface : k.tube_surfaces)

@@ -50,7 +50,7 @@ struct ValveMeshParameters {
   // Geometry, cm.
   double tube_radius = 1.3;
   double tube_wall = 0.15;
-  double tube_length = 5.0; ///< 2 cm below the valve's nadir, 1.8 cm above its commissures
+  double tube_length = 5.25; ///< 2 cm below the valve's nadir, 2.05 cm above its commissures
   double leaflet_thickness = 0.04;
   double valve_base = 2.0;        ///< z of the attachment's nadir (leaflet centre), from the inlet
   double commissure_height = 1.2; ///< z of the commissures (and the closed free edge) above the nadir

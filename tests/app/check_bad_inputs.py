@@ -36,9 +36,10 @@ CL = "command line"
 #   where: CL ("command line" in the line), "case" (CASE:LINE of the edit; "case+1" the line after it),
 #          "default" or "nofile-line" (the case file named, no line: a key left out or at its default),
 #          "path" (a path given on the command line, named in the line), "waveform-line" (the data file)
-LUMPED, DUCT, TG, BLOCK, SHELL_NESTED, VALVE = ("lumped/default.toml", "duct/case.toml", "taylor_green/case.toml",
-                                                "ibfe/block.toml", "ibfe/shell_nested.toml",
-                                                "aortic_valve/default.toml")
+LUMPED, DUCT, TG, BLOCK, SHELL_NESTED = ("lumped/default.toml", "duct/case.toml", "taylor_green/case.toml",
+                                         "ibfe/block.toml", "ibfe/shell_nested.toml")
+# The default valve holds its tube as the fluid's wall; the immersed tube's keys are tried on the case that has one.
+VALVE, IMMERSED = "aortic_valve/default.toml", "aortic_valve/immersed_tube.toml"
 CLOSED_LOOP = "lumped/closed_loop.toml"
 INPUTS = [
     # --- the model key and the common keys
@@ -201,20 +202,20 @@ INPUTS = [
      "model", "case", True),
     ("valve model key misspelt", "aortic-valve", ("edit", VALVE, 'model = "aortic-valve"', 'modle = "aortic-valve"'),
      "modle", "case", False),
-    ("valve tube around beyond int", "aortic-valve", ("set", VALVE, "mesh.tube_around=4294967344"),
+    ("valve tube around beyond int", "aortic-valve", ("set", IMMERSED, "mesh.tube_around=4294967344"),
      "mesh.tube_around", CL, True),
-    ("valve tube around beyond memory", "aortic-valve", ("set", VALVE, "mesh.tube_around=4096", "mesh.tube_along=4096"),
+    ("valve tube around beyond memory", "aortic-valve", ("set", IMMERSED, "mesh.tube_around=4096", "mesh.tube_along=4096"),
      "mesh.tube_around", CL, False),
     ("valve leaflet across odd", "aortic-valve", ("set", VALVE, "mesh.leaflet_across=15"), "mesh", "default", False),
     ("valve fluid cells beyond memory", "aortic-valve", ("set", VALVE, "fluid.cells=[700, 700, 700]"), "fluid.cells",
      CL, False),
-    ("valve tube surface unknown", "aortic-valve", ("set", VALVE, 'tether.tube_surfaces=["tube_top"]'),
+    ("valve tube surface unknown", "aortic-valve", ("set", IMMERSED, 'tether.tube_surfaces=["tube_top"]'),
      "tether.tube_surfaces[0]", CL, False),
     ("valve fiber rule unknown", "aortic-valve", ("set", VALVE, 'fibers.rule="FD3"'), "fibers.rule", CL, False),
     ("valve preset unknown", "aortic-valve", ("set", VALVE, 'leaflets.material.preset="zhu2021-W9"'),
      "leaflets.material.preset", CL, False),
     ("valve expression fibers in the tube", "aortic-valve",
-     ("edit", VALVE, 'law = "neo-hookean"\nmu = 100.0',
+     ("edit", IMMERSED, 'law = "neo-hookean"\nmu = 100.0',
       'energy = "mu/2*(I1 - 3) + k*(I4 - 1)^2"\nlaw = "expression"\nparameters = { mu = 100.0, k = 1.0 }\n'
       'moduli = ["mu", "k"]\n#'),
      "tube.material.energy", "case", True),
@@ -223,7 +224,7 @@ INPUTS = [
      "petsc.options", CL, False),
     ("valve step tiny", "aortic-valve", ("set", VALVE, "time.step=1e-300"), "time.step", CL, False),
     ("valve coaptation step tiny", "aortic-valve",
-     ("set", VALVE, "time.coaptation_step=1e-300", "time.coaptation_window=[0.1, 0.2]"), "time.coaptation_step",
+     ("set", IMMERSED, "time.coaptation_step=1e-300", "time.coaptation_window=[0.1, 0.2]"), "time.coaptation_step",
      CL, False),
     ("valve report period differs", "aortic-valve", ("set", VALVE, "report.period=0.7"), "report.period", CL, False),
     ("valve orifice resolution beyond int", "aortic-valve", ("set", VALVE, "probes.orifice_resolution=4294967552"),

@@ -14,9 +14,9 @@ Scenarios:
   recommended
       `ibvalve keys aortic-valve --format toml` writes the recommended case: every key
       examples/aortic_valve/default.toml sets has the same value in the skeleton (the waveform file by
-      name), but for the case's name, its checkpoint cadence, its fit data (files of the repository) and
-      its time steps (NOT_IN_THE_SKELETON says why); and every default of `ibvalve mesh aortic-valve` is
-      the skeleton's mesh.* value.
+      name), but for the case's name, its checkpoint cadence and its fit data (files of the repository;
+      NOT_IN_THE_SKELETON says why); and every default of `ibvalve mesh aortic-valve` is the skeleton's
+      mesh.* value.
   bare-set
       `--set key=WORD` for a string key is the word (`--set model=lumped`, `--set
       report.closure_rule=area`), the run goes on and config.toml holds the word.
@@ -125,13 +125,9 @@ def flattened(table, prefix=""):
 
 
 # What default.toml sets otherwise than the skeleton: the case's name; how often a run of its length
-# checkpoints (a cadence of the machine and the run, the same default for every model); the fit data (the
-# repository's sample files, named from examples/aortic_valve); and its time steps, 4e-5 s with 3e-5 s
-# over the coaptation of this waveform, measured on W1FD1 alone, where the keys' default is the 3e-5 s
-# every case of the study ran at throughout (examples/aortic_valve/study.toml), and a default coaptation
-# step would outstep a run whose time.step is made smaller.
-NOT_IN_THE_SKELETON = {"name", "checkpoint.every", "leaflets.fit_data", "time.step", "time.coaptation_step",
-                       "time.coaptation_window"}
+# checkpoints (a cadence of the machine and the run, the same default for every model); and the fit data
+# (the repository's sample files, named from examples/aortic_valve).
+NOT_IN_THE_SKELETON = {"name", "checkpoint.every", "leaflets.fit_data"}
 
 
 def recommended(run, source, work):

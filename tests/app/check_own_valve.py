@@ -4,8 +4,8 @@
 
   check_own_valve.py SCENARIO IBVALVE MPIEXEC RANKS SOURCE_DIR WORK_DIR
 
-Scenarios (the case is examples/aortic_valve/default.toml; the mesh is written by `ibvalve mesh
-aortic-valve` with that case's geometry, coarse, into WORK_DIR):
+Scenarios (the case is examples/aortic_valve/immersed_tube.toml, whose tube is part of the mesh; the mesh
+is written by `ibvalve mesh aortic-valve` with that case's geometry, coarse, into WORK_DIR):
   missing-groups
       A mesh whose groups leaflet1, leaflet2_attachment, leaflet3_n1, tube and tube_outer were renamed:
       `ibvalve check` and `ibvalve run` with --set mesh.file=broken.msh (named from the working folder)
@@ -167,10 +167,11 @@ def main():
     source, work = pathlib.Path(source).resolve(), pathlib.Path(work).resolve()
     work.mkdir(parents=True, exist_ok=True)
     run = Runner(ibvalve, mpiexec, int(ranks), work)
-    case = source / "examples/aortic_valve/default.toml"
     if scenario == "check":
-        check(run, case, source)
+        check(run, source / "examples/aortic_valve/default.toml", source)
     else:
+        # A mesh of one's own with its tube: the immersed-tube case reads the tube's groups too.
+        case = source / "examples/aortic_valve/immersed_tube.toml"
         {"missing-groups": missing_groups, "set-path": set_path, "recorded": recorded}[scenario](run, case)
 
 

@@ -3,7 +3,7 @@
 
   check_step_schedule.py IBVALVE MPIEXEC SOURCE_DIR WORK_DIR
 
-default.toml for 14 steps with time.step 3e-5 s, time.coaptation_step 1.5e-5 s over
+immersed_tube.toml (a fixed step) for 14 steps with time.step 3e-5 s, time.coaptation_step 1.5e-5 s over
 [1.5e-4, 2.4e-4] s: the rows of timeseries.csv (one a step) are 5 steps of 3e-5 s, 6 of 1.5e-5 s and
 then steps of (0.8 - 2.4e-4) / round((0.8 - 2.4e-4) / 3e-5) s (each part of the 0.8 s cycle holds a
 whole number of steps), each within 1e-12 s. Exits 1 on the first row that is not.
@@ -18,7 +18,7 @@ def main():
     ibvalve, mpiexec, source, work = sys.argv[1:5]
     run = pathlib.Path(work) / "schedule"
     command = [mpiexec, "--oversubscribe", "-n", "1", ibvalve, "run",
-               str(pathlib.Path(source) / "examples/aortic_valve/default.toml"), "-o", str(run), "--overwrite",
+               str(pathlib.Path(source) / "examples/aortic_valve/immersed_tube.toml"), "-o", str(run), "--overwrite",
                "-q", "--stop-after-steps", "14", "--set", "output.every=1", "--set", "report.plots=false",
                "--set", "time.step=3e-5", "--set", "time.coaptation_step=1.5e-5", "--set", "time.coaptation_window=[1.5e-4, 2.4e-4]",
                "--set", 'petsc.options="-fluid_fftw_planner estimate"']
