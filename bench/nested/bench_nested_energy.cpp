@@ -1,5 +1,5 @@
 // Kinetic energy and the largest speed of a free flow in the closed unit cube on nested levels at a
-// high Reynolds number (prints figures only; docs/notebook/step-failures-2026-12-07.md). No-slip walls,
+// high Reynolds number (prints figures only; docs/nested.md, "What is not done yet"). No-slip walls,
 // level 1 [2/8, 5/8] x [3/8, 6/8] x [2/8, 4/8] (ratio 4) or one uniform grid of the finest spacing,
 // started from the divergence-free 3D field of tests/fluid/test_nested_navier_stokes.cpp's manufactured
 // flow at t = 0 with no body force: with walls and no forcing the kinetic energy can only fall, so a
