@@ -50,31 +50,18 @@ GridHierarchy hierarchy(bool nested, PetscInt n0, PetscInt ratio)
   return GridHierarchy(box, finer);
 }
 
-/// The composite faces' centres along each axis, as face vectors (sampled once).
-std::array<petsc::OwnedVec, 3> face_centres(const CompositeOperators& ops)
-{
-  std::array<petsc::OwnedVec, 3> c;
-  for (int d = 0; d < 3; ++d) {
-    c[d] = ops.create_face_vector();
-    ops.sample_normal([d](const Real3& y) { return Real3{y[d], y[d], y[d]}; }, c[d]);
-  }
-  return c;
-}
-
-double value_at(Vec v, PetscInt global, MPI_Comm comm)
+/// The centre of the composite face with global index `global` (every rank gets it from its owner).
+Real3 face_centre(const NestedNavierStokes& fluid, PetscInt global, MPI_Comm comm)
 {
   PetscInt begin = 0, end = 0;
-  PETSC_CHECK(VecGetOwnershipRange(v, &begin, &end));
-  double local = 0.0;
+  PETSC_CHECK(VecGetOwnershipRange(fluid.velocity(), &begin, &end));
+  Real3 local{0.0, 0.0, 0.0}, x{0.0, 0.0, 0.0};
   if (global >= begin && global < end) {
-    const PetscScalar* a = nullptr;
-    PETSC_CHECK(VecGetArrayRead(v, &a));
-    local = a[global - begin];
-    PETSC_CHECK(VecRestoreArrayRead(v, &a));
+    const CompositeVelocity& velocity = fluid.composite_velocity();
+    local = velocity.position(velocity.owned_keys()[static_cast<std::size_t>(global - begin)]);
   }
-  double sum = 0.0;
-  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_SUM, comm);
-  return sum;
+  MPI_Allreduce(local.data(), x.data(), 3, MPI_DOUBLE, MPI_SUM, comm);
+  return x;
 }
 
 void run(bool nested, ConvectionScheme scheme, double nu, double cfl, double end, PetscInt n0)
@@ -87,20 +74,9 @@ void run(bool nested, ConvectionScheme scheme, double nu, double cfl, double end
   settings.convection = scheme;
   NestedNavierStokes fluid(PETSC_COMM_WORLD, h, initial_velocity, settings);
   fluid.set_initial_condition(initial_velocity, ScalarFunction{}, 0.0);
-  const CompositeOperators& ops = fluid.operators();
-  const auto centres = face_centres(ops);
-  double total_weight = 0.0;
-  PETSC_CHECK(VecSum(ops.weights(), &total_weight));
-  petsc::OwnedVec squared = ops.create_face_vector();
-  const auto energy = [&] {
-    PETSC_CHECK(VecPointwiseMult(squared, fluid.velocity(), fluid.velocity()));
-    double e = 0.0;
-    PETSC_CHECK(VecDot(squared, ops.weights(), &e));
-    return 0.5 * e;
-  };
   const double dt = cfl / static_cast<double>(n0 * ratio);
   const int steps = static_cast<int>(std::lround(end / dt));
-  const double e0 = energy();
+  const double e0 = fluid.kinetic_energy();
   int rank = 0;
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   if (rank == 0)
@@ -116,9 +92,8 @@ void run(bool nested, ConvectionScheme scheme, double nu, double cfl, double end
     PETSC_CHECK(VecMax(fluid.velocity(), &at_max, &largest));
     PETSC_CHECK(VecMin(fluid.velocity(), &at_min, &smallest));
     const PetscInt at = -smallest > largest ? at_min : at_max;
-    double x[3];
-    for (int d = 0; d < 3; ++d) x[d] = value_at(centres[d], at, PETSC_COMM_WORLD);
-    const double e = energy();
+    const Real3 x = face_centre(fluid, at, PETSC_COMM_WORLD);
+    const double e = fluid.kinetic_energy();
     if (rank == 0) {
       std::printf("%.4f %.6f %.4f (%.4f %.4f %.4f)\n", fluid.time(), e / e0, std::max(largest, -smallest),
                   x[0], x[1], x[2]);
