@@ -11,7 +11,12 @@
 // its end: a limit that moved the wrong way since the interval before is extrapolated by that change
 // (extrapolated_limits), so a closure whose estimate falls by a third an interval is met where it will
 // be, not where it was. m falls only when the allowed step has grown by `grow` or more (fewer changes of
-// the Adams-Bashforth ratio); it rises at once.
+// the Adams-Bashforth ratio); it rises at once. An estimate at the interval's start cannot see a fold that
+// forms within the interval (docs/runs.md): an interval whose sub-steps go unstable (a point leaves the
+// grid, a solver diverges, the flow is not finite) is taken again from its start with twice the
+// sub-steps, up to `retries` times, before the run stops. The estimate missed the limit there and may
+// miss it in the intervals that follow: the sub-step that went through caps the next intervals' steps,
+// the cap growing by `grow` an interval until the estimate binds again (relaxed_cap).
 #include <cstdint>
 
 namespace ibvalve::app {
@@ -23,6 +28,7 @@ struct AdaptiveStepSettings {
   double cfl = 0.5;                     ///< the largest advective CFL number max|u| dt / h
   double grow = 1.2;                    ///< the factor the allowed step must grow by before m falls
   std::int64_t estimate_iterations = 6; ///< power iterations of the structure's estimate an interval
+  std::int64_t retries = 3;             ///< times a failed interval is taken again with twice the sub-steps
 };
 
 /// The two state-dependent limits at an interval's start.
@@ -44,10 +50,13 @@ class AdaptiveStep {
   /// The sub-steps of the next interval of length `interval` (s), from the structure's estimate
   /// `structure_dt` (s) and the fluid's largest speed over its smallest spacing `speed_over_h` (1/s),
   /// given `previous` sub-steps over the interval before (0 at the run's start).
-  std::int64_t substeps(double interval, double structure_dt, double speed_over_h,
-                        std::int64_t previous) const;
-  /// The step the state allows: min(largest, safety x structure_dt, cfl / speed_over_h).
-  double allowed_step(double structure_dt, double speed_over_h) const;
+  std::int64_t substeps(double interval, double structure_dt, double speed_over_h, std::int64_t previous,
+                        double cap = 0.0) const;
+  /// The step the state allows: min(largest, safety x structure_dt, cfl / speed_over_h, cap); a cap of 0
+  /// is none.
+  double allowed_step(double structure_dt, double speed_over_h, double cap = 0.0) const;
+  /// The cap one interval later: `grow` times longer, none (0) once no shorter than the largest step.
+  double relaxed_cap(double cap) const;
   const AdaptiveStepSettings& settings() const { return settings_; }
 
  private:

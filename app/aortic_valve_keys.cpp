@@ -81,6 +81,15 @@ void bind_time(io::KeyBinder& keys, AorticValveKeys& k)
       .defaults(std::int64_t{6})
       .at_least(1)
       .at_most(100);
+  keys.integer("time.retries",
+               "with " + adaptive +
+                   ": times an interval whose sub-steps went unstable (a point left the grid, a solver "
+                   "diverged) is taken again from its start with twice the sub-steps before the run stops "
+                   "(docs/runs.md, \"The adaptive step\"); 0 = stop at once",
+               k.adaptive_step.retries)
+      .defaults(std::int64_t{3})
+      .at_least(0)
+      .at_most(10);
   keys.real("time.cfl", "with " + adaptive + ": the largest advective CFL number max|u| dt / h of a sub-step",
             k.adaptive_step.cfl)
       .defaults(0.5)

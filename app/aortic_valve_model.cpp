@@ -18,8 +18,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <functional>
 #include <numbers>
 #include <sstream>
+#include <vector>
 
 #include <mpi.h>
 #include <nlohmann/json.hpp>
@@ -42,6 +44,7 @@
 #include "app/valve_mesh.hpp"
 #include "base/errors.hpp"
 #include "base/logger.hpp"
+#include "base/stopwatch.hpp"
 #include "base/units.hpp"
 #include "drivers/boundary_drivers.hpp"
 #include "fe/gmsh_io.hpp"
@@ -216,6 +219,10 @@ class AorticValveRun : public PreparedRun {
   struct Record {
     double inlet_flow = 0.0, outlet_flow = 0.0, largest_area = 0.0, smallest_area = 1e300;
     std::int64_t substeps = 0;
+    std::int64_t retries = 0; // times the interval under way was taken again (time.retries)
+    double step_cap = 0.0;    // s: no sub-step longer, after an interval taken again (0: none)
+    double snapshot_seconds = 0.0, lost_seconds = 0.0; // the intervals' snapshots; the attempts that failed
+    std::int64_t intervals_taken_again = 0;
     double structure_dt = 0.0; // the structure's estimate for the interval under way
     double speed_over_h = 0.0; // the fluid's max|u| / h at that interval's start
   };
@@ -382,10 +389,10 @@ class AorticValveRun : public PreparedRun {
       const StepLimits limits = extrapolated_limits({record.structure_dt, record.speed_over_h}, before);
       // The semi-implicit coupling is not bound by the explicit estimate (kept in diagnostics.csv).
       const bool bound = ibfe.settings().coupling == ib::CouplingKind::explicit_midpoint;
+      record.step_cap = adaptive_step_->relaxed_cap(record.step_cap);
       record.substeps = adaptive_step_->substeps(interval, bound ? limits.structure_dt : HUGE_VAL,
-                                                 limits.speed_over_h, record.substeps);
-      for (std::int64_t m = 0; m < record.substeps; ++m)
-        coupled_step(n, interval / static_cast<double>(record.substeps));
+                                                 limits.speed_over_h, record.substeps, record.step_cap);
+      take_interval(loop, n, interval, record, [&](double step) { coupled_step(n, step); });
     };
     if (!adaptive_step_) return;
     // diagnostics.csv: each interval's sub-steps, their length and the structure's estimate, beside the
@@ -396,6 +403,7 @@ class AorticValveRun : public PreparedRun {
       figures.solver.push_back({"substeps", static_cast<double>(record.substeps), "sub"});
       figures.solver.push_back({"dt", step, "dt", "s"});
       figures.solver.push_back({"dt_structure", record.structure_dt, "", "s"});
+      figures.solver.push_back({"retries", static_cast<double>(record.retries), ""});
       return figures;
     };
   }
@@ -426,6 +434,45 @@ class AorticValveRun : public PreparedRun {
     return r;
   }
 
+  /// One interval of the adaptive step in record.substeps sub-steps; one whose sub-steps go unstable
+  /// (a RunError) is taken again from its start, kept in memory, with twice the sub-steps, up to
+  /// time.retries times (docs/runs.md, "The adaptive step"). Collective.
+  void take_interval(TimeLoop& loop, std::int64_t n, double interval, Record& record,
+                     const std::function<void(double)>& sub_step) const
+  {
+    record.retries = 0;
+    std::vector<char> start;
+    if (k_.adaptive_step.retries > 0) {
+      base::Stopwatch watch(record.snapshot_seconds);
+      io::Hdf5File snapshot(loop.comm, "the interval's start", io::Hdf5File::Mode::memory);
+      loop.save(snapshot);
+      snapshot.close();
+      start = snapshot.take_image();
+    }
+    for (;;) {
+      const double attempt_start = MPI_Wtime();
+      try {
+        for (std::int64_t m = 0; m < record.substeps; ++m)
+          sub_step(interval / static_cast<double>(record.substeps));
+        if (record.retries > 0) record.step_cap = interval / static_cast<double>(record.substeps);
+        return;
+      } catch (const RunError& e) {
+        if (record.retries >= k_.adaptive_step.retries) throw;
+        record.lost_seconds += MPI_Wtime() - attempt_start;
+        if (record.retries == 0) ++record.intervals_taken_again;
+        // The snapshot was taken after the interval's choice: it gives back the same sub-steps and limits.
+        const std::int64_t failed = record.substeps, retries = record.retries + 1;
+        loop.restore(io::Hdf5File(loop.comm, "the interval's start", start));
+        record.substeps = 2 * failed;
+        record.retries = retries;
+        base::Logger::global().warn(
+            fmt::format("step {} taken again from t = {:g} s in {} sub-steps ({} of {} {}): {}", n,
+                        loop.time(n - 1), record.substeps, record.retries, k_.adaptive_step.retries,
+                        keys_.key_of(k_.adaptive_step.retries), e.what()));
+      }
+    }
+  }
+
   /// Checkpoints (docs/runs.md): the fluid and the structure (set_ibfe_hooks), the drivers' states by
   /// name (drivers/...), and the run's record by name (aortic_valve/...).
   void set_checkpoint(TimeLoop& loop, Record& record)
@@ -443,6 +490,7 @@ class AorticValveRun : public PreparedRun {
         // The limits at the last interval's start: the next interval's extrapolation starts from them.
         drivers::save_number(h5, "aortic_valve", "structure_dt", record.structure_dt);
         drivers::save_number(h5, "aortic_valve", "speed_over_h", record.speed_over_h);
+        drivers::save_number(h5, "aortic_valve", "step_cap", record.step_cap);
       }
     };
     loop.restore = [this, &record, restore_coupled = loop.restore](const io::Hdf5File& h5) {
@@ -457,6 +505,8 @@ class AorticValveRun : public PreparedRun {
         record.structure_dt = drivers::read_number(h5, "aortic_valve", "structure_dt");
         record.speed_over_h = drivers::read_number(h5, "aortic_valve", "speed_over_h");
       }
+      if (h5.has("aortic_valve/step_cap"))
+        record.step_cap = drivers::read_number(h5, "aortic_valve", "step_cap");
       restore_coupled(h5);
     };
   }
@@ -493,6 +543,13 @@ class AorticValveRun : public PreparedRun {
            << ") over " << t.steps << " steps"
            << (adaptive_step_
                    ? fmt::format(", adaptive step's stability estimates {:.3g} s in all", t.stability)
+                   : std::string())
+           << (adaptive_step_ && k_.adaptive_step.retries > 0
+                   ? fmt::format(", interval snapshots {:.3g} s in all", record.snapshot_seconds)
+                   : std::string())
+           << (record.intervals_taken_again > 0
+                   ? fmt::format(", {} intervals taken again ({:.3g} s in the attempts that failed)",
+                                 record.intervals_taken_again, record.lost_seconds)
                    : std::string())
            << "; orifice area " << record.smallest_area << " to " << record.largest_area << " cm^2; "
            << fluid_summary(fluid);

@@ -138,9 +138,29 @@ Hdf5File::Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode)
   });
 }
 
+Hdf5File::Hdf5File(MPI_Comm comm, const std::string& label, std::span<const char> root_image)
+    : comm_(comm), mode_(Mode::read), exceptions_at_open_(std::uncaught_exceptions()), path_(label)
+{
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &size_);
+  // Every rank opens its own copy with the core driver: reads are independent (H5P_DEFAULT transfers).
+  std::uint64_t size = rank_ == 0 ? root_image.size() : 0;
+  MPI_Bcast(&size, 1, MPI_UINT64_T, 0, comm_);
+  if (size == 0) throw std::logic_error("Hdf5File: " + label + " has no image");
+  std::vector<char> bytes(size);
+  if (rank_ == 0) std::copy(root_image.begin(), root_image.end(), bytes.begin());
+  constexpr std::uint64_t chunk = std::uint64_t{1} << 30; // MPI counts are int
+  for (std::uint64_t at = 0; at < size; at += chunk)
+    MPI_Bcast(bytes.data() + at, static_cast<int>(std::min(chunk, size - at)), MPI_CHAR, 0, comm_);
+  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  check(H5Pset_fapl_core(access, std::size_t{1} << 18, 0), "set the core driver");
+  check(H5Pset_file_image(access, bytes.data(), bytes.size()), "set the image of " + label); // copied
+  file_ = check_id(H5Fopen(label.c_str(), H5F_ACC_RDONLY, access), "cannot open the image of " + label);
+}
+
 Hdf5File::~Hdf5File()
 {
-  if (mode_ == Mode::create && !closed_ && std::uncaught_exceptions() == exceptions_at_open_) {
+  if (mode_ != Mode::read && !closed_ && std::uncaught_exceptions() == exceptions_at_open_) {
     try {
       close();
     } catch (const std::exception& e) {
@@ -153,7 +173,7 @@ Hdf5File::~Hdf5File()
 template <class Work>
 void Hdf5File::as_writer(Work&& work)
 {
-  if (mode_ != Mode::create) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
+  if (mode_ == Mode::read) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
   if (!writer_ || failed_) return;
   try {
     work();
@@ -178,7 +198,11 @@ void Hdf5File::close()
       throw std::runtime_error("HDF5: no image of " + path_.string());
     // Written from the driver's own buffer: a copy (H5Fget_file_image) would double the memory the
     // file takes at its largest (4.4 MB more for the default valve case's checkpoint).
-    write_file_atomically(path_, std::string_view(static_cast<const char*>(image_.data), size));
+    const char* bytes = static_cast<const char*>(image_.data);
+    if (mode_ == Mode::memory)
+      memory_image_.assign(bytes, bytes + size);
+    else
+      write_file_atomically(path_, std::string_view(bytes, size));
     H5Fclose(file_);
     file_ = -1;
   });
@@ -202,7 +226,7 @@ void Hdf5File::write_block(const std::string& name, std::span<const double> data
   const hsize_t local = std::accumulate(count.begin(), count.end(), hsize_t{1}, std::multiplies<>());
   if (local != data.size())
     throw std::logic_error("Hdf5File::write_block: data size does not match count for " + name);
-  if (mode_ != Mode::create) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
+  if (mode_ == Mode::read) throw std::logic_error("Hdf5File: " + path_.string() + " is open for reading");
   // The writer gathers every rank's block (where it goes, then its values) and writes them in turn.
   const std::size_t ndims = count.size();
   std::vector<unsigned long long> place(2 * ndims), places(writer_ ? 2 * ndims * size_ : 0);

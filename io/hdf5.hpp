@@ -26,9 +26,14 @@ namespace ibvalve::io {
 
 class Hdf5File {
  public:
-  enum class Mode { create, read };
+  /// create: written to `path` by close(); memory: built the same way but kept in memory by close()
+  /// (rank 0 holds it: image()), a state to go back to without touching the disk; read: an existing file.
+  enum class Mode { create, memory, read };
 
   Hdf5File(MPI_Comm comm, const std::filesystem::path& path, Mode mode);
+  /// Reads an image a Mode::memory file left (`root_image`: rank 0's bytes, ignored on the others; every
+  /// rank gets a copy). `label` names it in messages. Collective.
+  Hdf5File(MPI_Comm comm, const std::string& label, std::span<const char> root_image);
   /// A created file not closed is written here too (errors only logged), unless an exception is
   /// leaving the scope: then nothing is written.
   ~Hdf5File();
@@ -74,6 +79,8 @@ class Hdf5File {
                                  std::span<const hsize_t> count) const;
 
   const std::filesystem::path& path() const { return path_; }
+  /// Mode::memory, after close(): the file's bytes on rank 0 (empty on the other ranks), moved out.
+  std::vector<char> take_image() { return std::move(memory_image_); }
 
  private:
   hid_t create_dataset(const std::string& name, hid_t type, std::span<const hsize_t> dims);
@@ -105,6 +112,7 @@ class Hdf5File {
 
   std::filesystem::path path_;
   CoreImage image_;
+  std::vector<char> memory_image_; // Mode::memory, after close(), rank 0
   hid_t file_ = -1;
 };
 

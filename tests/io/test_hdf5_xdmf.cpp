@@ -82,6 +82,36 @@ TEST(Hdf5File, AFileRankZeroCannotWriteFailsOnEveryRank)
   }
 }
 
+TEST(Hdf5File, AnImageInMemoryReadsBackOnEveryRankAndTouchesNoDisk)
+{
+  // Mode::memory builds the file as create mode does but close() keeps it on rank 0 (a run's state to
+  // go back to within an interval); the image reads back whole and in blocks on every rank.
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const hsize_t rows_per_rank = 5, columns = 3;
+  const std::vector<hsize_t> global{rows_per_rank * size, columns}, offset{rows_per_rank * rank, 0},
+      count{rows_per_rank, columns};
+  std::vector<double> block(rows_per_rank * columns);
+  for (std::size_t i = 0; i < block.size(); ++i) block[i] = 0.1 * static_cast<double>(i) + rank;
+  const auto path = shared_temp_path("memory");
+  std::vector<char> image;
+  {
+    Hdf5File file(MPI_COMM_WORLD, path, Hdf5File::Mode::memory);
+    file.write_block("fluid/u", block, global, offset, count);
+    file.write_root("ibfe/x", std::vector<double>{1.5, -2.5}, std::vector<hsize_t>{2});
+    file.close();
+    image = file.take_image();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+  EXPECT_EQ(image.empty(), rank != 0);
+  const Hdf5File file(MPI_COMM_WORLD, "the state", image);
+  EXPECT_EQ(file.read_block("fluid/u", offset, count), block);
+  EXPECT_EQ(file.read("fluid/u").size(), global[0] * columns);
+  EXPECT_EQ(file.read("ibfe/x"), (std::vector<double>{1.5, -2.5}));
+  EXPECT_THROW(file.read("fluid/p"), std::runtime_error);
+}
+
 TEST(Hdf5File, OpeningAMissingFileThrows)
 {
   EXPECT_THROW(Hdf5File(MPI_COMM_WORLD, "/nonexistent/x.h5", Hdf5File::Mode::read), std::runtime_error);
