@@ -78,14 +78,17 @@ def main():
         checkpoints = sorted((args.source / "checkpoints").glob("step_*.h5"))
         if not checkpoints:
             sys.exit(f"{args.source}: no checkpoints to continue from")
-        target = pathlib.Path(scratch) / "run"
+        target = pathlib.Path(scratch)
         shutil.rmtree(target, ignore_errors=True)
         shutil.copytree(args.source, target, ignore=shutil.ignore_patterns("fields", "checkpoints", "report"))
         (target / "checkpoints").mkdir()
         shutil.copy2(checkpoints[-1], target / "checkpoints")
         return target
 
-    with tempfile.TemporaryDirectory() as scratch:
+    # A copy of a --from run sits beside it, at the same depth, so that the relative paths of its resolved
+    # case (config.toml: the LV table, the biaxial samples) still resolve.
+    beside = args.source.resolve().parent if args.source else None
+    with tempfile.TemporaryDirectory(dir=beside) as scratch:
         for case in [args.source] if args.source else args.case:
             for ranks in args.ranks:
                 def command(steps):
