@@ -17,20 +17,23 @@ struct WallValues {
   const StaggeredGrid& grid;
   const BoundaryConditions& bc;
   double t;
+  /// The point of side (e, upper) beside face idx of u_d.
+  Real3 side_point(int e, int upper, int d, const Index3& idx) const
+  {
+    Real3 x = grid.face_position(d, idx[0], idx[1], idx[2]);
+    x[e] = upper ? grid.box().upper[e] : grid.box().lower[e];
+    return x;
+  }
   double tangential(int e, int upper, int d, const Index3& idx) const
   {
     const int s = side_index(e, upper);
     if (bc.side(s).kind != SideKind::velocity) return 0.0;
-    Real3 x = grid.face_position(d, idx[0], idx[1], idx[2]);
-    x[e] = upper ? grid.box().upper[e] : grid.box().lower[e];
-    return bc.velocity(s, x, t)[d];
+    return bc.velocity(s, side_point(e, upper, d, idx), t)[d];
   }
   /// Whether the side's point beside face idx of u_d is open (traction), not walled.
   bool open(int e, int upper, int d, const Index3& idx) const
   {
-    Real3 x = grid.face_position(d, idx[0], idx[1], idx[2]);
-    x[e] = upper ? grid.box().upper[e] : grid.box().lower[e];
-    return bc.traction_at(side_index(e, upper), x);
+    return bc.traction_at(side_index(e, upper), side_point(e, upper, d, idx));
   }
 };
 
