@@ -6,10 +6,16 @@ namespace ibvalve::fluid {
 
 namespace {
 
+/// a times the face value upwind of a: (um, u0, up, upp) run along +e, the side between u0 and up.
 inline double upwind_flux(double a, double um, double u0, double up, double upp, ConvectionScheme scheme)
 {
   if (scheme == ConvectionScheme::centered) return a * 0.5 * (u0 + up);
-  return a * (a >= 0.0 ? limited_face_value(um, u0, up, upp) : limited_face_value(upp, up, u0, um));
+  // The stencil is mirrored by selects rather than a branch on the sign of a, which changes from
+  // side to side wherever the flow recirculates.
+  const bool forward = a >= 0.0;
+  const double wm = select(forward, um, upp), w0 = select(forward, u0, up), wp = select(forward, up, u0),
+               wpp = select(forward, upp, um);
+  return a * limited_face_value(wm, w0, wp, wpp);
 }
 
 /// Tangential velocity on a wall: the data of a velocity side, zero on a traction side.
@@ -65,7 +71,6 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
       auto at = [&](PetscInt i, PetscInt j, PetscInt k) -> double& {
         return flux[static_cast<std::size_t>(((k - lo[2]) * ny + (j - lo[1])) * nx + (i - lo[0]))];
       };
-      const bool walled = e != d && !grid.periodic(e);
       const PetscInt step_e = u.stride(e), step_d = u.stride(d), step_x = u.stride(0);
       for (PetscInt k = lo[2]; k < lo[2] + nz; ++k)
         for (PetscInt j = lo[1]; j < lo[1] + ny; ++j) {
@@ -73,28 +78,43 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
           // the advecting component e of the same element is (se - sd) away.
           const PetscScalar* p = &u(lo[0], j, k, sd);
           double* target = &at(lo[0], j, k);
-          for (PetscInt i = lo[0]; i < lo[0] + nx; ++i, p += step_x, ++target) {
-            const double a = e == d ? 0.5 * (p[-step_e] + p[0]) : 0.5 * (p[se - sd] + p[se - sd - step_d]);
-            double f = upwind_flux(a, p[-2 * step_e], p[-step_e], p[0], p[step_e], scheme);
-            if (walled) {
-              // A side on a wall carries the wall's tangential velocity, known exactly. Where fluid
-              // leaves through a traction side it carries the value extrapolated linearly from the two
-              // cells it leaves: the side's zero when the layer beside the side is resolved (exact for a
-              // linear profile through it, so second order), the cells' own momentum when it is not. The
-              // side's zero taken as the outflow's value leaves that momentum behind, piling up in the
-              // boundary cell at u_n u_t / h (in a box's corner between two such sides, fed from both:
-              // tests/fluid/test_outflow_momentum.cpp).
-              const Index3 idx{i, j, k};
-              if (idx[e] == 0)
-                f = a < 0.0 && wall.open(e, 0, d, idx) ? a * (1.5 * p[0] - 0.5 * p[step_e])
-                                                       : a * wall.tangential(e, 0, d, idx);
-              if (idx[e] == grid.cells(e))
-                f = a > 0.0 && wall.open(e, 1, d, idx) ? a * (1.5 * p[-step_e] - 0.5 * p[-2 * step_e])
-                                                       : a * wall.tangential(e, 1, d, idx);
-            }
-            *target = f;
-          }
+          if (e == d)
+            for (PetscInt i = 0; i < nx; ++i, p += step_x)
+              target[i] =
+                  upwind_flux(0.5 * (p[-step_e] + p[0]), p[-2 * step_e], p[-step_e], p[0], p[step_e], scheme);
+          else
+            for (PetscInt i = 0; i < nx; ++i, p += step_x)
+              target[i] = upwind_flux(0.5 * (p[se - sd] + p[se - sd - step_d]), p[-2 * step_e], p[-step_e],
+                                      p[0], p[step_e], scheme);
         }
+      if (e != d && !grid.periodic(e)) {
+        // A side on a wall carries the wall's tangential velocity, known exactly. Where fluid leaves
+        // through a traction side it carries the value extrapolated linearly from the two cells it
+        // leaves: the side's zero when the layer beside the side is resolved (exact for a linear
+        // profile through it, so second order), the cells' own momentum when it is not. The side's
+        // zero taken as the outflow's value leaves that momentum behind, piling up in the boundary
+        // cell at u_n u_t / h (in a box's corner between two such sides, fed from both:
+        // tests/fluid/test_outflow_momentum.cpp).
+        for (int upper = 0; upper < 2; ++upper) {
+          const PetscInt layer = upper ? grid.cells(e) : 0;
+          if (layer < lo[e] || layer >= lo[e] + (e == 0 ? nx : e == 1 ? ny : nz)) continue;
+          Index3 first = lo, last{lo[0] + nx, lo[1] + ny, lo[2] + nz};
+          first[e] = layer;
+          last[e] = layer + 1;
+          for (PetscInt k = first[2]; k < last[2]; ++k)
+            for (PetscInt j = first[1]; j < last[1]; ++j)
+              for (PetscInt i = first[0]; i < last[0]; ++i) {
+                const Index3 idx{i, j, k};
+                const PetscScalar* p = &u(i, j, k, sd);
+                const double a = 0.5 * (p[se - sd] + p[se - sd - step_d]);
+                const bool outflow = upper ? a > 0.0 : a < 0.0;
+                const double extrapolated =
+                    upper ? 1.5 * p[-step_e] - 0.5 * p[-2 * step_e] : 1.5 * p[0] - 0.5 * p[step_e];
+                at(i, j, k) = outflow && wall.open(e, upper, d, idx) ? a * extrapolated
+                                                                     : a * wall.tangential(e, upper, d, idx);
+              }
+        }
+      }
       const double inv_h = 1.0 / grid.h(e);
       for (PetscInt k = lo[2]; k < hi[2]; ++k)
         for (PetscInt j = lo[1]; j < hi[1]; ++j)
