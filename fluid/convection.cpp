@@ -97,8 +97,8 @@ void convective_term(const StaggeredGrid& grid, const BoundaryConditions& bc, do
         // tests/fluid/test_outflow_momentum.cpp).
         for (int upper = 0; upper < 2; ++upper) {
           const PetscInt layer = upper ? grid.cells(e) : 0;
-          if (layer < lo[e] || layer >= lo[e] + (e == 0 ? nx : e == 1 ? ny : nz)) continue;
           Index3 first = lo, last{lo[0] + nx, lo[1] + ny, lo[2] + nz};
+          if (layer < first[e] || layer >= last[e]) continue;
           first[e] = layer;
           last[e] = layer + 1;
           for (PetscInt k = first[2]; k < last[2]; ++k)
